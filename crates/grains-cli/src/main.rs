@@ -1,0 +1,3 @@
+fn main() {
+    println!("grains {}", env!("CARGO_PKG_VERSION"));
+}

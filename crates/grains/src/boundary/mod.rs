@@ -1,0 +1,1 @@
+//! Walls and obstacles: geometry, prescribed motions, contacts with grains.

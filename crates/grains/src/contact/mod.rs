@@ -1,0 +1,1 @@
+//! Contact laws between grains, and between a grain and a wall.

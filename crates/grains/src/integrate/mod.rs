@@ -1,0 +1,1 @@
+//! Time integrators: fifth-order Gear predictor–corrector and velocity Verlet.

@@ -1,0 +1,1 @@
+//! Input and output: VTK frames, LAMMPS dumps and data files, CSV, PNG pictures.

@@ -1,0 +1,21 @@
+//! grains: granular dynamics in 2D and 3D.
+//!
+//! Soft-sphere molecular dynamics (DEM) of polydisperse disks and spheres
+//! after Gallas, Herrmann & Sokolowski and Herrmann & Müller. See
+//! `ARCHITECTURE.md` at the repository root for how the modules fit.
+
+pub mod boundary;
+pub mod contact;
+pub mod dim;
+pub mod domain;
+pub mod error;
+pub mod integrate;
+pub mod io;
+pub mod md;
+pub mod neighbors;
+pub mod particles;
+
+pub use dim::{Dim, D2, D3};
+pub use domain::Domain;
+pub use error::{Error, Result};
+pub use particles::{MassModel, ParticleRecord, Particles};

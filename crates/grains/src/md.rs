@@ -1,0 +1,1 @@
+//! The MD engine and its step pipeline.

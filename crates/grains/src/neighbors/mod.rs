@@ -1,0 +1,1 @@
+//! Neighbour search: periodic cell grid, Verlet lists with a skin, spatial sorting.
