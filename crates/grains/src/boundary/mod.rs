@@ -1,1 +1,139 @@
 //! Walls and obstacles: geometry, prescribed motions, contacts with grains.
+//!
+//! A grain touching a wall feels the same forces as if it met a grain of
+//! diameter d0 at the contact point; the wall does not respond. This module
+//! only finds the contact (overlap, normal, point) and the wall's velocity
+//! there; the force law lives in [`crate::contact`].
+//!
+//! A [`Wall`] is a [`Shape`] in its reference (t = 0) position plus a
+//! [`Motion`]. A contact at time t is found by carrying the particle into the
+//! wall's reference frame (undoing the motion's translation and rotation),
+//! meeting it with the reference shape, and carrying the normal and contact
+//! point back; the velocity is the motion's velocity at the contact point.
+//! Internally every computation is done on 3-vectors, 2D ones lying in the
+//! z = 0 plane, so each shape has one implementation for both dimensions.
+//!
+//! Conventions: a particle exactly touching (overlap 0) is not in contact.
+//! Planes and cylinders are one-sided surfaces; a particle whose centre has
+//! crossed one is pushed back, but one wholly behind it (signed distance
+//! below −r) is treated as lost and feels nothing. Segments, polygons and
+//! obstacles are two-sided.
+
+mod flat;
+mod geom;
+mod motion;
+mod round;
+mod shape;
+
+pub use motion::Motion;
+pub use shape::Shape;
+
+use crate::dim::Dim;
+use crate::error::{Error, Result};
+use geom::{from3, to3};
+use serde::{Deserialize, Serialize};
+
+/// A grain touching a wall.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallContact<D: Dim> {
+    /// Positive overlap: radius minus the distance from the centre to the
+    /// wall surface (for obstacles r + d1/2 − |p − c|).
+    pub overlap: f64,
+    /// Unit vector from the wall toward the particle centre.
+    pub normal: D::V,
+    /// Contact point on the wall surface.
+    pub point: D::V,
+    /// The wall's velocity at the contact point (prescribed motion).
+    pub velocity: D::V,
+}
+
+/// A wall: a named shape with a prescribed motion, possibly removed at a time.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(bound(
+    serialize = "D::V: Serialize, D::A: Serialize",
+    deserialize = "D::V: Deserialize<'de>, D::A: Deserialize<'de>"
+))]
+pub struct Wall<D: Dim> {
+    pub name: String,
+    pub shape: Shape<D>,
+    pub motion: Motion<D>,
+    /// Seconds: the wall disappears at this time (e.g. the side wall taken
+    /// away in an angle-of-repose run). `None`: it stays.
+    pub remove_at: Option<f64>,
+}
+
+impl<D: Dim> Wall<D> {
+    /// A wall that is never removed. Checks the shape and motion, normalizes
+    /// normals, axes and directions, and names the wall in any error.
+    pub fn new(name: impl Into<String>, shape: Shape<D>, motion: Motion<D>) -> Result<Self> {
+        let name = name.into();
+        let mut shape = shape;
+        let mut motion = motion;
+        shape.validate().map_err(|e| {
+            Error::input(format!("wall '{name}' ({} {}): {e}", D::NAME, shape.kind()))
+        })?;
+        motion
+            .validate()
+            .map_err(|e| Error::input(format!("wall '{name}' ({} motion): {e}", motion.kind())))?;
+        Ok(Self {
+            name,
+            shape,
+            motion,
+            remove_at: None,
+        })
+    }
+
+    /// The same wall, removed at time `t` (seconds).
+    pub fn with_remove_at(mut self, t: f64) -> Result<Self> {
+        if t.is_nan() {
+            return Err(Error::input(format!(
+                "wall '{}': removal time is not a number",
+                self.name
+            )));
+        }
+        self.remove_at = Some(t);
+        Ok(self)
+    }
+
+    /// Whether the wall exists at time `t` (it is gone from `remove_at` on).
+    pub fn is_active(&self, t: f64) -> bool {
+        match self.remove_at {
+            Some(tr) => t < tr,
+            None => true,
+        }
+    }
+
+    /// Contact of a particle at `p` with radius `r` at time `t`; `None` when
+    /// not touching (overlap ≤ 0), lost behind a one-sided surface, or the
+    /// wall has been removed.
+    pub fn contact(&self, p: D::V, r: f64, t: f64) -> Option<WallContact<D>> {
+        if !self.is_active(t) {
+            return None;
+        }
+        let pose = self.motion.pose(t, D::get(p, 0));
+        let p3 = to3::<D>(p);
+        let touch = self.shape.touch(pose.invert(p3), r)?;
+        let point = from3::<D>(pose.apply(touch.point));
+        Some(WallContact {
+            overlap: touch.overlap,
+            normal: from3::<D>(pose.turn(touch.normal)),
+            point,
+            velocity: self.motion.velocity_at(point, t),
+        })
+    }
+
+    /// Displacement of the wall's reference point
+    /// ([`Shape::reference_point`]) at time `t`, for output and drawing.
+    pub fn displacement(&self, t: f64) -> D::V {
+        let x = self.shape.reference_point();
+        self.motion.place(x, t) - x
+    }
+
+    /// Velocity at time `t` of the wall material at position `q`.
+    pub fn velocity_at(&self, q: D::V, t: f64) -> D::V {
+        self.motion.velocity_at(q, t)
+    }
+}
+
+#[cfg(test)]
+mod tests;

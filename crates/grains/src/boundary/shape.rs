@@ -1,0 +1,176 @@
+//! Wall shapes: the geometry of a wall in its reference (time-zero) position.
+
+use super::flat;
+use super::geom::{to3, Touch};
+use super::round;
+use crate::dim::Dim;
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+/// The geometry of a wall, before any prescribed motion is applied.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(
+    tag = "type",
+    rename_all = "lowercase",
+    bound(serialize = "D::V: Serialize", deserialize = "D::V: Deserialize<'de>")
+)]
+pub enum Shape<D: Dim> {
+    /// Infinite line (2D) or plane (3D) through `point`. One-sided: particles
+    /// live on the side `normal` points to. A particle whose centre has
+    /// crossed the plane still feels overlap `r − s` (`s` the signed distance)
+    /// and is pushed back; one wholly behind it (`s < −r`) is considered lost
+    /// and feels nothing.
+    Plane { point: D::V, normal: D::V },
+    /// Finite segment from `a` to `b` (2D only). Two-sided; end caps round.
+    Segment { a: D::V, b: D::V },
+    /// Convex planar polygon (3D only), vertices in order around it.
+    /// Two-sided; edges and corners round.
+    Polygon { vertices: Vec<D::V> },
+    /// Cylinder of `radius` about the line through `point` along `axis`; in 2D
+    /// a circle about `point` (axis ignored). `inside`: particles are inside
+    /// (pipe, drum); otherwise outside (a post). One-sided like `Plane`.
+    Cylinder {
+        point: D::V,
+        axis: D::V,
+        radius: f64,
+        inside: bool,
+    },
+    /// Fixed circle (2D) or sphere (3D) of diameter d1: overlap r + d1/2 − |p − c|.
+    Obstacle { center: D::V, diameter: f64 },
+}
+
+fn finite<D: Dim>(v: D::V, what: &str) -> Result<(), String> {
+    if D::is_finite(v) {
+        Ok(())
+    } else {
+        Err(format!("{what} is not finite"))
+    }
+}
+
+fn unit<D: Dim>(v: &mut D::V, what: &str) -> Result<(), String> {
+    finite::<D>(*v, what)?;
+    let n = D::norm(*v);
+    if n == 0.0 {
+        return Err(format!("{what} is the zero vector"));
+    }
+    *v = *v / n;
+    Ok(())
+}
+
+fn positive(x: f64, what: &str) -> Result<(), String> {
+    if x.is_finite() && x > 0.0 {
+        Ok(())
+    } else {
+        Err(format!("{what} must be positive and finite, got {x}"))
+    }
+}
+
+impl<D: Dim> Shape<D> {
+    /// A short name of the shape kind, for messages.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Shape::Plane { .. } => "plane",
+            Shape::Segment { .. } => "segment",
+            Shape::Polygon { .. } => "polygon",
+            Shape::Cylinder { .. } => "cylinder",
+            Shape::Obstacle { .. } => "obstacle",
+        }
+    }
+
+    /// Checks the shape and normalizes its direction vectors in place.
+    pub(crate) fn validate(&mut self) -> Result<(), String> {
+        match self {
+            Shape::Plane { point, normal } => {
+                finite::<D>(*point, "plane point")?;
+                unit::<D>(normal, "plane normal")
+            }
+            Shape::Segment { a, b } => {
+                if D::D != 2 {
+                    return Err(format!(
+                        "segments are 2D walls; in {} use a polygon",
+                        D::NAME
+                    ));
+                }
+                finite::<D>(*a, "segment end a")?;
+                finite::<D>(*b, "segment end b")?;
+                if D::norm(*b - *a) == 0.0 {
+                    return Err("segment has zero length (a = b)".into());
+                }
+                Ok(())
+            }
+            Shape::Polygon { vertices } => {
+                if D::D != 3 {
+                    return Err(format!(
+                        "polygons are 3D walls; in {} use segments",
+                        D::NAME
+                    ));
+                }
+                let v: Vec<DVec3> = vertices.iter().map(|x| to3::<D>(*x)).collect();
+                flat::check_polygon(&v)
+            }
+            Shape::Cylinder {
+                point,
+                axis,
+                radius,
+                ..
+            } => {
+                finite::<D>(*point, "cylinder point")?;
+                positive(*radius, "cylinder radius")?;
+                if D::D == 3 {
+                    unit::<D>(axis, "cylinder axis")?;
+                }
+                Ok(())
+            }
+            Shape::Obstacle { center, diameter } => {
+                finite::<D>(*center, "obstacle center")?;
+                positive(*diameter, "obstacle diameter")
+            }
+        }
+    }
+
+    /// The point that represents the shape's position (for output and for
+    /// [`super::Wall::displacement`]): the plane's point, the segment's
+    /// midpoint, the polygon's vertex mean, the cylinder's point, the
+    /// obstacle's centre.
+    pub fn reference_point(&self) -> D::V {
+        match self {
+            Shape::Plane { point, .. } | Shape::Cylinder { point, .. } => *point,
+            Shape::Segment { a, b } => (*a + *b) * 0.5,
+            Shape::Polygon { vertices } => {
+                let n = vertices.len().max(1);
+                vertices.iter().fold(D::zero(), |s, v| s + *v) / n as f64
+            }
+            Shape::Obstacle { center, .. } => *center,
+        }
+    }
+
+    /// Contact of a sphere (radius `r`, centre `p`) with the unmoved shape.
+    /// Assumes the shape passed [`Shape::validate`].
+    pub(crate) fn touch(&self, p: DVec3, r: f64) -> Option<Touch> {
+        match self {
+            Shape::Plane { point, normal } => {
+                flat::plane(p, to3::<D>(*point), to3::<D>(*normal), r)
+            }
+            Shape::Segment { a, b } => flat::segment(p, to3::<D>(*a), to3::<D>(*b), r),
+            Shape::Polygon { vertices } => {
+                let n = vertices.len();
+                let vert = |i: usize| to3::<D>(vertices[i]);
+                let normal = flat::polygon_normal(n, vert);
+                flat::polygon(p, n, vert, normal, r)
+            }
+            Shape::Cylinder {
+                point,
+                axis,
+                radius,
+                inside,
+            } => {
+                let axis = if D::D == 2 { DVec3::Z } else { to3::<D>(*axis) };
+                round::cylinder(p, to3::<D>(*point), axis, *radius, *inside, r)
+            }
+            Shape::Obstacle { center, diameter } => {
+                let up = to3::<D>(D::unit(D::vertical()));
+                round::obstacle(p, to3::<D>(*center), *diameter, r, up)
+            }
+        }
+    }
+}

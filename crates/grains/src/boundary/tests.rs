@@ -1,0 +1,727 @@
+//! Wall contacts with numbers, in 2D and 3D.
+
+use super::*;
+use crate::dim::{D2, D3};
+use glam::{DQuat, DVec2, DVec3};
+use std::f64::consts::{FRAC_1_SQRT_2, PI, TAU};
+
+const EPS: f64 = 1e-12;
+
+fn near(a: f64, b: f64) -> bool {
+    (a - b).abs() < EPS * (1.0 + b.abs())
+}
+fn near2(a: DVec2, b: DVec2) -> bool {
+    (a - b).length() < EPS * (1.0 + b.length())
+}
+fn near3(a: DVec3, b: DVec3) -> bool {
+    (a - b).length() < EPS * (1.0 + b.length())
+}
+
+fn fixed2(shape: Shape<D2>) -> Wall<D2> {
+    Wall::new("w", shape, Motion::Fixed).unwrap()
+}
+fn fixed3(shape: Shape<D3>) -> Wall<D3> {
+    Wall::new("w", shape, Motion::Fixed).unwrap()
+}
+
+#[test]
+fn plane_2d_arbitrary_orientation() {
+    let w = fixed2(Shape::Plane {
+        point: DVec2::new(1.0, 0.0),
+        normal: DVec2::new(1.0, 1.0),
+    });
+    let c = w.contact(DVec2::new(2.0, 0.5), 1.2, 0.0).unwrap();
+    assert!(near(c.overlap, 1.2 - 1.5 / 2f64.sqrt()));
+    assert!(near2(c.normal, DVec2::new(FRAC_1_SQRT_2, FRAC_1_SQRT_2)));
+    assert!(near2(c.point, DVec2::new(1.25, -0.25)));
+    assert_eq!(c.velocity, DVec2::ZERO);
+    assert!(w.contact(DVec2::new(2.0, 0.5), 1.0, 0.0).is_none());
+}
+
+#[test]
+fn plane_3d_arbitrary_orientation() {
+    let w = fixed3(Shape::Plane {
+        point: DVec3::new(0.0, 0.0, 1.0),
+        normal: DVec3::new(1.0, 2.0, 2.0),
+    });
+    let c = w.contact(DVec3::new(1.0, 1.0, 2.0), 2.0, 0.0).unwrap();
+    assert!(near(c.overlap, 1.0 / 3.0));
+    assert!(near3(c.normal, DVec3::new(1.0, 2.0, 2.0) / 3.0));
+    assert!(near3(c.point, DVec3::new(4.0, -1.0, 8.0) / 9.0));
+    // Behind the plane (centre crossed by 0.5 < r): pushed back along n.
+    let n = DVec3::new(1.0, 2.0, 2.0) / 3.0;
+    let p = DVec3::new(0.0, 0.0, 1.0) - n * 0.5;
+    let c = w.contact(p, 2.0, 0.0).unwrap();
+    assert!(near(c.overlap, 2.5));
+    assert!(near3(c.normal, n));
+    // Deeply behind (more than r): lost, no contact.
+    assert!(w
+        .contact(DVec3::new(0.0, 0.0, 1.0) - n * 2.5, 2.0, 0.0)
+        .is_none());
+}
+
+#[test]
+fn exactly_touching_is_no_contact() {
+    let w = fixed2(Shape::Plane {
+        point: DVec2::ZERO,
+        normal: DVec2::Y,
+    });
+    assert!(w.contact(DVec2::new(0.3, 0.5), 0.5, 0.0).is_none());
+    assert!(near(
+        w.contact(DVec2::new(0.3, 0.25), 0.5, 0.0).unwrap().overlap,
+        0.25
+    ));
+    let o = fixed3(Shape::Obstacle {
+        center: DVec3::ZERO,
+        diameter: 1.0,
+    });
+    assert!(o.contact(DVec3::new(0.0, 0.75, 0.0), 0.25, 0.0).is_none());
+    let s = fixed2(Shape::Segment {
+        a: DVec2::ZERO,
+        b: DVec2::X,
+    });
+    assert!(s.contact(DVec2::new(0.5, -0.5), 0.5, 0.0).is_none());
+}
+
+#[test]
+fn segment_interior_and_end_caps() {
+    let w = fixed2(Shape::Segment {
+        a: DVec2::new(0.0, 0.0),
+        b: DVec2::new(4.0, 0.0),
+    });
+    let c = w.contact(DVec2::new(1.0, 0.3), 0.5, 0.0).unwrap();
+    assert!(near(c.overlap, 0.2));
+    assert!(near2(c.normal, DVec2::Y));
+    assert!(near2(c.point, DVec2::new(1.0, 0.0)));
+    // Two-sided: from below the normal points down.
+    let c = w.contact(DVec2::new(2.0, -0.1), 0.5, 0.0).unwrap();
+    assert!(near(c.overlap, 0.4));
+    assert!(near2(c.normal, -DVec2::Y));
+    // End cap at b.
+    let c = w.contact(DVec2::new(4.3, 0.4), 0.6, 0.0).unwrap();
+    assert!(near(c.overlap, 0.1));
+    assert!(near2(c.normal, DVec2::new(0.6, 0.8)));
+    assert!(near2(c.point, DVec2::new(4.0, 0.0)));
+    // End cap at a.
+    let c = w.contact(DVec2::new(-0.3, -0.4), 0.6, 0.0).unwrap();
+    assert!(near(c.overlap, 0.1));
+    assert!(near2(c.normal, DVec2::new(-0.6, -0.8)));
+    assert!(near2(c.point, DVec2::ZERO));
+    // Beyond the cap: nothing.
+    assert!(w.contact(DVec2::new(4.5, 0.1), 0.4, 0.0).is_none());
+    // Centre on the segment: pushed along the left normal.
+    let c = w.contact(DVec2::new(2.0, 0.0), 0.5, 0.0).unwrap();
+    assert!(near(c.overlap, 0.5));
+    assert!(near2(c.normal, DVec2::Y));
+}
+
+#[test]
+fn polygon_interior_edge_and_vertex() {
+    let w = fixed3(Shape::Polygon {
+        vertices: vec![
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(2.0, 0.0, 1.0),
+            DVec3::new(2.0, 2.0, 1.0),
+            DVec3::new(0.0, 2.0, 1.0),
+        ],
+    });
+    // Interior, both sides.
+    let c = w.contact(DVec3::new(1.0, 1.0, 1.3), 0.5, 0.0).unwrap();
+    assert!(near(c.overlap, 0.2));
+    assert!(near3(c.normal, DVec3::Z));
+    assert!(near3(c.point, DVec3::new(1.0, 1.0, 1.0)));
+    let c = w.contact(DVec3::new(0.5, 1.5, 0.8), 0.5, 0.0).unwrap();
+    assert!(near(c.overlap, 0.3));
+    assert!(near3(c.normal, -DVec3::Z));
+    assert!(near3(c.point, DVec3::new(0.5, 1.5, 1.0)));
+    // Edge region (beyond x = 2).
+    let c = w.contact(DVec3::new(2.3, 1.0, 1.4), 0.6, 0.0).unwrap();
+    assert!(near(c.overlap, 0.1));
+    assert!(near3(c.normal, DVec3::new(0.6, 0.0, 0.8)));
+    assert!(near3(c.point, DVec3::new(2.0, 1.0, 1.0)));
+    // Vertex region (beyond the corner (2, 2)).
+    let c = w.contact(DVec3::new(2.2, 2.2, 1.1), 0.5, 0.0).unwrap();
+    assert!(near(c.overlap, 0.2));
+    assert!(near3(c.normal, DVec3::new(2.0, 2.0, 1.0) / 3.0));
+    assert!(near3(c.point, DVec3::new(2.0, 2.0, 1.0)));
+    // Beside the polygon, in its plane, out of reach.
+    assert!(w.contact(DVec3::new(3.0, 1.0, 1.0), 0.5, 0.0).is_none());
+    assert!(w.contact(DVec3::new(1.0, 1.0, 1.5), 0.5, 0.0).is_none());
+}
+
+#[test]
+fn tilted_polygon() {
+    // A triangle rotated about an arbitrary axis: the interior normal is the
+    // rotated z, the distance the rotated height.
+    let q = DQuat::from_axis_angle(DVec3::new(1.0, -2.0, 0.5).normalize(), 0.7);
+    let o = DVec3::new(0.3, -1.0, 2.0);
+    let tri = [
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(3.0, 0.0, 0.0),
+        DVec3::new(0.0, 3.0, 0.0),
+    ];
+    let w = fixed3(Shape::Polygon {
+        vertices: tri.iter().map(|v| o + q * *v).collect(),
+    });
+    let c = w
+        .contact(o + q * DVec3::new(1.0, 1.0, 0.35), 0.5, 0.0)
+        .unwrap();
+    assert!(near(c.overlap, 0.15));
+    assert!(near3(c.normal, q * DVec3::Z));
+    assert!(near3(c.point, o + q * DVec3::new(1.0, 1.0, 0.0)));
+    // Near the hypotenuse x + y = 3, outside it, in the plane.
+    let c = w
+        .contact(o + q * DVec3::new(1.7, 1.7, 0.0), 0.5, 0.0)
+        .unwrap();
+    assert!(near(c.overlap, 0.5 - 0.4 / 2f64.sqrt()));
+    assert!(near3(
+        c.normal,
+        q * DVec3::new(FRAC_1_SQRT_2, FRAC_1_SQRT_2, 0.0)
+    ));
+}
+
+#[test]
+fn cylinder_2d_inside_and_outside() {
+    let drum = fixed2(Shape::Cylinder {
+        point: DVec2::new(1.0, 1.0),
+        axis: DVec2::ZERO,
+        radius: 3.0,
+        inside: true,
+    });
+    let c = drum.contact(DVec2::new(3.8, 1.0), 0.5, 0.0).unwrap();
+    assert!(near(c.overlap, 0.3));
+    assert!(near2(c.normal, -DVec2::X));
+    assert!(near2(c.point, DVec2::new(4.0, 1.0)));
+    assert!(drum.contact(DVec2::new(1.0, 1.0), 0.5, 0.0).is_none());
+    let post = fixed2(Shape::Cylinder {
+        point: DVec2::new(1.0, 1.0),
+        axis: DVec2::ZERO,
+        radius: 1.0,
+        inside: false,
+    });
+    let c = post.contact(DVec2::new(1.0, 2.3), 0.5, 0.0).unwrap();
+    assert!(near(c.overlap, 0.2));
+    assert!(near2(c.normal, DVec2::Y));
+    assert!(near2(c.point, DVec2::new(1.0, 2.0)));
+    assert!(post.contact(DVec2::new(1.0, 2.5), 0.5, 0.0).is_none());
+}
+
+#[test]
+fn cylinder_3d_arbitrary_axis() {
+    let axis = DVec3::new(1.0, 1.0, 0.0);
+    let along = axis.normalize() * 5.0;
+    let pipe = fixed3(Shape::Cylinder {
+        point: DVec3::ZERO,
+        axis,
+        radius: 2.0,
+        inside: true,
+    });
+    let c = pipe
+        .contact(along + DVec3::new(0.0, 0.0, 1.8), 0.5, 0.0)
+        .unwrap();
+    assert!(near(c.overlap, 0.3));
+    assert!(near3(c.normal, -DVec3::Z));
+    assert!(near3(c.point, along + DVec3::new(0.0, 0.0, 2.0)));
+    // Radial direction not along a coordinate axis.
+    let radial = DVec3::new(1.0, -1.0, 0.0).normalize();
+    let c = pipe.contact(along + radial * 1.9, 0.25, 0.0).unwrap();
+    assert!(near(c.overlap, 0.15));
+    assert!(near3(c.normal, -radial));
+    let post = fixed3(Shape::Cylinder {
+        point: DVec3::ZERO,
+        axis,
+        radius: 1.0,
+        inside: false,
+    });
+    let c = post
+        .contact(along + DVec3::new(0.0, 0.0, 1.2), 0.5, 0.0)
+        .unwrap();
+    assert!(near(c.overlap, 0.3));
+    assert!(near3(c.normal, DVec3::Z));
+    assert!(near3(c.point, along + DVec3::Z));
+}
+
+#[test]
+fn obstacle_2d_and_3d() {
+    let w = fixed2(Shape::Obstacle {
+        center: DVec2::new(5.0, 1.0),
+        diameter: 1.0,
+    });
+    let c = w.contact(DVec2::new(5.6, 1.8), 0.6, 0.0).unwrap();
+    assert!(near(c.overlap, 0.1));
+    assert!(near2(c.normal, DVec2::new(0.6, 0.8)));
+    assert!(near2(c.point, DVec2::new(5.3, 1.4)));
+    let w = fixed3(Shape::Obstacle {
+        center: DVec3::new(1.0, 2.0, 3.0),
+        diameter: 2.0,
+    });
+    let c = w.contact(DVec3::new(1.0, 3.2, 4.6), 1.5, 0.0).unwrap();
+    assert!(near(c.overlap, 0.5));
+    assert!(near3(c.normal, DVec3::new(0.0, 0.6, 0.8)));
+    assert!(near3(c.point, DVec3::new(1.0, 2.6, 3.8)));
+}
+
+fn plate(modulation: f64) -> Wall<D2> {
+    Wall::new(
+        "bottom",
+        Shape::Plane {
+            point: DVec2::ZERO,
+            normal: DVec2::Y,
+        },
+        Motion::Vibrate {
+            direction: DVec2::new(0.0, 2.0),
+            amplitude: 1e-3,
+            modulation,
+            wavelength: 20.0,
+            frequency: 20.0,
+            phase: 0.0,
+        },
+    )
+    .unwrap()
+}
+
+#[test]
+fn vibrating_plate() {
+    let (a, f) = (1e-3, 20.0);
+    let w = plate(0.0);
+    for t in [0.0, 0.003, 0.01, 0.0271] {
+        let z = a * (TAU * f * t).sin();
+        let v = TAU * f * a * (TAU * f * t).cos();
+        assert!(near2(w.displacement(t), DVec2::new(0.0, z)));
+        let c = w.contact(DVec2::new(3.0, z + 0.4), 0.5, t).unwrap();
+        assert!(near(c.overlap, 0.1));
+        assert!(near2(c.point, DVec2::new(3.0, z)));
+        assert!(near2(c.normal, DVec2::Y));
+        assert!(near2(c.velocity, DVec2::new(0.0, v)));
+    }
+}
+
+#[test]
+fn modulated_plate_factors() {
+    let (a, f, b, l) = (1e-3, 20.0, 0.5, 20.0);
+    let w = plate(b);
+    let t = 0.01;
+    let (s, co) = ((TAU * f * t).sin(), (TAU * f * t).cos());
+    for (x, factor) in [(0.0, 1.0 - b), (l / 2.0, 1.0 + b), (l, 1.0 - b)] {
+        let z = a * factor * s;
+        let c = w.contact(DVec2::new(x, z + 0.3), 0.5, t).unwrap();
+        assert!(near(c.overlap, 0.2), "x = {x}");
+        assert!(near2(c.point, DVec2::new(x, z)));
+        assert!(near2(
+            c.velocity,
+            DVec2::new(0.0, TAU * f * a * factor * co)
+        ));
+    }
+    // At x = L/4 the modulation vanishes: the plain amplitude.
+    let c = w.contact(DVec2::new(l / 4.0, 0.3), 0.5, t).unwrap();
+    assert!(near(c.velocity.y, TAU * f * a * co));
+    // The reference point is at x = 0: displacement with factor 1 − B.
+    assert!(near2(w.displacement(t), DVec2::new(0.0, a * (1.0 - b) * s)));
+}
+
+#[test]
+fn oscillating_conveyor() {
+    let amp = DVec3::new(2e-3, 0.0, 1e-3);
+    let f = 10.0;
+    let w = Wall::<D3>::new(
+        "belt",
+        Shape::Plane {
+            point: DVec3::ZERO,
+            normal: DVec3::Z,
+        },
+        Motion::Oscillate {
+            amplitude: amp,
+            frequency: f,
+            phase: 0.0,
+        },
+    )
+    .unwrap();
+    let t = 0.0125; // 2π f t = π/4
+    let (s, co) = ((PI / 4.0).sin(), (PI / 4.0).cos());
+    assert!(near3(w.displacement(t), amp * s));
+    let c = w
+        .contact(DVec3::new(7.0, 3.0, amp.z * s + 0.3), 0.5, t)
+        .unwrap();
+    assert!(near(c.overlap, 0.2));
+    // The in-plane part moves the surface along itself: only the velocity sees it.
+    assert!(near3(c.point, DVec3::new(7.0, 3.0, amp.z * s)));
+    assert!(near3(c.velocity, amp * (TAU * f * co)));
+    // A 2D belt with a phase.
+    let w = Wall::<D2>::new(
+        "belt2",
+        Shape::Plane {
+            point: DVec2::ZERO,
+            normal: DVec2::Y,
+        },
+        Motion::Oscillate {
+            amplitude: DVec2::new(1e-3, 1e-3),
+            frequency: 5.0,
+            phase: PI / 2.0,
+        },
+    )
+    .unwrap();
+    let c = w.contact(DVec2::new(0.0, 1e-3 + 0.1), 0.5, 0.0).unwrap();
+    assert!(near(c.overlap, 0.4));
+    assert!(c.velocity.length() < 1e-15);
+}
+
+#[test]
+fn translating_wall() {
+    let w = Wall::<D2>::new(
+        "piston",
+        Shape::Segment {
+            a: DVec2::new(0.0, 0.0),
+            b: DVec2::new(0.0, 2.0),
+        },
+        Motion::Translate {
+            velocity: DVec2::new(0.5, 0.0),
+        },
+    )
+    .unwrap();
+    let c = w.contact(DVec2::new(1.3, 1.0), 0.5, 2.0).unwrap();
+    assert!(near(c.overlap, 0.2));
+    assert!(near2(c.point, DVec2::new(1.0, 1.0)));
+    assert!(near2(c.velocity, DVec2::new(0.5, 0.0)));
+    assert!(near2(w.displacement(2.0), DVec2::new(1.0, 0.0)));
+}
+
+#[test]
+fn rotating_drum_surface_velocity_2d() {
+    let (omega, radius) = (3.0, 2.0);
+    let w = Wall::<D2>::new(
+        "drum",
+        Shape::Cylinder {
+            point: DVec2::ZERO,
+            axis: DVec2::ZERO,
+            radius,
+            inside: true,
+        },
+        Motion::Rotate {
+            center: DVec2::ZERO,
+            omega,
+        },
+    )
+    .unwrap();
+    for t in [0.0, 0.37, 12.5] {
+        let c = w.contact(DVec2::new(0.0, -1.8), 0.5, t).unwrap();
+        assert!(near(c.overlap, 0.3));
+        assert!(near2(c.normal, DVec2::Y));
+        assert!(near2(c.point, DVec2::new(0.0, -radius)));
+        // Ω R, tangential, counter-clockwise for Ω > 0.
+        assert!(near2(c.velocity, DVec2::new(omega * radius, 0.0)));
+        assert!(w.displacement(t).length() < 1e-12);
+    }
+}
+
+#[test]
+fn rotating_drum_surface_velocity_3d() {
+    let center = DVec3::new(1.0, 1.0, 0.0);
+    let omega = DVec3::new(0.0, 0.0, -3.0);
+    let w = Wall::<D3>::new(
+        "drum",
+        Shape::Cylinder {
+            point: center,
+            axis: DVec3::Z,
+            radius: 2.0,
+            inside: true,
+        },
+        Motion::Rotate { center, omega },
+    )
+    .unwrap();
+    let c = w.contact(DVec3::new(2.8, 1.0, 4.0), 0.5, 0.8).unwrap();
+    assert!(near(c.overlap, 0.3));
+    assert!(near3(c.normal, -DVec3::X));
+    assert!(near3(c.point, DVec3::new(3.0, 1.0, 4.0)));
+    assert!(near3(c.velocity, DVec3::new(0.0, -6.0, 0.0)));
+    assert!(near(c.velocity.length(), 3.0 * 2.0));
+    assert!(near(c.velocity.dot(c.normal), 0.0));
+}
+
+#[test]
+fn rotated_segment_quarter_turn() {
+    let w = Wall::<D2>::new(
+        "paddle",
+        Shape::Segment {
+            a: DVec2::new(1.0, 0.0),
+            b: DVec2::new(3.0, 0.0),
+        },
+        Motion::Rotate {
+            center: DVec2::ZERO,
+            omega: PI / 2.0,
+        },
+    )
+    .unwrap();
+    // After t = 1 s the segment runs from (0, 1) to (0, 3).
+    let c = w.contact(DVec2::new(0.3, 2.0), 0.5, 1.0).unwrap();
+    assert!(near(c.overlap, 0.2));
+    assert!(near2(c.normal, DVec2::X));
+    assert!(near2(c.point, DVec2::new(0.0, 2.0)));
+    assert!(near2(c.velocity, DVec2::new(-PI, 0.0)));
+    // End cap at the rotated a = (0, 1).
+    let c = w.contact(DVec2::new(-0.3, 0.6), 0.6, 1.0).unwrap();
+    assert!(near(c.overlap, 0.1));
+    assert!(near2(c.normal, DVec2::new(-0.6, -0.8)));
+    assert!(near2(c.point, DVec2::new(0.0, 1.0)));
+    // Where the segment was, it is no longer.
+    assert!(w.contact(DVec2::new(2.0, 0.3), 0.5, 1.0).is_none());
+    assert!(w.contact(DVec2::new(2.0, 0.3), 0.5, 0.0).is_some());
+    assert!(near2(w.displacement(1.0), DVec2::new(-2.0, 2.0)));
+}
+
+#[test]
+fn rotated_polygon_quarter_turn_3d() {
+    // A square in the x-z plane turned a quarter about z lies in the y-z plane.
+    let w = Wall::<D3>::new(
+        "flap",
+        Shape::Polygon {
+            vertices: vec![
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(3.0, 0.0, 0.0),
+                DVec3::new(3.0, 0.0, 2.0),
+                DVec3::new(1.0, 0.0, 2.0),
+            ],
+        },
+        Motion::Rotate {
+            center: DVec3::ZERO,
+            omega: DVec3::new(0.0, 0.0, 0.5),
+        },
+    )
+    .unwrap();
+    let t = PI; // angle π/2
+    let c = w.contact(DVec3::new(-0.2, 2.0, 1.0), 0.5, t).unwrap();
+    assert!(near(c.overlap, 0.3));
+    assert!(near3(c.normal, -DVec3::X));
+    assert!(near3(c.point, DVec3::new(0.0, 2.0, 1.0)));
+    assert!(near3(c.velocity, DVec3::new(-1.0, 0.0, 0.0)));
+    assert!(near3(w.displacement(t), DVec3::new(-2.0, 2.0, 0.0)));
+}
+
+#[test]
+fn remove_at_turns_the_wall_off() {
+    let w = Wall::<D2>::new(
+        "side",
+        Shape::Plane {
+            point: DVec2::ZERO,
+            normal: DVec2::X,
+        },
+        Motion::Fixed,
+    )
+    .unwrap()
+    .with_remove_at(1.5)
+    .unwrap();
+    let p = DVec2::new(0.2, 3.0);
+    assert!(w.is_active(1.4999));
+    assert!(w.contact(p, 0.5, 1.0).is_some());
+    assert!(!w.is_active(1.5));
+    assert!(w.contact(p, 0.5, 1.5).is_none());
+    assert!(w.contact(p, 0.5, 100.0).is_none());
+    assert!(fixed2(Shape::Plane {
+        point: DVec2::ZERO,
+        normal: DVec2::X
+    })
+    .is_active(1e30));
+}
+
+#[test]
+fn constructor_normalizes() {
+    let w = fixed2(Shape::Plane {
+        point: DVec2::ZERO,
+        normal: DVec2::new(0.0, 2.0),
+    });
+    assert_eq!(
+        w.shape,
+        Shape::Plane {
+            point: DVec2::ZERO,
+            normal: DVec2::Y
+        }
+    );
+    let w = fixed3(Shape::Cylinder {
+        point: DVec3::ZERO,
+        axis: DVec3::new(0.0, 0.0, -4.0),
+        radius: 1.0,
+        inside: true,
+    });
+    match w.shape {
+        Shape::Cylinder { axis, .. } => assert_eq!(axis, -DVec3::Z),
+        _ => unreachable!(),
+    }
+}
+
+fn err<D: Dim>(shape: Shape<D>, motion: Motion<D>) -> String {
+    Wall::new("left", shape, motion).unwrap_err().to_string()
+}
+
+#[test]
+fn constructor_errors() {
+    let plane2 = || Shape::<D2>::Plane {
+        point: DVec2::ZERO,
+        normal: DVec2::Y,
+    };
+    let e = err(
+        Shape::<D2>::Plane {
+            point: DVec2::ZERO,
+            normal: DVec2::ZERO,
+        },
+        Motion::Fixed,
+    );
+    assert!(
+        e.contains("wall 'left'") && e.contains("plane normal"),
+        "{e}"
+    );
+    let e = err(
+        Shape::<D3>::Segment {
+            a: DVec3::ZERO,
+            b: DVec3::X,
+        },
+        Motion::Fixed,
+    );
+    assert!(e.contains("'left'") && e.contains("2D"), "{e}");
+    let e = err(
+        Shape::<D2>::Segment {
+            a: DVec2::X,
+            b: DVec2::X,
+        },
+        Motion::Fixed,
+    );
+    assert!(e.contains("zero length"), "{e}");
+    let e = err(
+        Shape::<D2>::Polygon {
+            vertices: vec![DVec2::ZERO, DVec2::X, DVec2::Y],
+        },
+        Motion::Fixed,
+    );
+    assert!(e.contains("3D"), "{e}");
+    let e = err(
+        Shape::<D3>::Polygon {
+            vertices: vec![DVec3::ZERO, DVec3::X],
+        },
+        Motion::Fixed,
+    );
+    assert!(e.contains("at least 3"), "{e}");
+    let e = err(
+        Shape::<D3>::Polygon {
+            vertices: vec![DVec3::ZERO, DVec3::X, DVec3::new(0.2, 0.2, 0.0), DVec3::Y],
+        },
+        Motion::Fixed,
+    );
+    assert!(e.contains("convex"), "{e}");
+    let e = err(
+        Shape::<D3>::Polygon {
+            vertices: vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.5), DVec3::Y],
+        },
+        Motion::Fixed,
+    );
+    assert!(e.contains("coplanar"), "{e}");
+    let e = err(
+        Shape::<D2>::Cylinder {
+            point: DVec2::ZERO,
+            axis: DVec2::ZERO,
+            radius: -1.0,
+            inside: true,
+        },
+        Motion::Fixed,
+    );
+    assert!(e.contains("cylinder radius"), "{e}");
+    let e = err(
+        Shape::<D3>::Cylinder {
+            point: DVec3::ZERO,
+            axis: DVec3::ZERO,
+            radius: 1.0,
+            inside: true,
+        },
+        Motion::Fixed,
+    );
+    assert!(e.contains("cylinder axis"), "{e}");
+    let e = err(
+        Shape::<D3>::Obstacle {
+            center: DVec3::ZERO,
+            diameter: 0.0,
+        },
+        Motion::Fixed,
+    );
+    assert!(e.contains("obstacle diameter"), "{e}");
+    let e = err(
+        Shape::<D2>::Plane {
+            point: DVec2::new(f64::NAN, 0.0),
+            normal: DVec2::Y,
+        },
+        Motion::Fixed,
+    );
+    assert!(e.contains("not finite"), "{e}");
+    let e = err(
+        plane2(),
+        Motion::Vibrate {
+            direction: DVec2::Y,
+            amplitude: 1e-3,
+            modulation: 0.0,
+            wavelength: 0.0,
+            frequency: -1.0,
+            phase: 0.0,
+        },
+    );
+    assert!(e.contains("'left'") && e.contains("frequency"), "{e}");
+    let e = err(
+        plane2(),
+        Motion::Vibrate {
+            direction: DVec2::ZERO,
+            amplitude: 1e-3,
+            modulation: 0.0,
+            wavelength: 0.0,
+            frequency: 1.0,
+            phase: 0.0,
+        },
+    );
+    assert!(e.contains("direction"), "{e}");
+    let e = err(
+        plane2(),
+        Motion::Vibrate {
+            direction: DVec2::Y,
+            amplitude: 1e-3,
+            modulation: 0.5,
+            wavelength: 0.0,
+            frequency: 1.0,
+            phase: 0.0,
+        },
+    );
+    assert!(e.contains("wavelength"), "{e}");
+    let e = err(
+        plane2(),
+        Motion::Oscillate {
+            amplitude: DVec2::X,
+            frequency: f64::INFINITY,
+            phase: 0.0,
+        },
+    );
+    assert!(e.contains("frequency"), "{e}");
+    let e = Wall::<D2>::new("x", plane2(), Motion::Fixed)
+        .unwrap()
+        .with_remove_at(f64::NAN)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("removal time"), "{e}");
+}
+
+#[test]
+fn serde_round_trip() {
+    let w = plate(0.5).with_remove_at(2.0).unwrap();
+    let s = serde_json::to_string(&w).unwrap();
+    assert!(s.contains("\"type\":\"vibrate\""), "{s}");
+    let back: Wall<D2> = serde_json::from_str(&s).unwrap();
+    assert_eq!(back, w);
+    let d = Wall::<D3>::new(
+        "drum",
+        Shape::Cylinder {
+            point: DVec3::ZERO,
+            axis: DVec3::Y,
+            radius: 1.0,
+            inside: true,
+        },
+        Motion::Rotate {
+            center: DVec3::ZERO,
+            omega: DVec3::new(0.0, 2.0, 0.0),
+        },
+    )
+    .unwrap();
+    let back: Wall<D3> = serde_json::from_str(&serde_json::to_string(&d).unwrap()).unwrap();
+    assert_eq!(back, d);
+}
