@@ -1,0 +1,267 @@
+//! VTK XML output for ParaView: one PolyData file (`.vtp`) per frame, and a
+//! `.pvd` collection listing them with their times.
+//!
+//! Layout under the output directory:
+//! `frames.pvd` and `frames/frame_000000.vtp`, `frames/frame_000001.vtp`, …
+//! Data arrays are written in the ASCII format with full `f64` precision.
+
+use super::atomic::write_atomic;
+use super::frame::Frame;
+use super::Num;
+use crate::error::{Error, Result};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Renders one frame as a VTK XML PolyData document. Every particle is a
+/// point and a vertex cell, so ParaView shows them without a filter (use the
+/// "Point Gaussian" representation with `radius` as the scale array).
+pub fn vtp_string(frame: &Frame) -> String {
+    frame.check_lengths();
+    let n = frame.len();
+    let mut s = String::with_capacity(200 + n * 200);
+    s.push_str("<?xml version=\"1.0\"?>\n");
+    s.push_str(
+        "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n",
+    );
+    s.push_str("  <PolyData>\n");
+    s.push_str("    <FieldData>\n");
+    let _ = writeln!(
+        s,
+        "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">{}</DataArray>",
+        Num(frame.time)
+    );
+    let _ = writeln!(
+        s,
+        "      <DataArray type=\"Int64\" Name=\"Step\" NumberOfTuples=\"1\" format=\"ascii\">{}</DataArray>",
+        frame.step
+    );
+    s.push_str("    </FieldData>\n");
+    let _ = writeln!(
+        s,
+        "    <Piece NumberOfPoints=\"{n}\" NumberOfVerts=\"{n}\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">"
+    );
+    s.push_str("      <PointData Scalars=\"radius\" Vectors=\"velocity\">\n");
+    array(
+        &mut s,
+        "Float64",
+        "radius",
+        1,
+        frame.radius.iter().map(|&v| Num(v)),
+    );
+    array(
+        &mut s,
+        "Float64",
+        "velocity",
+        3,
+        frame.vel.iter().flatten().map(|&v| Num(v)),
+    );
+    array(
+        &mut s,
+        "Float64",
+        "angular_velocity",
+        3,
+        frame.omega.iter().flatten().map(|&v| Num(v)),
+    );
+    array(&mut s, "Int64", "id", 1, frame.id.iter());
+    array(&mut s, "Int32", "type", 1, frame.kind.iter());
+    s.push_str("      </PointData>\n");
+    s.push_str("      <Points>\n");
+    array(
+        &mut s,
+        "Float64",
+        "Points",
+        3,
+        frame.pos.iter().flatten().map(|&v| Num(v)),
+    );
+    s.push_str("      </Points>\n");
+    s.push_str("      <Verts>\n");
+    array(&mut s, "Int64", "connectivity", 1, 0..n);
+    array(&mut s, "Int64", "offsets", 1, 1..=n);
+    s.push_str("      </Verts>\n");
+    s.push_str("    </Piece>\n  </PolyData>\n</VTKFile>\n");
+    s
+}
+
+/// Appends one ASCII `DataArray`, six values per line.
+fn array<T: std::fmt::Display>(
+    s: &mut String,
+    ty: &str,
+    name: &str,
+    comps: usize,
+    values: impl Iterator<Item = T>,
+) {
+    let _ = write!(
+        s,
+        "        <DataArray type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{comps}\" format=\"ascii\">"
+    );
+    for (k, v) in values.enumerate() {
+        s.push_str(if k % 6 == 0 { "\n          " } else { " " });
+        let _ = write!(s, "{v}");
+    }
+    s.push_str("\n        </DataArray>\n");
+}
+
+/// A ParaView collection file: a list of (time, file name relative to the
+/// collection) entries, rewritten atomically whenever an entry is added.
+#[derive(Clone, Debug)]
+pub struct PvdCollection {
+    pub path: PathBuf,
+    pub entries: Vec<(f64, String)>,
+}
+
+impl PvdCollection {
+    pub fn new(path: impl Into<PathBuf>) -> Self {
+        PvdCollection {
+            path: path.into(),
+            entries: Vec::new(),
+        }
+    }
+
+    /// Records an entry and rewrites the collection file.
+    pub fn add(&mut self, time: f64, file: impl Into<String>) -> Result<()> {
+        self.entries.push((time, file.into()));
+        self.write()
+    }
+
+    pub fn to_xml(&self) -> String {
+        let mut s = String::from("<?xml version=\"1.0\"?>\n");
+        s.push_str("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
+        s.push_str("  <Collection>\n");
+        for (t, f) in &self.entries {
+            let _ = writeln!(
+                s,
+                "    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>",
+                Num(*t),
+                xml_escape(f)
+            );
+        }
+        s.push_str("  </Collection>\n</VTKFile>\n");
+        s
+    }
+
+    pub fn write(&self) -> Result<()> {
+        write_atomic(&self.path, self.to_xml().as_bytes())
+    }
+}
+
+fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('"', "&quot;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+/// A time series of frames: `frames/frame_NNNNNN.vtp` under `dir`, listed in
+/// `dir/frames.pvd`.
+#[derive(Clone, Debug)]
+pub struct VtkSeries {
+    pub dir: PathBuf,
+    pub collection: PvdCollection,
+}
+
+impl VtkSeries {
+    /// Creates `out_dir/frames/` (and `out_dir`) if needed. Starts a new
+    /// collection: frame files left from an earlier run are overwritten.
+    pub fn new(out_dir: &Path) -> Result<Self> {
+        let frames = out_dir.join("frames");
+        std::fs::create_dir_all(&frames).map_err(|e| Error::io(&frames, e))?;
+        Ok(VtkSeries {
+            dir: out_dir.to_path_buf(),
+            collection: PvdCollection::new(out_dir.join("frames.pvd")),
+        })
+    }
+
+    /// Number of frames written so far.
+    pub fn len(&self) -> usize {
+        self.collection.entries.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.collection.entries.is_empty()
+    }
+
+    /// Path of frame number `index` (counting from 0).
+    pub fn frame_path(&self, index: usize) -> PathBuf {
+        self.dir.join(format!("frames/frame_{index:06}.vtp"))
+    }
+
+    /// Writes the next frame file atomically, then the updated `frames.pvd`.
+    pub fn write(&mut self, frame: &Frame) -> Result<()> {
+        let rel = format!("frames/frame_{:06}.vtp", self.len());
+        write_atomic(&self.dir.join(&rel), vtp_string(frame).as_bytes())?;
+        self.collection.add(frame.time, rel)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::atomic::tests::scratch_dir;
+    use crate::io::frame::tests::sample_2d;
+
+    /// The whitespace-separated values of the DataArray named `name`.
+    fn data_array(xml: &str, name: &str) -> Vec<f64> {
+        let start = xml
+            .find(&format!("Name=\"{name}\""))
+            .unwrap_or_else(|| panic!("no array {name}"));
+        let body = &xml[start..];
+        let open = body.find('>').unwrap() + 1;
+        let close = body.find("</DataArray>").unwrap();
+        body[open..close]
+            .split_whitespace()
+            .map(|t| t.parse().unwrap())
+            .collect()
+    }
+
+    #[test]
+    fn vtp_round_trips_numbers() {
+        let f = sample_2d();
+        let xml = vtp_string(&f);
+        assert!(xml.contains("NumberOfPoints=\"3\""));
+        assert!(xml.contains("NumberOfVerts=\"3\""));
+        assert_eq!(data_array(&xml, "radius"), f.radius);
+        let pts: Vec<f64> = f.pos.iter().flatten().copied().collect();
+        assert_eq!(data_array(&xml, "Points"), pts);
+        let vel: Vec<f64> = f.vel.iter().flatten().copied().collect();
+        assert_eq!(data_array(&xml, "velocity"), vel);
+        let om: Vec<f64> = f.omega.iter().flatten().copied().collect();
+        assert_eq!(data_array(&xml, "angular_velocity"), om);
+        assert_eq!(data_array(&xml, "id"), vec![1.0, 2.0, 7.0]);
+        assert_eq!(data_array(&xml, "type"), vec![1.0, 1.0, 2.0]);
+        assert_eq!(data_array(&xml, "connectivity"), vec![0.0, 1.0, 2.0]);
+        assert_eq!(data_array(&xml, "offsets"), vec![1.0, 2.0, 3.0]);
+        assert_eq!(data_array(&xml, "TimeValue"), vec![0.12]);
+    }
+
+    #[test]
+    fn empty_frame_is_valid() {
+        let f = Frame {
+            dim: 3,
+            ..Default::default()
+        };
+        let xml = vtp_string(&f);
+        assert!(xml.contains("NumberOfPoints=\"0\""));
+        assert!(data_array(&xml, "radius").is_empty());
+    }
+
+    #[test]
+    fn series_writes_frames_and_collection() {
+        let dir = scratch_dir("vtk-series");
+        let mut series = VtkSeries::new(&dir).unwrap();
+        let mut f = sample_2d();
+        series.write(&f).unwrap();
+        f.time = 0.5;
+        series.write(&f).unwrap();
+        assert_eq!(series.frame_path(1), dir.join("frames/frame_000001.vtp"));
+        assert!(series.frame_path(1).exists());
+        assert!(dir.join("frames/frame_000000.vtp").exists());
+        let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
+        assert!(pvd
+            .contains("timestep=\"0.12\" group=\"\" part=\"0\" file=\"frames/frame_000000.vtp\""));
+        assert!(
+            pvd.contains("timestep=\"0.5\" group=\"\" part=\"0\" file=\"frames/frame_000001.vtp\"")
+        );
+        let names: Vec<_> = std::fs::read_dir(dir.join("frames")).unwrap().collect();
+        assert_eq!(names.len(), 2, "no temporary files left behind");
+    }
+}
