@@ -12,8 +12,11 @@ pub mod error;
 pub mod integrate;
 pub mod io;
 pub mod md;
+pub mod measure;
 pub mod neighbors;
 pub mod particles;
+pub mod runner;
+pub mod scenario;
 
 pub use dim::{Dim, D2, D3};
 pub use domain::Domain;

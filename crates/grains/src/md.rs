@@ -1,1 +1,456 @@
 //! The MD engine and its step pipeline.
+//!
+//! One step, each phase a method you can find by name:
+//! 1. [`Md::predict`]: the integrator's part before the forces;
+//! 2. [`Md::refresh_neighbors`]: when a grain has moved more than half the
+//!    skin, wrap periodic positions, sort spatially (every few rebuilds),
+//!    rebuild the Verlet list and carry the tangential springs over by grain
+//!    identity;
+//! 3. [`Md::compute_forces`]: pair contacts, wall contacts, gravity;
+//! 4. [`Md::correct`]: the integrator's part after the forces;
+//! 5. [`Md::check_stability`]: NaN/inf and excessive overlap stop the run.
+//!
+//! Measurements and output are not part of the step: the caller runs them
+//! between steps (see the scenario runner).
+
+use crate::boundary::Wall;
+use crate::contact::binary::BinaryContact;
+use crate::contact::ContactLaw;
+use crate::dim::Dim;
+use crate::domain::Domain;
+use crate::error::{Error, Result};
+use crate::integrate::{gear5, velocity_verlet, Integrator};
+use crate::neighbors::{spatial_sort_order, NeighborList};
+use crate::particles::Particles;
+use std::collections::HashMap;
+
+/// Numerical settings of an MD run.
+#[derive(Clone, Debug)]
+pub struct MdSettings<D: Dim> {
+    pub dt: f64,
+    pub integrator: Integrator,
+    pub contact: ContactLaw,
+    pub gravity: D::V,
+    /// Verlet-list skin (m).
+    pub skin: f64,
+    /// Sort grains spatially every this many neighbour-list rebuilds (0: never).
+    pub sort_every: u32,
+    /// Largest overlap allowed, as a fraction of the smaller radius.
+    pub max_overlap_fraction: f64,
+    /// Check positions for NaN/inf every this many steps.
+    pub nan_check_every: u64,
+}
+
+impl<D: Dim> MdSettings<D> {
+    pub fn new(dt: f64, contact: ContactLaw, skin: f64) -> Self {
+        Self {
+            dt,
+            integrator: Integrator::Gear5,
+            contact,
+            gravity: D::zero(),
+            skin,
+            sort_every: 20,
+            max_overlap_fraction: 0.5,
+            nan_check_every: 10,
+        }
+    }
+}
+
+/// Counters a run reports.
+#[derive(Clone, Debug, Default)]
+pub struct MdStats {
+    /// Grain–grain and grain–wall contacts in the last force evaluation.
+    pub contacts: usize,
+    /// Largest overlap (m) in the last force evaluation.
+    pub max_overlap: f64,
+    /// Largest overlap relative to the smaller radius, and its grains' ids
+    /// (the partner is `None` for a wall).
+    max_overlap_fraction: f64,
+    worst_pair: (u64, Option<u64>),
+}
+
+/// An MD simulation of grains in dimension `D`.
+pub struct Md<D: Dim> {
+    pub particles: Particles<D>,
+    pub domain: Domain<D>,
+    pub walls: Vec<Wall<D>>,
+    pub settings: MdSettings<D>,
+    pub time: f64,
+    pub step: u64,
+    pub stats: MdStats,
+    neighbors: NeighborList<D>,
+    /// Tangential spring of each listed pair, aligned with `neighbors.pairs`,
+    /// oriented as the displacement of the pair's first grain.
+    springs: Vec<D::V>,
+    /// Tangential spring of each grain against each wall: `wall_springs[w][i]`.
+    wall_springs: Vec<Vec<D::V>>,
+    rebuilds_since_sort: u32,
+}
+
+impl<D: Dim> Md<D> {
+    /// Sets up a run: validates the settings, builds the neighbour list and
+    /// evaluates the forces at t = 0 (without advancing any spring).
+    pub fn new(
+        particles: Particles<D>,
+        domain: Domain<D>,
+        walls: Vec<Wall<D>>,
+        settings: MdSettings<D>,
+    ) -> Result<Self> {
+        settings.contact.validate("contact")?;
+        if !(settings.dt.is_finite() && settings.dt > 0.0) {
+            return Err(Error::input(format!(
+                "dt = {}: must be a positive number of seconds",
+                settings.dt
+            )));
+        }
+        if !(settings.skin.is_finite() && settings.skin > 0.0) {
+            return Err(Error::input(format!(
+                "neighbor skin = {}: must be positive",
+                settings.skin
+            )));
+        }
+        let n_walls = walls.len();
+        let n = particles.len();
+        let mut md = Self {
+            particles,
+            domain,
+            walls,
+            neighbors: NeighborList::new(settings.skin),
+            settings,
+            time: 0.0,
+            step: 0,
+            stats: MdStats::default(),
+            springs: Vec::new(),
+            wall_springs: vec![vec![D::zero(); n]; n_walls],
+            rebuilds_since_sort: 0,
+        };
+        md.rebuild_neighbors()?;
+        md.compute_forces(false);
+        md.check_stability()?;
+        if md.settings.integrator == Integrator::Gear5 {
+            gear5::initialize(&mut md.particles, md.settings.dt);
+        }
+        Ok(md)
+    }
+
+    /// Advances one time step.
+    pub fn step(&mut self) -> Result<()> {
+        self.predict();
+        self.time = (self.step + 1) as f64 * self.settings.dt;
+        self.step += 1;
+        self.refresh_neighbors()?;
+        self.compute_forces(true);
+        self.correct();
+        self.check_stability()
+    }
+
+    /// Advances `n` steps.
+    pub fn run(&mut self, n: u64) -> Result<()> {
+        for _ in 0..n {
+            self.step()?;
+        }
+        Ok(())
+    }
+
+    /// The integrator's part before the forces.
+    pub fn predict(&mut self) {
+        let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
+        match self.settings.integrator {
+            Integrator::Gear5 => gear5::predict(&mut self.particles, dt, rot),
+            Integrator::Verlet => velocity_verlet::predict(&mut self.particles, dt, rot),
+        }
+    }
+
+    /// The integrator's part after the forces.
+    pub fn correct(&mut self) {
+        let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
+        match self.settings.integrator {
+            Integrator::Gear5 => gear5::correct(&mut self.particles, dt, rot),
+            Integrator::Verlet => velocity_verlet::correct(&mut self.particles, dt, rot),
+        }
+    }
+
+    /// Rebuilds the neighbour list when a grain moved more than half the skin.
+    pub fn refresh_neighbors(&mut self) -> Result<()> {
+        if self.neighbors.needs_rebuild(&self.particles.pos) {
+            self.rebuild_neighbors()?;
+        }
+        Ok(())
+    }
+
+    /// Number of neighbour-list builds so far.
+    pub fn neighbor_builds(&self) -> u64 {
+        self.neighbors.builds()
+    }
+
+    fn rebuild_neighbors(&mut self) -> Result<()> {
+        let n = self.particles.n_owned();
+        for i in 0..n {
+            self.particles.pos[i] = self.domain.wrap(self.particles.pos[i]);
+        }
+        let saved = self.save_springs();
+        let sort_every = self.settings.sort_every;
+        if sort_every > 0 && self.rebuilds_since_sort.is_multiple_of(sort_every) {
+            let cell = 2.0 * self.particles.max_radius() + self.settings.skin;
+            let order = spatial_sort_order(&self.particles.pos[..n], &self.domain, cell);
+            self.particles.permute(&order);
+            for springs in &mut self.wall_springs {
+                let old = springs.clone();
+                for (k, &o) in order.iter().enumerate() {
+                    springs[k] = old[o as usize];
+                }
+            }
+        }
+        self.rebuilds_since_sort = self.rebuilds_since_sort.wrapping_add(1);
+        let p = &self.particles;
+        self.neighbors
+            .build(&p.pos, &p.radius, &p.frozen, &self.domain)?;
+        self.restore_springs(saved);
+        Ok(())
+    }
+
+    /// The stretched springs, keyed by the ids of their pair (smaller first)
+    /// and oriented as the displacement of the smaller id.
+    fn save_springs(&self) -> HashMap<(u64, u64), D::V> {
+        let mut saved = HashMap::new();
+        for (k, &[i, j]) in self.neighbors.pairs.iter().enumerate() {
+            let s = self.springs[k];
+            if s != D::zero() {
+                let (a, b) = (self.particles.id[i as usize], self.particles.id[j as usize]);
+                if a < b {
+                    saved.insert((a, b), s);
+                } else {
+                    saved.insert((b, a), -s);
+                }
+            }
+        }
+        saved
+    }
+
+    fn restore_springs(&mut self, saved: HashMap<(u64, u64), D::V>) {
+        self.springs.clear();
+        self.springs.resize(self.neighbors.pairs.len(), D::zero());
+        if saved.is_empty() {
+            return;
+        }
+        for (k, &[i, j]) in self.neighbors.pairs.iter().enumerate() {
+            let (a, b) = (self.particles.id[i as usize], self.particles.id[j as usize]);
+            if a < b {
+                if let Some(&s) = saved.get(&(a, b)) {
+                    self.springs[k] = s;
+                }
+            } else if let Some(&s) = saved.get(&(b, a)) {
+                self.springs[k] = -s;
+            }
+        }
+    }
+
+    /// Zeroes and recomputes every force and torque. `update_history` is
+    /// false when no time has passed (the start of a run): springs are then
+    /// read but not stretched.
+    pub fn compute_forces(&mut self, update_history: bool) {
+        let p = &mut self.particles;
+        p.force.iter_mut().for_each(|f| *f = D::zero());
+        p.torque.iter_mut().for_each(|t| *t = D::A::default());
+        self.stats.contacts = 0;
+        self.stats.max_overlap = 0.0;
+        self.stats.max_overlap_fraction = 0.0;
+        self.pair_forces(update_history);
+        self.wall_forces(update_history);
+        self.body_forces();
+    }
+
+    fn pair_forces(&mut self, update: bool) {
+        let law = &self.settings.contact;
+        let dt = self.settings.dt;
+        let rotation = law.rotation;
+        let p = &mut self.particles;
+        let stats = &mut self.stats;
+        for (k, &[i, j]) in self.neighbors.pairs.iter().enumerate() {
+            let (i, j) = (i as usize, j as usize);
+            let image = self.neighbors.image[k];
+            // del points from j to i.
+            let del = p.pos[i] - (p.pos[j] + self.neighbors.shift(image));
+            let r2 = D::norm2(del);
+            let radsum = p.radius[i] + p.radius[j];
+            if r2 >= radsum * radsum {
+                self.springs[k] = D::zero();
+                continue;
+            }
+            let r = r2.sqrt();
+            let overlap = radsum - r;
+            let n = del / r;
+            let (ri, rj) = (p.radius[i], p.radius[j]);
+            let mut v_rel = p.vel[i] - p.vel[j];
+            if rotation {
+                // Contact-point velocities: ω_i × (−r_i n) − ω_j × (r_j n).
+                v_rel -= D::ang_cross(p.omega[i] * ri + p.omega[j] * rj, n);
+            }
+            let mi = if p.frozen[i] {
+                f64::INFINITY
+            } else {
+                p.mass[i]
+            };
+            let mj = if p.frozen[j] {
+                f64::INFINITY
+            } else {
+                p.mass[j]
+            };
+            let out = law.evaluate::<D>(
+                overlap,
+                n,
+                v_rel,
+                law.damping_mass(mi, mj),
+                &mut self.springs[k],
+                dt,
+                update,
+            );
+            let (fi, fj) = (
+                law.scaling.force_factor(p.mass[i]),
+                law.scaling.force_factor(p.mass[j]),
+            );
+            p.force[i] += out.force * fi;
+            p.force[j] -= out.force * fj;
+            if rotation {
+                // Lever arms −r_i n and +r_j n, force on j is −F: both torques
+                // are −r (n × F_t) with each grain's own radius and factor.
+                let t = D::torque(n, out.tangential);
+                p.torque[i] -= t * (ri * fi);
+                p.torque[j] -= t * (rj * fj);
+            }
+            stats.contacts += 1;
+            stats.max_overlap = stats.max_overlap.max(overlap);
+            let frac = overlap / ri.min(rj);
+            if frac > stats.max_overlap_fraction {
+                stats.max_overlap_fraction = frac;
+                stats.worst_pair = (p.id[i], Some(p.id[j]));
+            }
+        }
+    }
+
+    fn wall_forces(&mut self, update: bool) {
+        let law = &self.settings.contact;
+        let dt = self.settings.dt;
+        let rotation = law.rotation;
+        let t = self.time;
+        let p = &mut self.particles;
+        for (w, wall) in self.walls.iter().enumerate() {
+            let springs = &mut self.wall_springs[w];
+            for (i, spring) in springs.iter_mut().enumerate().take(p.n_owned()) {
+                if p.frozen[i] {
+                    continue;
+                }
+                let ri = p.radius[i];
+                let Some(c) = wall.contact(p.pos[i], ri, t) else {
+                    *spring = D::zero();
+                    continue;
+                };
+                let mut v_rel = p.vel[i] - c.velocity;
+                if rotation {
+                    v_rel -= D::ang_cross(p.omega[i] * ri, c.normal);
+                }
+                let mi = p.mass[i];
+                let out = law.evaluate::<D>(
+                    c.overlap,
+                    c.normal,
+                    v_rel,
+                    law.damping_mass(mi, f64::INFINITY),
+                    spring,
+                    dt,
+                    update,
+                );
+                let fi = law.scaling.force_factor(mi);
+                p.force[i] += out.force * fi;
+                if rotation {
+                    p.torque[i] -= D::torque(c.normal, out.tangential) * (ri * fi);
+                }
+                self.stats.contacts += 1;
+                self.stats.max_overlap = self.stats.max_overlap.max(c.overlap);
+                let frac = c.overlap / ri;
+                if frac > self.stats.max_overlap_fraction {
+                    self.stats.max_overlap_fraction = frac;
+                    self.stats.worst_pair = (p.id[i], None);
+                }
+            }
+        }
+    }
+
+    fn body_forces(&mut self) {
+        let g = self.settings.gravity;
+        if g == D::zero() {
+            return;
+        }
+        let p = &mut self.particles;
+        for i in 0..p.n_owned() {
+            if !p.frozen[i] {
+                p.force[i] += g * p.mass[i];
+            }
+        }
+    }
+
+    /// Stops the run when a grain's state is not finite or two grains
+    /// overlap by more than the allowed fraction of the smaller radius.
+    pub fn check_stability(&self) -> Result<()> {
+        let s = &self.stats;
+        if s.max_overlap_fraction > self.settings.max_overlap_fraction {
+            let (a, b) = s.worst_pair;
+            let partner = b.map_or("a wall".to_string(), |b| format!("grain {b}"));
+            return Err(Error::Unstable(format!(
+                "at step {} (t = {:.6e} s) grain {a} overlaps {partner} by {:.1}% of the smaller radius \
+                 (limit {:.0}%); the contacts are too soft or dt = {:.3e} s is too large: {}",
+                self.step,
+                self.time,
+                100.0 * s.max_overlap_fraction,
+                100.0 * self.settings.max_overlap_fraction,
+                self.settings.dt,
+                self.dt_advice()
+            )));
+        }
+        let every = self.settings.nan_check_every.max(1);
+        if self.step.is_multiple_of(every) {
+            let p = &self.particles;
+            if let Some(i) =
+                (0..p.n_owned()).find(|&i| !(D::is_finite(p.pos[i]) && D::is_finite(p.vel[i])))
+            {
+                return Err(Error::Unstable(format!(
+                    "at step {} (t = {:.6e} s) grain {} has a non-finite position or velocity; {}",
+                    self.step,
+                    self.time,
+                    p.id[i],
+                    self.dt_advice()
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// The largest overlap of the last force evaluation as a fraction of the
+    /// smaller radius, with the ids of the grains involved (`None`: a wall).
+    pub fn worst_overlap(&self) -> (f64, u64, Option<u64>) {
+        let s = &self.stats;
+        (s.max_overlap_fraction, s.worst_pair.0, s.worst_pair.1)
+    }
+
+    /// Contact time of two typical grains, for advice on dt.
+    pub fn contact_time(&self) -> f64 {
+        let p = &self.particles;
+        let m = (0..p.n_owned())
+            .filter(|&i| !p.frozen[i])
+            .map(|i| p.mass[i])
+            .fold(f64::INFINITY, f64::min);
+        let m = if m.is_finite() { m } else { 1.0 };
+        let vmax = (0..p.n_owned())
+            .map(|i| D::norm(p.vel[i]))
+            .fold(0.0, f64::max);
+        let v = if vmax > 0.0 { vmax } else { 1.0 };
+        BinaryContact::new(&self.settings.contact, m, m).contact_time(v)
+    }
+
+    fn dt_advice(&self) -> String {
+        let tc = self.contact_time();
+        format!(
+            "the binary contact time is {tc:.3e} s; try dt <= {:.3e} s (t_c/50) or stiffer contacts",
+            tc / 50.0
+        )
+    }
+}

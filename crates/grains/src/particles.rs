@@ -150,7 +150,11 @@ impl<D: Dim> Particles<D> {
 
     /// Appends an owned particle. Must not be called while ghosts are present.
     pub fn push_record(&mut self, r: ParticleRecord<D>) {
-        assert_eq!(self.n_owned, self.len(), "drop ghosts before adding owned particles");
+        assert_eq!(
+            self.n_owned,
+            self.len(),
+            "drop ghosts before adding owned particles"
+        );
         self.push_raw(r);
         self.n_owned += 1;
     }
@@ -175,7 +179,11 @@ impl<D: Dim> Particles<D> {
         self.radius.push(r.radius);
         self.mass.push(r.mass);
         self.inertia.push(r.inertia);
-        let (im, ii) = if r.frozen { (0.0, 0.0) } else { (1.0 / r.mass, 1.0 / r.inertia) };
+        let (im, ii) = if r.frozen {
+            (0.0, 0.0)
+        } else {
+            (1.0 / r.mass, 1.0 / r.inertia)
+        };
         self.inv_mass.push(im);
         self.inv_inertia.push(ii);
         self.id.push(r.id);
@@ -242,7 +250,8 @@ impl<D: Dim> Particles<D> {
     pub fn ensure_gear_history(&mut self, orders: usize, ang_orders: usize) {
         let n = self.len();
         self.gear.resize_with(orders, || vec![D::zero(); n]);
-        self.gear_ang.resize_with(ang_orders, || vec![D::A::default(); n]);
+        self.gear_ang
+            .resize_with(ang_orders, || vec![D::A::default(); n]);
     }
 
     /// Reorders every per-particle array: entry `k` of the result is old entry
@@ -343,7 +352,8 @@ mod tests {
         let mut p = Particles::<D2>::new();
         p.ensure_gear_history(4, 4);
         for i in 0..n {
-            let mut r = ParticleRecord::<D2>::new(i as u64, DVec2::new(i as f64, 0.0), 0.5, 1.0, 0.1);
+            let mut r =
+                ParticleRecord::<D2>::new(i as u64, DVec2::new(i as f64, 0.0), 0.5, 1.0, 0.1);
             r.gear = vec![DVec2::splat(i as f64); 4];
             p.push_record(r);
         }

@@ -1,0 +1,185 @@
+//! `grains bench`: time a reference workload and report ns per particle-step.
+//!
+//! `chute` and `vib2d` are the LAMMPS workloads of `bench/` (scenario files
+//! `scenarios/bench-*.toml` reading the same data files); `bed3d` is a
+//! synthetic dense bed of N spheres built without a data file. Only the
+//! stepping loop is timed, as LAMMPS's "Loop time" is.
+
+use clap::Args;
+use grains::md::Md;
+use grains::scenario::{build_md, load_file, load_str};
+use grains::{Dim, Error, Result, D2, D3};
+use serde_json::json;
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// chute, vib2d or bed3d.
+    workload: String,
+    /// Steps to time [default: chute 1000, vib2d 10000, bed3d 1000].
+    #[arg(long)]
+    steps: Option<u64>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// gear5 or verlet [default: verlet, as LAMMPS's nve/sphere].
+    #[arg(long, value_parser = ["gear5", "verlet"])]
+    integrator: Option<String>,
+    /// Grains in the synthetic bed3d workload.
+    #[arg(long, default_value_t = 20_000)]
+    particles: usize,
+    /// One JSON line instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Finds `scenarios/<file>` from the working directory or the source tree.
+fn scenario_path(file: &str) -> Result<PathBuf> {
+    let here = PathBuf::from("scenarios").join(file);
+    if here.exists() {
+        return Ok(here);
+    }
+    let source = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios")
+        .join(file);
+    if source.exists() {
+        return Ok(source);
+    }
+    Err(Error::input(format!(
+        "cannot find scenarios/{file}: run `grains bench` from the repository root"
+    )))
+}
+
+/// A dense 3D bed: spheres of diameter 1 (±10%) on a cubic lattice of pitch
+/// 1.0 in a box periodic in x and y, on a floor, under gravity, with the
+/// benchmarks' LAMMPS contact law.
+fn bed3d_scenario(n: usize) -> String {
+    let side = ((n as f64 / 10.0).sqrt().ceil() as usize).max(4);
+    let layers = n.div_ceil(side * side);
+    let height = layers as f64 * 1.2 + 10.0;
+    format!(
+        r#"name = "bench-bed3d"
+dimension = "3d"
+gravity = [0.0, 0.0, -1.0]
+[domain]
+lo = [0.0, 0.0, 0.0]
+hi = [{side}.0, {side}.0, {height}]
+periodic = [true, true, false]
+[particles]
+placement = "lattice"
+count = {n}
+d0 = 1.0
+width = 0.2
+density = 1.9098593
+spacing = 1.0
+region = {{ lo = [0.0, 0.0, 0.0], hi = [{side}.0, {side}.0, {height}] }}
+[contact]
+preset = "lammps-hooke-history"
+[[walls]]
+name = "floor"
+shape = {{ type = "plane", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }}
+[run]
+integrator = "verlet"
+dt = 1.0e-4
+duration = 1.0
+skin = 0.1
+[output]
+frames = false
+picture = false
+"#,
+        side = (side as f64 * 1.1).ceil() as usize,
+    )
+}
+
+fn peak_rss_bytes() -> u64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| {
+                l.split_whitespace()
+                    .nth(1)
+                    .and_then(|k| k.parse::<u64>().ok())
+            })
+        })
+        .map_or(0, |kb| kb * 1024)
+}
+
+fn time_steps<D: Dim>(md: &mut Md<D>, steps: u64) -> Result<f64> {
+    let start = Instant::now();
+    md.run(steps)?;
+    Ok(start.elapsed().as_secs_f64())
+}
+
+pub fn run(args: BenchArgs) -> Result<()> {
+    if let Some(n) = args.threads {
+        if n == 0 {
+            return Err(Error::input("--threads must be at least 1"));
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .map_err(|e| Error::input(format!("--threads {n}: {e}")))?;
+    }
+    let mut sets = Vec::new();
+    if let Some(i) = &args.integrator {
+        sets.push(format!("run.integrator={i}"));
+    }
+    let (loaded, default_steps) = match args.workload.as_str() {
+        "chute" => (load_file(&scenario_path("bench-chute.toml")?, &sets)?, 1000),
+        "vib2d" => (
+            load_file(&scenario_path("bench-vib2d.toml")?, &sets)?,
+            10_000,
+        ),
+        "bed3d" => {
+            if args.particles == 0 {
+                return Err(Error::input("--particles must be at least 1"));
+            }
+            (
+                load_str(
+                    &bed3d_scenario(args.particles),
+                    "bed3d",
+                    PathBuf::from("."),
+                    &sets,
+                )?,
+                1000,
+            )
+        }
+        other => {
+            return Err(Error::input(format!(
+                "unknown workload `{other}`: choose chute, vib2d or bed3d"
+            )))
+        }
+    };
+    let steps = args.steps.unwrap_or(default_steps);
+    let (particles, integrator, wall) = if loaded.scenario.dimension.axes() == 2 {
+        let (mut md, _) = build_md::<D2>(&loaded)?;
+        let w = time_steps(&mut md, steps)?;
+        (md.particles.n_mobile(), md.settings.integrator, w)
+    } else {
+        let (mut md, _) = build_md::<D3>(&loaded)?;
+        let w = time_steps(&mut md, steps)?;
+        (md.particles.n_mobile(), md.settings.integrator, w)
+    };
+    let threads = rayon::current_num_threads();
+    let ns = 1e9 * wall / (steps as f64 * particles.max(1) as f64);
+    let rss = peak_rss_bytes();
+    if args.json {
+        println!(
+            "{}",
+            json!({
+                "workload": args.workload, "particles": particles, "steps": steps, "threads": threads,
+                "integrator": integrator.name(), "wall_seconds": wall, "ns_per_particle_step": ns,
+                "peak_rss_bytes": rss,
+            })
+        );
+    } else {
+        println!(
+            "{}: {particles} mobile particles, {steps} steps, {threads} thread(s), {}: {wall:.3} s, {ns:.1} ns per particle-step, peak RSS {:.1} MiB",
+            args.workload,
+            integrator.name(),
+            rss as f64 / 1048576.0
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,91 @@
+//! Progress reporting: a bar on a terminal, periodic log lines otherwise.
+
+use grains::runner::{Progress, Silent};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::time::{Duration, Instant};
+
+/// Picks the reporter for this process's standard error.
+pub fn for_terminal(quiet: bool) -> Box<dyn Progress> {
+    if quiet {
+        Box::new(Silent)
+    } else if std::io::stderr().is_terminal() {
+        Box::new(Bar { bar: None })
+    } else {
+        Box::new(LogLines::default())
+    }
+}
+
+struct Bar {
+    bar: Option<ProgressBar>,
+}
+
+impl Progress for Bar {
+    fn phase(&mut self, name: &str, total: u64) {
+        if let Some(b) = self.bar.take() {
+            b.finish();
+        }
+        let b = ProgressBar::new(total);
+        b.set_style(
+            ProgressStyle::with_template(
+                "{prefix:>6} [{bar:40}] {pos}/{len} steps  {msg}  {per_sec}  ETA {eta}",
+            )
+            .expect("static template")
+            .progress_chars("=> "),
+        );
+        b.set_prefix(name.to_string());
+        self.bar = Some(b);
+    }
+
+    fn advance(&mut self, done: u64, time: f64) {
+        if let Some(b) = &self.bar {
+            b.set_position(done);
+            b.set_message(format!("t = {time:.4e} s"));
+        }
+    }
+
+    fn finish(&mut self) {
+        if let Some(b) = self.bar.take() {
+            b.finish();
+        }
+    }
+}
+
+/// One line every few seconds, for logs and pipes.
+#[derive(Default)]
+struct LogLines {
+    name: String,
+    total: u64,
+    started: Option<Instant>,
+    last: Option<Instant>,
+}
+
+impl Progress for LogLines {
+    fn phase(&mut self, name: &str, total: u64) {
+        self.name = name.to_string();
+        self.total = total;
+        self.started = Some(Instant::now());
+        self.last = Some(Instant::now());
+        eprintln!("grains: {name}: {total} steps");
+    }
+
+    fn advance(&mut self, done: u64, time: f64) {
+        let now = Instant::now();
+        if self.last.is_some_and(|l| now - l < Duration::from_secs(5)) && done < self.total {
+            return;
+        }
+        self.last = Some(now);
+        let elapsed = self
+            .started
+            .map_or(0.0, |s| (now - s).as_secs_f64())
+            .max(1e-9);
+        let rate = done as f64 / elapsed;
+        let eta = (self.total - done) as f64 / rate.max(1e-9);
+        eprintln!(
+            "grains: {}: step {done}/{} t = {time:.4e} s, {rate:.0} steps/s, ETA {eta:.0} s",
+            self.name, self.total
+        );
+    }
+
+    fn finish(&mut self) {}
+}

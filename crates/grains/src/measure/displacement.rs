@@ -1,0 +1,74 @@
+//! Displacement field: where each grain went between two moments (seed 002
+//! Figs. 2–3 draw these as arrows). Positions are unwrapped across periodic
+//! boundaries by accumulating minimum-image increments at every sample, so
+//! samples must be taken often enough that no grain moves half a box between
+//! two of them.
+
+use crate::dim::Dim;
+use crate::md::Md;
+use std::collections::HashMap;
+
+/// Start position, unwrapped current position, last wrapped position.
+type Track = ([f64; 3], [f64; 3], [f64; 3]);
+
+#[derive(Clone, Debug, Default)]
+pub struct DisplacementField {
+    /// id → track.
+    tracks: HashMap<u64, Track>,
+    /// Ids in first-seen order, for stable output.
+    order: Vec<u64>,
+}
+
+/// One grain's start and end.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Displacement {
+    pub id: u64,
+    pub start: [f64; 3],
+    pub end: [f64; 3],
+}
+
+impl DisplacementField {
+    /// Starts tracking every mobile grain from its present position.
+    pub fn begin<D: Dim>(md: &Md<D>) -> Self {
+        let p = &md.particles;
+        let mut field = Self::default();
+        for i in 0..p.n_owned() {
+            if !p.frozen[i] {
+                let x = D::to_xyz(p.pos[i]);
+                field.tracks.insert(p.id[i], (x, x, x));
+                field.order.push(p.id[i]);
+            }
+        }
+        field
+    }
+
+    /// Follows the grains since the last sample.
+    pub fn sample<D: Dim>(&mut self, md: &Md<D>) {
+        let p = &md.particles;
+        for i in 0..p.n_owned() {
+            if let Some((_, unwrapped, last)) = self.tracks.get_mut(&p.id[i]) {
+                let now = p.pos[i];
+                let step = md.domain.minimum_image(now - D::from_xyz(*last));
+                let s = D::to_xyz(step);
+                for a in 0..3 {
+                    unwrapped[a] += s[a];
+                }
+                *last = D::to_xyz(now);
+            }
+        }
+    }
+
+    pub fn displacements(&self) -> Vec<Displacement> {
+        self.order
+            .iter()
+            .map(|id| {
+                let (start, end, _) = self.tracks[id];
+                Displacement {
+                    id: *id,
+                    start,
+                    end,
+                }
+            })
+            .collect()
+    }
+}

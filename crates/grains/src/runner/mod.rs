@@ -1,0 +1,244 @@
+//! Runs a scenario end to end: build the engine, relax, measure, write.
+//!
+//! Phases, in order: [`prepare`] the output directory (fails early when it is
+//! not writable); relax (steps with no output); measure (steps with thermo
+//! rows, frames and measurement samples at every output interval); finish
+//! (the final frame, pictures, measurement files and summary.json).
+
+mod output;
+
+use crate::dim::{Dim, D2, D3};
+use crate::error::{Error, Result};
+use crate::io::Frame;
+use crate::md::Md;
+use crate::measure::{granular_temperature, Convection, DisplacementField};
+use crate::scenario::schema::Dimension;
+use crate::scenario::{build_md, Loaded, Resolved};
+use output::Outputs;
+use serde_json::{json, Map, Value};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What the caller (the command line) chooses beyond the scenario.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    pub out_dir: PathBuf,
+    /// Replaces the measured run length (relaxation is then skipped).
+    pub steps: Option<u64>,
+}
+
+/// Receives progress reports; the command line draws a bar or log lines.
+pub trait Progress {
+    /// A phase begins with `total` steps.
+    fn phase(&mut self, name: &str, total: u64);
+    /// `done` steps of the phase are complete; `time` is the simulated time.
+    fn advance(&mut self, done: u64, time: f64);
+    fn finish(&mut self);
+}
+
+/// Progress that reports nothing.
+pub struct Silent;
+
+impl Progress for Silent {
+    fn phase(&mut self, _: &str, _: u64) {}
+    fn advance(&mut self, _: u64, _: f64) {}
+    fn finish(&mut self) {}
+}
+
+/// Builds the engine of a scenario without running it, and reports what
+/// `grains check` prints.
+pub fn check(loaded: &Loaded) -> Result<Value> {
+    fn go<D: Dim>(loaded: &Loaded) -> Result<Value> {
+        let (md, r) = build_md::<D>(loaded)?;
+        Ok(resolved_json(loaded, &md, &r))
+    }
+    match loaded.scenario.dimension {
+        Dimension::Two => go::<D2>(loaded),
+        Dimension::Three => go::<D3>(loaded),
+    }
+}
+
+/// Runs a scenario; returns the summary that was written to summary.json.
+pub fn run(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) -> Result<Value> {
+    match loaded.scenario.dimension {
+        Dimension::Two => run_dim::<D2>(loaded, opts, progress),
+        Dimension::Three => run_dim::<D3>(loaded, opts, progress),
+    }
+}
+
+/// Creates the output directory and proves it writable before any work.
+pub fn prepare(dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let probe = dir.join(".grains-write-test");
+    std::fs::write(&probe, b"ok").map_err(|e| Error::io(&probe, e))?;
+    std::fs::remove_file(&probe).map_err(|e| Error::io(&probe, e))?;
+    Ok(())
+}
+
+fn resolved_json<D: Dim>(loaded: &Loaded, md: &Md<D>, r: &Resolved) -> Value {
+    let law = &r.law;
+    json!({
+        "scenario": loaded.scenario.name,
+        "source": loaded.origin,
+        "dimension": D::NAME,
+        "particles": md.particles.n_owned(),
+        "frozen": md.particles.n_owned() - md.particles.n_mobile(),
+        "walls": md.walls.iter().map(|w| w.name.clone()).collect::<Vec<_>>(),
+        "contact": {
+            "kn": law.kn, "beta": law.beta, "gamma_n": law.gamma_n, "gamma_t": law.gamma_t,
+            "kt": law.kt, "mu": if law.mu.is_finite() { json!(law.mu) } else { json!("inf") },
+            "scaling": format!("{:?}", law.scaling).to_lowercase(), "rotation": law.rotation,
+        },
+        "integrator": md.settings.integrator.name(),
+        "contact_time": r.contact_time,
+        "dt": r.dt,
+        "dt_origin": r.dt_origin,
+        "steps_per_contact": r.contact_time / r.dt,
+        "cycle_frequency": r.cycle_frequency,
+        "relax_steps": r.relax_steps,
+        "measure_steps": r.measure_steps,
+        "output_every_steps": r.output_every,
+        "skin": md.settings.skin,
+    })
+}
+
+/// A neutral snapshot of the engine for the writers.
+pub fn frame<D: Dim>(md: &Md<D>) -> Frame {
+    let p = &md.particles;
+    let n = p.n_owned();
+    let mut periodic = [false; 3];
+    periodic[..D::D].copy_from_slice(&md.domain.periodic[..D::D]);
+    let (mut lo, mut hi) = (D::to_xyz(md.domain.lo), D::to_xyz(md.domain.hi));
+    if D::D == 2 {
+        lo[2] = -0.5;
+        hi[2] = 0.5;
+    }
+    Frame {
+        step: md.step,
+        time: md.time,
+        dim: D::D,
+        box_lo: lo,
+        box_hi: hi,
+        periodic,
+        id: p.id[..n].to_vec(),
+        kind: p.kind[..n].to_vec(),
+        pos: p.pos[..n].iter().map(|&x| D::to_xyz(x)).collect(),
+        vel: p.vel[..n].iter().map(|&x| D::to_xyz(x)).collect(),
+        omega: p.omega[..n].iter().map(|&x| D::ang_to_xyz(x)).collect(),
+        radius: p.radius[..n].to_vec(),
+    }
+}
+
+/// Measurements the scenario asked for.
+struct Measurements {
+    displacement: Option<DisplacementField>,
+    convection: Option<Convection>,
+}
+
+impl Measurements {
+    fn begin<D: Dim>(loaded: &Loaded, md: &Md<D>) -> Self {
+        let m = &loaded.scenario.measure;
+        Self {
+            displacement: m.displacement.then(|| DisplacementField::begin(md)),
+            convection: m.convection.as_ref().map(|c| Convection::new(c.band)),
+        }
+    }
+
+    fn sample<D: Dim>(&mut self, md: &Md<D>) {
+        if let Some(d) = &mut self.displacement {
+            d.sample(md);
+        }
+        if let Some(c) = &mut self.convection {
+            c.sample(md);
+        }
+    }
+
+    fn scalars(&self, summary: &mut Map<String, Value>) {
+        if let Some(c) = &self.convection {
+            summary.insert("convection_center_vz".into(), json!(c.center_vz()));
+            summary.insert("convection_edge_vz".into(), json!(c.edge_vz()));
+        }
+    }
+}
+
+fn run_dim<D: Dim>(
+    loaded: &Loaded,
+    opts: &RunOptions,
+    progress: &mut dyn Progress,
+) -> Result<Value> {
+    prepare(&opts.out_dir)?;
+    let (mut md, resolved) = build_md::<D>(loaded)?;
+    let mut outputs = Outputs::create(&opts.out_dir, &loaded.scenario.output)?;
+    let started = Instant::now();
+    let (relax, measure) = match opts.steps {
+        Some(n) => (0, n),
+        None => (resolved.relax_steps, resolved.measure_steps),
+    };
+    // Sampling more often than the output keeps the displacement unwrapping
+    // safe and the convection average smooth.
+    let every = resolved.output_every;
+    let sample_every = (every / 10).max(1);
+
+    if relax > 0 {
+        progress.phase("relax", relax);
+        for k in 1..=relax {
+            md.step()?;
+            if k % 256 == 0 || k == relax {
+                progress.advance(k, md.time);
+            }
+        }
+    }
+    progress.phase("run", measure);
+    let mut measurements = Measurements::begin(loaded, &md);
+    outputs.record(&md, &frame(&md), granular_temperature(&md.particles))?;
+    for k in 1..=measure {
+        md.step()?;
+        if k % sample_every == 0 {
+            measurements.sample(&md);
+        }
+        if k % every == 0 || k == measure {
+            outputs.record(&md, &frame(&md), granular_temperature(&md.particles))?;
+        }
+        if k % 256 == 0 || k == measure {
+            progress.advance(k, md.time);
+        }
+    }
+    measurements.sample(&md);
+    progress.finish();
+    let wall_seconds = started.elapsed().as_secs_f64();
+
+    let last = frame(&md);
+    outputs.finish(&last, measurements.displacement.as_ref())?;
+    let steps = relax + measure;
+    let updates = (steps as f64) * md.particles.n_mobile().max(1) as f64;
+    let mut summary = Map::new();
+    summary.insert("scenario".into(), json!(loaded.scenario.name));
+    summary.insert("dimension".into(), json!(D::NAME));
+    summary.insert("particles".into(), json!(md.particles.n_owned()));
+    summary.insert("steps".into(), json!(steps));
+    summary.insert("time".into(), json!(md.time));
+    summary.insert("dt".into(), json!(resolved.dt));
+    summary.insert("contact_time".into(), json!(resolved.contact_time));
+    summary.insert("wall_seconds".into(), json!(wall_seconds));
+    summary.insert(
+        "ns_per_particle_step".into(),
+        json!(1e9 * wall_seconds / updates),
+    );
+    summary.insert(
+        "kinetic_energy".into(),
+        json!(md.particles.kinetic_energy()),
+    );
+    summary.insert(
+        "rotational_energy".into(),
+        json!(md.particles.rotational_energy()),
+    );
+    summary.insert(
+        "granular_temperature".into(),
+        json!(granular_temperature(&md.particles)),
+    );
+    summary.insert("neighbor_builds".into(), json!(md.neighbor_builds()));
+    measurements.scalars(&mut summary);
+    let summary = Value::Object(summary);
+    outputs.write_summary(&summary)?;
+    Ok(summary)
+}

@@ -1,0 +1,402 @@
+//! Turns a scenario into a ready MD engine: domain, grains, walls, settings.
+
+use super::placement;
+use super::resolve::{resolve, Resolved};
+use super::schema::{FileFormat, MotionSpec, Placement, Scenario, ShapeSpec, WallSpec};
+use super::Loaded;
+use crate::boundary::{Motion, Shape, Wall};
+use crate::dim::Dim;
+use crate::domain::Domain;
+use crate::error::{Error, Result};
+use crate::io::{read_lammps_data, read_particles_csv};
+use crate::md::{Md, MdSettings};
+use crate::particles::{MassModel, ParticleRecord, Particles, SizeBand};
+
+/// Largest initial overlap accepted, as a fraction of the smaller radius.
+pub const INITIAL_OVERLAP_TOLERANCE: f64 = 0.05;
+
+/// Reads a vector of `D::D` numbers from the scenario key `key`.
+pub fn vector<D: Dim>(key: &str, v: &[f64]) -> Result<D::V> {
+    if v.len() != D::D {
+        return Err(Error::input(format!(
+            "{key} has {} components; a {} scenario needs {}",
+            v.len(),
+            D::NAME,
+            D::D
+        )));
+    }
+    if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+        return Err(Error::input(format!("{key} contains {x}: must be finite")));
+    }
+    let mut out = D::zero();
+    for (a, x) in v.iter().enumerate() {
+        D::set(&mut out, a, *x);
+    }
+    Ok(out)
+}
+
+fn angular<D: Dim>(key: &str, v: &[f64]) -> Result<D::A> {
+    let want = if D::D == 2 { 1 } else { 3 };
+    if v.len() != want {
+        return Err(Error::input(format!(
+            "{key} has {} components; an angular velocity in {} has {want}",
+            v.len(),
+            D::NAME
+        )));
+    }
+    let mut xyz = [0.0; 3];
+    if D::D == 2 {
+        xyz[2] = v[0];
+    } else {
+        xyz.copy_from_slice(v);
+    }
+    Ok(D::ang_from_xyz(xyz))
+}
+
+fn domain<D: Dim>(s: &Scenario) -> Result<Domain<D>> {
+    let lo = vector::<D>("domain.lo", &s.domain.lo)?;
+    let hi = vector::<D>("domain.hi", &s.domain.hi)?;
+    for a in 0..D::D {
+        if D::get(hi, a) <= D::get(lo, a) {
+            return Err(Error::input(format!(
+                "domain.hi must exceed domain.lo on every axis (axis {a})"
+            )));
+        }
+    }
+    if s.domain.periodic.len() > D::D {
+        return Err(Error::input(format!(
+            "domain.periodic has {} entries; at most {}",
+            s.domain.periodic.len(),
+            D::D
+        )));
+    }
+    let mut periodic = [false; 3];
+    periodic[..s.domain.periodic.len()].copy_from_slice(&s.domain.periodic);
+    Ok(Domain::new(lo, hi, periodic))
+}
+
+fn grain<D: Dim>(id: u64, pos: D::V, d: f64, density: f64, model: MassModel) -> ParticleRecord<D> {
+    let m = model.mass(density, d);
+    ParticleRecord::new(id, pos, 0.5 * d, m, model.inertia(m, 0.5 * d))
+}
+
+fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Vec<ParticleRecord<D>>> {
+    let s = &loaded.scenario;
+    let ps = &s.particles;
+    if !(ps.d0.is_finite() && ps.d0 > 0.0) {
+        return Err(Error::input(format!(
+            "particles.d0 = {}: must be a positive diameter in metres",
+            ps.d0
+        )));
+    }
+    if !(ps.width.is_finite() && (0.0..2.0).contains(&ps.width)) {
+        return Err(Error::input(format!(
+            "particles.width = {}: must be in [0, 2) (units of d0)",
+            ps.width
+        )));
+    }
+    if !(ps.density.is_finite() && ps.density > 0.0) {
+        return Err(Error::input(format!(
+            "particles.density = {}: must be positive (kg/m³)",
+            ps.density
+        )));
+    }
+    if !(ps.spacing.is_finite() && ps.spacing >= 1.0) {
+        return Err(Error::input(format!(
+            "particles.spacing = {}: must be >= 1 (units of the largest diameter)",
+            ps.spacing
+        )));
+    }
+    let band = SizeBand {
+        d0: ps.d0,
+        width: ps.width,
+    };
+    let (rlo, rhi) = match &ps.region {
+        Some(r) => (
+            vector::<D>("particles.region.lo", &r.lo)?,
+            vector::<D>("particles.region.hi", &r.hi)?,
+        ),
+        None => (dom.lo, dom.hi),
+    };
+    let mut out: Vec<ParticleRecord<D>> = match ps.placement {
+        Placement::Lattice | Placement::Random => {
+            if ps.count == 0 {
+                return Err(Error::input(
+                    "particles.count must be at least 1 for lattice or random placement",
+                ));
+            }
+            let d = placement::diameters(band, ps.count, s.seed);
+            let pos = if ps.placement == Placement::Lattice {
+                placement::lattice::<D>(rlo, rhi, band.max() * ps.spacing, ps.count)?
+            } else {
+                placement::random::<D>(rlo, rhi, &d, s.seed)?
+            };
+            let vel = placement::velocities::<D>(ps.count, ps.random_velocity, s.seed);
+            (0..ps.count)
+                .map(|k| {
+                    let mut g = grain::<D>(k as u64 + 1, pos[k], d[k], ps.density, ps.mass_model);
+                    g.vel = vel[k];
+                    g
+                })
+                .collect()
+        }
+        Placement::File => from_file::<D>(loaded)?,
+        Placement::None => Vec::new(),
+    };
+    let first_id = out.iter().map(|g| g.id).max().unwrap_or(0) + 1;
+    for (k, a) in ps.add.iter().enumerate() {
+        let key = format!("particles.add[{k}]");
+        let pos = vector::<D>(&format!("{key}.position"), &a.position)?;
+        let d = a.diameter.unwrap_or(ps.d0);
+        if !(d.is_finite() && d > 0.0) {
+            return Err(Error::input(format!(
+                "{key}.diameter = {d}: must be positive"
+            )));
+        }
+        let mut g = grain::<D>(first_id + k as u64, pos, d, ps.density, ps.mass_model);
+        if let Some(v) = &a.velocity {
+            g.vel = vector::<D>(&format!("{key}.velocity"), v)?;
+        }
+        g.frozen = a.frozen;
+        g.kind = a.kind.unwrap_or(if a.frozen { 2 } else { 1 });
+        out.push(g);
+    }
+    for g in &mut out {
+        if ps.frozen_types.contains(&g.kind) {
+            g.frozen = true;
+        }
+    }
+    if out.is_empty() {
+        return Err(Error::input(
+            "the scenario places no grains: set particles.count or particles.add",
+        ));
+    }
+    Ok(out)
+}
+
+fn from_file<D: Dim>(loaded: &Loaded) -> Result<Vec<ParticleRecord<D>>> {
+    let ps = &loaded.scenario.particles;
+    let Some(name) = &ps.file else {
+        return Err(Error::input(
+            "particles.placement = \"file\" needs particles.file",
+        ));
+    };
+    let path = loaded.path(name);
+    let format = ps.format.unwrap_or(if name.ends_with(".csv") {
+        FileFormat::Csv
+    } else {
+        FileFormat::Lammps
+    });
+    let mut out = Vec::new();
+    match format {
+        FileFormat::Lammps => {
+            let data = read_lammps_data(&path)?;
+            if D::D == 2 && !data.is_planar() {
+                return Err(Error::input(format!(
+                    "{}: grains have non-zero z, but the scenario is 2d",
+                    path.display()
+                )));
+            }
+            for (k, a) in data.atoms.iter().enumerate() {
+                // LAMMPS's density column is mass per volume of a sphere
+                // (also in 2D); a disk mass model reads it per area instead.
+                let mut g = grain::<D>(
+                    a.id,
+                    D::from_xyz(a.pos),
+                    a.diameter,
+                    a.density,
+                    ps.mass_model,
+                );
+                g.kind = a.kind;
+                if data.has_velocities {
+                    let v = &data.velocities[k];
+                    g.vel = D::from_xyz(v.v);
+                    g.omega = D::ang_from_xyz(v.omega);
+                }
+                out.push(g);
+            }
+        }
+        FileFormat::Csv => {
+            for (k, c) in read_particles_csv(&path, D::D)?.into_iter().enumerate() {
+                let id = c.id.unwrap_or(k as u64 + 1);
+                let mut g = grain::<D>(
+                    id,
+                    D::from_xyz(c.pos),
+                    2.0 * c.radius,
+                    ps.density,
+                    ps.mass_model,
+                );
+                g.kind = c.kind.unwrap_or(1);
+                g.vel = c.vel.map(D::from_xyz).unwrap_or_default();
+                g.omega = c.omega.map(D::ang_from_xyz).unwrap_or_default();
+                g.frozen = c.frozen.unwrap_or(false);
+                out.push(g);
+            }
+        }
+    }
+    let mut ids: Vec<u64> = out.iter().map(|g| g.id).collect();
+    ids.sort_unstable();
+    if let Some(w) = ids.windows(2).find(|w| w[0] == w[1]) {
+        return Err(Error::input(format!(
+            "{}: grain id {} appears twice",
+            path.display(),
+            w[0]
+        )));
+    }
+    Ok(out)
+}
+
+fn wall<D: Dim>(k: usize, w: &WallSpec, dom: &Domain<D>) -> Result<Wall<D>> {
+    let key = format!("walls[{k}] ({})", w.name);
+    let v = |field: &str, x: &[f64]| vector::<D>(&format!("{key}.{field}"), x);
+    let shape = match &w.shape {
+        ShapeSpec::Plane { point, normal } => Shape::Plane {
+            point: v("shape.point", point)?,
+            normal: v("shape.normal", normal)?,
+        },
+        ShapeSpec::Segment { a, b } => Shape::Segment {
+            a: v("shape.a", a)?,
+            b: v("shape.b", b)?,
+        },
+        ShapeSpec::Polygon { vertices } => Shape::Polygon {
+            vertices: vertices
+                .iter()
+                .enumerate()
+                .map(|(i, x)| v(&format!("shape.vertices[{i}]"), x))
+                .collect::<Result<_>>()?,
+        },
+        ShapeSpec::Cylinder {
+            point,
+            axis,
+            radius,
+            inside,
+        } => Shape::Cylinder {
+            point: v("shape.point", point)?,
+            axis: match axis {
+                Some(a) => v("shape.axis", a)?,
+                None => D::unit(D::D - 1),
+            },
+            radius: *radius,
+            inside: *inside,
+        },
+        ShapeSpec::Obstacle { center, diameter } => Shape::Obstacle {
+            center: v("shape.center", center)?,
+            diameter: *diameter,
+        },
+    };
+    let motion = match &w.motion {
+        MotionSpec::Fixed => Motion::Fixed,
+        MotionSpec::Vibrate {
+            amplitude,
+            frequency,
+            modulation,
+            wavelength,
+            phase,
+            direction,
+        } => Motion::Vibrate {
+            direction: match direction {
+                Some(d) => v("motion.direction", d)?,
+                None => D::unit(D::vertical()),
+            },
+            amplitude: *amplitude,
+            modulation: *modulation,
+            wavelength: wavelength.unwrap_or(dom.length(0)),
+            frequency: *frequency,
+            phase: *phase,
+        },
+        MotionSpec::Oscillate {
+            amplitude,
+            frequency,
+            phase,
+        } => Motion::Oscillate {
+            amplitude: v("motion.amplitude", amplitude)?,
+            frequency: *frequency,
+            phase: *phase,
+        },
+        MotionSpec::Rotate { center, omega } => Motion::Rotate {
+            center: v("motion.center", center)?,
+            omega: angular::<D>(&format!("{key}.motion.omega"), omega)?,
+        },
+        MotionSpec::Translate { velocity } => Motion::Translate {
+            velocity: v("motion.velocity", velocity)?,
+        },
+    };
+    let mut wall = Wall::new(w.name.clone(), shape, motion)
+        .map_err(|e| Error::input(format!("{key}: {e}")))?;
+    if let Some(t) = w.remove_at {
+        wall = wall
+            .with_remove_at(t)
+            .map_err(|e| Error::input(format!("{key}: {e}")))?;
+    }
+    Ok(wall)
+}
+
+/// Builds the engine of a scenario, with the numbers it was resolved to.
+pub fn build_md<D: Dim>(loaded: &Loaded) -> Result<(Md<D>, Resolved)> {
+    let s = &loaded.scenario;
+    let dom = domain::<D>(s)?;
+    let records = grains::<D>(loaded, &dom)?;
+    let lightest = records
+        .iter()
+        .filter(|g| !g.frozen)
+        .map(|g| g.mass)
+        .fold(f64::INFINITY, f64::min);
+    let lightest = if lightest.is_finite() {
+        lightest
+    } else {
+        records[0].mass
+    };
+    let resolved = resolve(s, lightest)?;
+    let walls = s
+        .walls
+        .iter()
+        .enumerate()
+        .map(|(k, w)| wall::<D>(k, w, &dom))
+        .collect::<Result<Vec<_>>>()?;
+    let dmax = records.iter().map(|g| 2.0 * g.radius).fold(0.0, f64::max);
+    if !(s.run.skin.is_finite() && s.run.skin > 0.0) {
+        return Err(Error::input(format!(
+            "run.skin = {}: must be positive (units of d0)",
+            s.run.skin
+        )));
+    }
+    if !(s.run.max_overlap.is_finite() && s.run.max_overlap > 0.0) {
+        return Err(Error::input(format!(
+            "run.max_overlap = {}: must be positive",
+            s.run.max_overlap
+        )));
+    }
+    let mut settings = MdSettings::<D>::new(
+        resolved.dt,
+        resolved.law.clone(),
+        s.run.skin * s.particles.d0.min(dmax),
+    );
+    settings.integrator = s.run.integrator;
+    settings.max_overlap_fraction = s.run.max_overlap;
+    if let Some(g) = &s.gravity {
+        settings.gravity = vector::<D>("gravity", g)?;
+    }
+    let mut particles = Particles::new();
+    for r in records {
+        particles.push_record(r);
+    }
+    let md = Md::new(particles, dom, walls, settings).map_err(|e| match e {
+        Error::Unstable(m) => Error::input(format!(
+            "{}: the initial state is unusable: {m}",
+            loaded.origin
+        )),
+        other => other,
+    })?;
+    let (frac, a, b) = md.worst_overlap();
+    if frac > INITIAL_OVERLAP_TOLERANCE {
+        let partner = b.map_or("a wall".to_string(), |b| format!("grain {b}"));
+        return Err(Error::input(format!(
+            "{}: initial grain {a} overlaps {partner} by {:.1}% of the smaller radius (at most {:.0}% allowed); \
+             move the grains apart or enlarge particles.spacing / particles.region",
+            loaded.origin,
+            100.0 * frac,
+            100.0 * INITIAL_OVERLAP_TOLERANCE
+        )));
+    }
+    Ok((md, resolved))
+}

@@ -1,0 +1,413 @@
+//! The scenario file: serde types mirroring the TOML, SI units throughout.
+//!
+//! Every struct denies unknown keys so a typo is an error, not a silent
+//! default. `docs/scenario-reference.md` documents each field; keep the two in
+//! step. Vectors are arrays with one entry per axis of the chosen dimension.
+
+use crate::contact::MassScaling;
+use crate::integrate::Integrator;
+use crate::particles::MassModel;
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Name of the run; default output directory is `runs/<name>`.
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    /// "2d" (disks, y vertical) or "3d" (spheres, z vertical).
+    pub dimension: Dimension,
+    /// Seed of every random stream (placement, velocities).
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    pub domain: DomainSpec,
+    pub particles: ParticlesSpec,
+    #[serde(default)]
+    pub contact: ContactSpec,
+    #[serde(default)]
+    pub walls: Vec<WallSpec>,
+    /// Gravitational acceleration vector (m/s²); default zero.
+    #[serde(default)]
+    pub gravity: Option<Vec<f64>>,
+    pub run: RunSpec,
+    #[serde(default)]
+    pub output: OutputSpec,
+    #[serde(default)]
+    pub measure: MeasureSpec,
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+pub enum Dimension {
+    #[serde(rename = "2d")]
+    Two,
+    #[serde(rename = "3d")]
+    Three,
+}
+
+impl Dimension {
+    pub fn axes(self) -> usize {
+        match self {
+            Dimension::Two => 2,
+            Dimension::Three => 3,
+        }
+    }
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DomainSpec {
+    /// Lower corner (m).
+    pub lo: Vec<f64>,
+    /// Upper corner (m). On non-periodic axes this only sizes the cell grid.
+    pub hi: Vec<f64>,
+    /// Periodicity per axis; default none.
+    #[serde(default)]
+    pub periodic: Vec<bool>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ParticlesSpec {
+    /// How grains are created.
+    #[serde(default)]
+    pub placement: Placement,
+    /// Number of grains to place (lattice and random placement).
+    #[serde(default)]
+    pub count: usize,
+    /// Mean diameter d0 (m).
+    #[serde(default = "default_d0")]
+    pub d0: f64,
+    /// Width w of the diameter band, in units of d0: d ∈ d0 [1 − w/2, 1 + w/2].
+    #[serde(default)]
+    pub width: f64,
+    /// Material density (kg/m³; with mass_model = "disk" in 2D, kg/m²).
+    #[serde(default = "default_density")]
+    pub density: f64,
+    #[serde(default)]
+    pub mass_model: MassModel,
+    /// Region to fill (lattice, random); default the whole domain.
+    #[serde(default)]
+    pub region: Option<RegionSpec>,
+    /// Lattice spacing in units of the largest diameter (≥ 1); default 1.05.
+    #[serde(default = "default_spacing")]
+    pub spacing: f64,
+    /// Random initial velocities: each component uniform in ±this (m/s).
+    #[serde(default)]
+    pub random_velocity: f64,
+    /// Initial state file for placement = "file" (LAMMPS data or CSV).
+    #[serde(default)]
+    pub file: Option<String>,
+    /// Format of `file`; default from its name (`.csv` → csv, else lammps).
+    #[serde(default)]
+    pub format: Option<FileFormat>,
+    /// Types (LAMMPS `type` column) whose grains are frozen in place.
+    #[serde(default)]
+    pub frozen_types: Vec<u32>,
+    /// Individual grains added after the placement above.
+    #[serde(default)]
+    pub add: Vec<GrainSpec>,
+}
+
+fn default_d0() -> f64 {
+    1.0e-3
+}
+fn default_density() -> f64 {
+    2500.0
+}
+fn default_spacing() -> f64 {
+    1.05
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Placement {
+    /// Rows of grains from the bottom of the region up (seed 002: "placed
+    /// regularly on the bottom").
+    #[default]
+    Lattice,
+    /// Random non-overlapping positions in the region.
+    Random,
+    /// Read from `particles.file`.
+    File,
+    /// Only the grains listed in `particles.add`.
+    None,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum FileFormat {
+    Lammps,
+    Csv,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RegionSpec {
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GrainSpec {
+    pub position: Vec<f64>,
+    /// Diameter (m); default d0.
+    #[serde(default)]
+    pub diameter: Option<f64>,
+    #[serde(default)]
+    pub velocity: Option<Vec<f64>>,
+    #[serde(default)]
+    pub frozen: bool,
+    /// Type for output; default 1 (2 if frozen).
+    #[serde(default)]
+    pub kind: Option<u32>,
+}
+
+/// Contact law. A preset fills every field; fields given next to it override.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    #[serde(default)]
+    pub preset: Option<ContactPreset>,
+    /// Normal stiffness (seed scaling: s⁻² m^(1−β); reduced: N m^(−β)).
+    pub kn: Option<f64>,
+    /// Exponent of the elastic force k_n ξ^β.
+    pub beta: Option<f64>,
+    /// Normal damping γ_n (s⁻¹).
+    pub gamma_n: Option<f64>,
+    /// Viscous shear friction γ_t (s⁻¹), the seeds' γ_s.
+    pub gamma_t: Option<f64>,
+    /// Tangential spring stiffness (units of k_n with β = 1); 0 = no spring.
+    pub kt: Option<f64>,
+    /// Coulomb coefficient; a negative value is an error, omit for no cap.
+    pub mu: Option<f64>,
+    pub scaling: Option<MassScaling>,
+    pub rotation: Option<bool>,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+pub enum ContactPreset {
+    /// Seed 002: Hooke, γ_n = 200 s⁻¹, γ_t = 400 s⁻¹, k_n = 5e7 s⁻², seed
+    /// scaling, no spring, no rotation.
+    #[serde(rename = "seed")]
+    Seed,
+    /// LAMMPS `gran/hooke/history Kn NULL γn NULL μ 0` of the shared benchmarks
+    /// (k_n = 2e5, k_t = 2/7 k_n, γ_n = 50, γ_t = 0, μ = 0.5), reduced scaling,
+    /// rotation on. Units are whatever the data file uses (LAMMPS `lj`).
+    #[serde(rename = "lammps-hooke-history")]
+    LammpsHookeHistory,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct WallSpec {
+    pub name: String,
+    pub shape: ShapeSpec,
+    #[serde(default)]
+    pub motion: MotionSpec,
+    /// Time (s) at which the wall disappears.
+    #[serde(default)]
+    pub remove_at: Option<f64>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+pub enum ShapeSpec {
+    /// Infinite line (2D) or plane (3D); grains live on the side `normal` points to.
+    Plane { point: Vec<f64>, normal: Vec<f64> },
+    /// Finite segment (2D).
+    Segment { a: Vec<f64>, b: Vec<f64> },
+    /// Convex planar polygon (3D).
+    Polygon { vertices: Vec<Vec<f64>> },
+    /// Circle (2D) or cylinder (3D) of `radius`; `inside` for pipes and drums.
+    Cylinder {
+        point: Vec<f64>,
+        #[serde(default)]
+        axis: Option<Vec<f64>>,
+        radius: f64,
+        #[serde(default = "yes")]
+        inside: bool,
+    },
+    /// Fixed circular/spherical obstacle of `diameter` d1.
+    Obstacle { center: Vec<f64>, diameter: f64 },
+}
+
+fn yes() -> bool {
+    true
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]
+#[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
+pub enum MotionSpec {
+    #[default]
+    Fixed,
+    /// z0(x, t) = A0 (1 − B cos(2π x / L)) sin(2π f t + phase) along `direction`
+    /// (default vertical). `wavelength` L defaults to the domain's x length.
+    Vibrate {
+        amplitude: f64,
+        frequency: f64,
+        #[serde(default)]
+        modulation: f64,
+        #[serde(default)]
+        wavelength: Option<f64>,
+        #[serde(default)]
+        phase: f64,
+        #[serde(default)]
+        direction: Option<Vec<f64>>,
+    },
+    /// Conveyor-belt ellipse: displacement = amplitude · sin(2π f t + phase).
+    Oscillate {
+        amplitude: Vec<f64>,
+        frequency: f64,
+        #[serde(default)]
+        phase: f64,
+    },
+    /// Rigid rotation about `center` with angular velocity `omega` (rad/s;
+    /// a number in 2D, a vector in 3D).
+    Rotate { center: Vec<f64>, omega: Vec<f64> },
+    /// Constant velocity (m/s).
+    Translate { velocity: Vec<f64> },
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RunSpec {
+    #[serde(default)]
+    pub integrator: Integrator,
+    /// Time step: a number of seconds or "auto" (t_c / dt_safety).
+    #[serde(default)]
+    pub dt: TimeStep,
+    /// dt = t_c / dt_safety when dt = "auto"; default 50.
+    #[serde(default = "default_safety")]
+    pub dt_safety: f64,
+    /// Typical impact speed (m/s) for the contact time when β ≠ 1; default
+    /// the larger of √(g d0) and the fastest wall speed.
+    #[serde(default)]
+    pub impact_speed: Option<f64>,
+    /// Measured duration in seconds ...
+    #[serde(default)]
+    pub duration: Option<f64>,
+    /// ... or in cycles of the first vibrating wall.
+    #[serde(default)]
+    pub cycles: Option<f64>,
+    /// Relaxation before measuring, in seconds ...
+    #[serde(default)]
+    pub relax: Option<f64>,
+    /// ... or in cycles.
+    #[serde(default)]
+    pub relax_cycles: Option<f64>,
+    /// Verlet skin in units of d0; default 0.2.
+    #[serde(default = "default_skin")]
+    pub skin: f64,
+    /// Largest overlap allowed, as a fraction of the smaller radius.
+    #[serde(default = "default_overlap")]
+    pub max_overlap: f64,
+    /// Threads for the force loop (0: all cores).
+    #[serde(default)]
+    pub threads: usize,
+}
+
+fn default_safety() -> f64 {
+    50.0
+}
+fn default_skin() -> f64 {
+    0.2
+}
+fn default_overlap() -> f64 {
+    0.5
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum TimeStep {
+    #[default]
+    Auto,
+    Seconds(f64),
+}
+
+impl Serialize for TimeStep {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            TimeStep::Auto => s.serialize_str("auto"),
+            TimeStep::Seconds(x) => s.serialize_f64(*x),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for TimeStep {
+    fn deserialize<De: serde::Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Raw {
+            Num(f64),
+            Int(i64),
+            Text(String),
+        }
+        match Raw::deserialize(d)? {
+            Raw::Num(x) => Ok(TimeStep::Seconds(x)),
+            Raw::Int(x) => Ok(TimeStep::Seconds(x as f64)),
+            Raw::Text(t) if t == "auto" => Ok(TimeStep::Auto),
+            Raw::Text(t) => Err(serde::de::Error::custom(format!(
+                "run.dt = \"{t}\": expected a number of seconds or \"auto\""
+            ))),
+        }
+    }
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Interval between thermo rows and frames (s); default duration/100.
+    #[serde(default)]
+    pub every: Option<f64>,
+    /// Write VTK frames (frames/*.vtp + frames.pvd).
+    #[serde(default = "yes")]
+    pub frames: bool,
+    /// Write a LAMMPS text dump (dump.lammpstrj).
+    #[serde(default)]
+    pub dump: bool,
+    /// Draw final.png.
+    #[serde(default = "yes")]
+    pub picture: bool,
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        Self {
+            every: None,
+            frames: true,
+            dump: false,
+            picture: true,
+        }
+    }
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]
+#[serde(deny_unknown_fields)]
+pub struct MeasureSpec {
+    /// Displacement field from the end of relaxation to the end of the run:
+    /// displacement.csv and displacement.png (seed 002 Figs. 2–3).
+    #[serde(default)]
+    pub displacement: bool,
+    /// Convection strength: mean vertical velocity in the central band and
+    /// the edge bands (fraction of the width each), averaged over the run.
+    #[serde(default)]
+    pub convection: Option<ConvectionSpec>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ConvectionSpec {
+    /// Width of the central band and of each edge band, as a fraction of the
+    /// domain's x length; default 0.2.
+    #[serde(default = "default_band")]
+    pub band: f64,
+}
+
+fn default_band() -> f64 {
+    0.2
+}

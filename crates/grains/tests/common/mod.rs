@@ -1,0 +1,49 @@
+//! Small builders shared by the physics tests.
+#![allow(dead_code)]
+
+use grains::contact::{ContactLaw, MassScaling};
+use grains::md::{Md, MdSettings};
+use grains::{Dim, Domain, ParticleRecord, Particles};
+
+pub fn hooke(kn: f64, gamma_n: f64, scaling: MassScaling) -> ContactLaw {
+    ContactLaw {
+        kn,
+        beta: 1.0,
+        gamma_n,
+        gamma_t: 0.0,
+        kt: 0.0,
+        mu: f64::INFINITY,
+        scaling,
+        rotation: false,
+    }
+}
+
+/// A grain of diameter `d` and density 1 (sphere mass), at rest.
+pub fn grain<D: Dim>(id: u64, pos: D::V, d: f64) -> ParticleRecord<D> {
+    let m = grains::MassModel::Sphere.mass(1.0, d);
+    let i = grains::MassModel::Sphere.inertia(m, 0.5 * d);
+    ParticleRecord::new(id, pos, 0.5 * d, m, i)
+}
+
+/// An open (non-periodic) box large enough for a few grains.
+pub fn open_box<D: Dim>(half: f64) -> Domain<D> {
+    let mut lo = D::zero();
+    let mut hi = D::zero();
+    for a in 0..D::D {
+        D::set(&mut lo, a, -half);
+        D::set(&mut hi, a, half);
+    }
+    Domain::new(lo, hi, [false; 3])
+}
+
+pub fn engine<D: Dim>(
+    grains: Vec<ParticleRecord<D>>,
+    domain: Domain<D>,
+    settings: MdSettings<D>,
+) -> Md<D> {
+    let mut p = Particles::new();
+    for g in grains {
+        p.push_record(g);
+    }
+    Md::new(p, domain, Vec::new(), settings).expect("valid test set-up")
+}
