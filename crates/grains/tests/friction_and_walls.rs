@@ -50,7 +50,7 @@ fn incline(theta: f64, mu: f64, t: f64) -> (f64, f64, f64) {
 
 #[test]
 fn grain_sticks_below_the_friction_angle() {
-    let mu = 0.5;
+    let mu: f64 = 0.5;
     let theta = (0.9 * mu).atan();
     let (x_half, x_end, a) = incline(theta, mu, 0.5);
     // Released with an unstretched spring, the grain slips a little while the
