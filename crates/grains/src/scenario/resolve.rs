@@ -25,7 +25,8 @@ pub struct Resolved {
 }
 
 /// Resolves the contact law: the preset's values, then the explicit fields.
-pub fn contact_law(spec: &ContactSpec) -> Result<ContactLaw> {
+/// `lightest_mass` sets γ_n when the restitution coefficient is given.
+pub fn contact_law(spec: &ContactSpec, lightest_mass: f64) -> Result<ContactLaw> {
     let base = match spec.preset {
         Some(ContactPreset::Seed) => ContactLaw {
             kn: 5.0e7,
@@ -80,7 +81,41 @@ pub fn contact_law(spec: &ContactSpec) -> Result<ContactLaw> {
         law.kt = 2.0 / 7.0 * law.kn;
     }
     law.validate("contact")?;
+    if let Some(e) = spec.restitution {
+        if spec.gamma_n.is_some() {
+            return Err(Error::input(
+                "give either contact.gamma_n or contact.restitution, not both",
+            ));
+        }
+        if !(e > 0.0 && e <= 1.0) {
+            return Err(Error::input(format!(
+                "contact.restitution = {e}: must be in (0, 1]"
+            )));
+        }
+        if law.beta != 1.0 {
+            return Err(Error::input(format!(
+                "contact.restitution needs contact.beta = 1 (a power-law contact's restitution depends on the impact speed); give contact.gamma_n for beta = {}",
+                law.beta
+            )));
+        }
+        law.gamma_n = gamma_n_for_restitution(&law, e, lightest_mass);
+    }
     Ok(law)
+}
+
+/// The γ_n that gives restitution `e` to a binary collision of two grains of
+/// mass `m`: with ln e = −γ t_c/2 and t_c = π/√(ω0² − γ²/4), the damping
+/// of the relative motion is γ = −2 ln(e) ω0 / √(π² + ln² e).
+fn gamma_n_for_restitution(law: &ContactLaw, e: f64, m: f64) -> f64 {
+    let unit = ContactLaw {
+        gamma_n: 1.0,
+        ..law.clone()
+    };
+    let b = BinaryContact::new(&unit, m, m);
+    let ln_e = e.ln();
+    let gamma = -2.0 * ln_e * b.kappa.sqrt() / (std::f64::consts::PI.powi(2) + ln_e * ln_e).sqrt();
+    // b.gamma is the relative damping per unit γ_n (2 under seed scaling).
+    gamma / b.gamma
 }
 
 /// The frequency of the first wall that vibrates or oscillates.
@@ -161,7 +196,7 @@ fn span(
 
 /// Resolves timing; `lightest_mass` is the smallest mass of a mobile grain.
 pub fn resolve(s: &Scenario, lightest_mass: f64) -> Result<Resolved> {
-    let law = contact_law(&s.contact)?;
+    let law = contact_law(&s.contact, lightest_mass)?;
     let g = s
         .gravity
         .as_ref()
@@ -229,4 +264,38 @@ pub fn resolve(s: &Scenario, lightest_mass: f64) -> Result<Resolved> {
         measure_steps: steps(measure).max(1),
         output_every: steps(every).max(1),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn restitution_gives_the_damping_that_produces_it() {
+        for preset in [ContactPreset::Seed, ContactPreset::LammpsHookeHistory] {
+            let spec = ContactSpec {
+                preset: Some(preset),
+                restitution: Some(0.7),
+                ..Default::default()
+            };
+            let law = contact_law(&spec, 0.3).unwrap();
+            let e = BinaryContact::new(&law, 0.3, 0.3)
+                .linear_restitution()
+                .unwrap();
+            assert!((e - 0.7).abs() < 1e-12, "{preset:?}: {e}");
+        }
+    }
+
+    #[test]
+    fn restitution_out_of_range_is_refused() {
+        for e in [0.0, 1.2, -0.5] {
+            let spec = ContactSpec {
+                preset: Some(ContactPreset::Seed),
+                restitution: Some(e),
+                ..Default::default()
+            };
+            let msg = contact_law(&spec, 1.0).unwrap_err().to_string();
+            assert!(msg.contains("contact.restitution"), "{msg}");
+        }
+    }
 }

@@ -180,6 +180,9 @@ pub struct ContactSpec {
     pub beta: Option<f64>,
     /// Normal damping γ_n (s⁻¹).
     pub gamma_n: Option<f64>,
+    /// Normal restitution coefficient e ∈ (0, 1] of two of the lightest
+    /// grains, instead of gamma_n (β = 1 only).
+    pub restitution: Option<f64>,
     /// Viscous shear friction γ_t (s⁻¹), the seeds' γ_s.
     pub gamma_t: Option<f64>,
     /// Tangential spring stiffness (units of k_n with β = 1); 0 = no spring.
