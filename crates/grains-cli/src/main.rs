@@ -85,8 +85,9 @@ fn execute(cli: Cli) -> grains::Result<()> {
             threads,
             quiet,
         } => {
-            set_threads(threads)?;
             let loaded = load(scenario.as_deref(), &sets)?;
+            let from_file = Some(loaded.scenario.run.threads).filter(|&n| n > 0);
+            set_threads(threads.or(from_file))?;
             let out_dir = out.unwrap_or_else(|| Path::new("runs").join(&loaded.scenario.name));
             if steps == Some(0) {
                 return Err(Error::input("--steps must be at least 1"));
@@ -130,8 +131,8 @@ fn main() -> ExitCode {
             eprintln!("grains: error: {e}");
             ExitCode::from(match e {
                 Error::Input(_) => 2,
-                // A missing or unreadable input file is bad input too; an
-                // output that cannot be written is not.
+                // A missing or unreadable input file, or an output directory
+                // that cannot be written, is bad input too.
                 Error::Io { ref source, .. }
                     if matches!(
                         source.kind(),

@@ -65,7 +65,11 @@ impl ContactLaw {
             return bad("kt", ">= 0", self.kt);
         }
         if self.mu.is_nan() || self.mu < 0.0 {
-            return bad("mu", ">= 0 (or \"inf\" for no Coulomb cap)", self.mu);
+            return bad(
+                "mu",
+                ">= 0 (omit it, or write the TOML number inf, for no Coulomb cap)",
+                self.mu,
+            );
         }
         Ok(())
     }

@@ -398,5 +398,11 @@ pub fn build_md<D: Dim>(loaded: &Loaded) -> Result<(Md<D>, Resolved)> {
             100.0 * INITIAL_OVERLAP_TOLERANCE
         )));
     }
+    md.check_stability().map_err(|e| {
+        Error::input(format!(
+            "{}: the initial state is unusable: {e}",
+            loaded.origin
+        ))
+    })?;
     Ok((md, resolved))
 }

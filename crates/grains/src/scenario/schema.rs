@@ -271,7 +271,7 @@ pub enum MotionSpec {
         phase: f64,
     },
     /// Rigid rotation about `center` with angular velocity `omega` (rad/s;
-    /// a number in 2D, a vector in 3D).
+    /// a one-element list `[w]` in 2D, a 3-vector in 3D).
     Rotate { center: Vec<f64>, omega: Vec<f64> },
     /// Constant velocity (m/s).
     Translate { velocity: Vec<f64> },

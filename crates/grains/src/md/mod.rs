@@ -13,6 +13,9 @@
 //! Measurements and output are not part of the step: the caller runs them
 //! between steps (see the scenario runner).
 
+mod field_forces;
+mod pair_forces;
+
 use crate::boundary::Wall;
 use crate::contact::binary::BinaryContact;
 use crate::contact::ContactLaw;
@@ -22,6 +25,8 @@ use crate::error::{Error, Result};
 use crate::integrate::{gear5, velocity_verlet, Integrator};
 use crate::neighbors::{spatial_sort_order, NeighborList};
 use crate::particles::Particles;
+use field_forces::{field_forces, FieldInput};
+use pair_forces::{pair_forces, Deferred, PairBlocks, PairInput};
 use std::collections::HashMap;
 
 /// Numerical settings of an MD run.
@@ -65,8 +70,8 @@ pub struct MdStats {
     pub max_overlap: f64,
     /// Largest overlap relative to the smaller radius, and its grains' ids
     /// (the partner is `None` for a wall).
-    max_overlap_fraction: f64,
-    worst_pair: (u64, Option<u64>),
+    pub(crate) max_overlap_fraction: f64,
+    pub(crate) worst_pair: (u64, Option<u64>),
 }
 
 /// An MD simulation of grains in dimension `D`.
@@ -82,14 +87,20 @@ pub struct Md<D: Dim> {
     /// Tangential spring of each listed pair, aligned with `neighbors.pairs`,
     /// oriented as the displacement of the pair's first grain.
     springs: Vec<D::V>,
-    /// Tangential spring of each grain against each wall: `wall_springs[w][i]`.
-    wall_springs: Vec<Vec<D::V>>,
+    /// Tangential spring of each grain against each wall:
+    /// `wall_springs[i * walls + w]` (one unused slot per grain without walls).
+    wall_springs: Vec<D::V>,
+    /// The pair list cut into blocks for the parallel force loop.
+    blocks: PairBlocks,
+    deferred: Deferred<D>,
     rebuilds_since_sort: u32,
 }
 
 impl<D: Dim> Md<D> {
     /// Sets up a run: validates the settings, builds the neighbour list and
-    /// evaluates the forces at t = 0 (without advancing any spring).
+    /// evaluates the forces at t = 0 (without advancing any spring). The
+    /// initial state is not judged here: call [`Md::check_stability`] or
+    /// inspect [`Md::worst_overlap`] before stepping.
     pub fn new(
         particles: Particles<D>,
         domain: Domain<D>,
@@ -121,12 +132,13 @@ impl<D: Dim> Md<D> {
             step: 0,
             stats: MdStats::default(),
             springs: Vec::new(),
-            wall_springs: vec![vec![D::zero(); n]; n_walls],
+            wall_springs: vec![D::zero(); n * n_walls.max(1)],
+            blocks: PairBlocks::default(),
+            deferred: Deferred::default(),
             rebuilds_since_sort: 0,
         };
         md.rebuild_neighbors()?;
         md.compute_forces(false);
-        md.check_stability()?;
         if md.settings.integrator == Integrator::Gear5 {
             gear5::initialize(&mut md.particles, md.settings.dt);
         }
@@ -194,17 +206,18 @@ impl<D: Dim> Md<D> {
             let cell = 2.0 * self.particles.max_radius() + self.settings.skin;
             let order = spatial_sort_order(&self.particles.pos[..n], &self.domain, cell);
             self.particles.permute(&order);
-            for springs in &mut self.wall_springs {
-                let old = springs.clone();
-                for (k, &o) in order.iter().enumerate() {
-                    springs[k] = old[o as usize];
-                }
+            let nw = self.walls.len().max(1);
+            let old = self.wall_springs.clone();
+            for (k, &o) in order.iter().enumerate() {
+                let (to, from) = (k * nw, o as usize * nw);
+                self.wall_springs[to..to + nw].copy_from_slice(&old[from..from + nw]);
             }
         }
         self.rebuilds_since_sort = self.rebuilds_since_sort.wrapping_add(1);
         let p = &self.particles;
         self.neighbors
             .build(&p.pos, &p.radius, &p.frozen, &self.domain)?;
+        self.blocks = PairBlocks::build(&self.neighbors.pairs, p.len());
         self.restore_springs(saved);
         Ok(())
     }
@@ -255,137 +268,35 @@ impl<D: Dim> Md<D> {
         self.stats.contacts = 0;
         self.stats.max_overlap = 0.0;
         self.stats.max_overlap_fraction = 0.0;
-        self.pair_forces(update_history);
-        self.wall_forces(update_history);
-        self.body_forces();
-    }
-
-    fn pair_forces(&mut self, update: bool) {
-        let law = &self.settings.contact;
-        let dt = self.settings.dt;
-        let rotation = law.rotation;
-        let p = &mut self.particles;
-        let stats = &mut self.stats;
-        for (k, &[i, j]) in self.neighbors.pairs.iter().enumerate() {
-            let (i, j) = (i as usize, j as usize);
-            let image = self.neighbors.image[k];
-            // del points from j to i.
-            let del = p.pos[i] - (p.pos[j] + self.neighbors.shift(image));
-            let r2 = D::norm2(del);
-            let radsum = p.radius[i] + p.radius[j];
-            if r2 >= radsum * radsum {
-                self.springs[k] = D::zero();
-                continue;
-            }
-            let r = r2.sqrt();
-            let overlap = radsum - r;
-            let n = del / r;
-            let (ri, rj) = (p.radius[i], p.radius[j]);
-            let mut v_rel = p.vel[i] - p.vel[j];
-            if rotation {
-                // Contact-point velocities: ω_i × (−r_i n) − ω_j × (r_j n).
-                v_rel -= D::ang_cross(p.omega[i] * ri + p.omega[j] * rj, n);
-            }
-            let mi = if p.frozen[i] {
-                f64::INFINITY
-            } else {
-                p.mass[i]
-            };
-            let mj = if p.frozen[j] {
-                f64::INFINITY
-            } else {
-                p.mass[j]
-            };
-            let out = law.evaluate::<D>(
-                overlap,
-                n,
-                v_rel,
-                law.damping_mass(mi, mj),
-                &mut self.springs[k],
-                dt,
-                update,
-            );
-            let (fi, fj) = (
-                law.scaling.force_factor(p.mass[i]),
-                law.scaling.force_factor(p.mass[j]),
-            );
-            p.force[i] += out.force * fi;
-            p.force[j] -= out.force * fj;
-            if rotation {
-                // Lever arms −r_i n and +r_j n, force on j is −F: both torques
-                // are −r (n × F_t) with each grain's own radius and factor.
-                let t = D::torque(n, out.tangential);
-                p.torque[i] -= t * (ri * fi);
-                p.torque[j] -= t * (rj * fj);
-            }
-            stats.contacts += 1;
-            stats.max_overlap = stats.max_overlap.max(overlap);
-            let frac = overlap / ri.min(rj);
-            if frac > stats.max_overlap_fraction {
-                stats.max_overlap_fraction = frac;
-                stats.worst_pair = (p.id[i], Some(p.id[j]));
-            }
-        }
-    }
-
-    fn wall_forces(&mut self, update: bool) {
-        let law = &self.settings.contact;
-        let dt = self.settings.dt;
-        let rotation = law.rotation;
-        let t = self.time;
-        let p = &mut self.particles;
-        for (w, wall) in self.walls.iter().enumerate() {
-            let springs = &mut self.wall_springs[w];
-            for (i, spring) in springs.iter_mut().enumerate().take(p.n_owned()) {
-                if p.frozen[i] {
-                    continue;
-                }
-                let ri = p.radius[i];
-                let Some(c) = wall.contact(p.pos[i], ri, t) else {
-                    *spring = D::zero();
-                    continue;
-                };
-                let mut v_rel = p.vel[i] - c.velocity;
-                if rotation {
-                    v_rel -= D::ang_cross(p.omega[i] * ri, c.normal);
-                }
-                let mi = p.mass[i];
-                let out = law.evaluate::<D>(
-                    c.overlap,
-                    c.normal,
-                    v_rel,
-                    law.damping_mass(mi, f64::INFINITY),
-                    spring,
-                    dt,
-                    update,
-                );
-                let fi = law.scaling.force_factor(mi);
-                p.force[i] += out.force * fi;
-                if rotation {
-                    p.torque[i] -= D::torque(c.normal, out.tangential) * (ri * fi);
-                }
-                self.stats.contacts += 1;
-                self.stats.max_overlap = self.stats.max_overlap.max(c.overlap);
-                let frac = c.overlap / ri;
-                if frac > self.stats.max_overlap_fraction {
-                    self.stats.max_overlap_fraction = frac;
-                    self.stats.worst_pair = (p.id[i], None);
-                }
-            }
-        }
-    }
-
-    fn body_forces(&mut self) {
-        let g = self.settings.gravity;
-        if g == D::zero() {
-            return;
-        }
-        let p = &mut self.particles;
-        for i in 0..p.n_owned() {
-            if !p.frozen[i] {
-                p.force[i] += g * p.mass[i];
-            }
-        }
+        let s = &self.settings;
+        let pairs = PairInput {
+            law: &s.contact,
+            dt: s.dt,
+            update: update_history,
+            neighbors: &self.neighbors,
+            blocks: &self.blocks,
+        };
+        pair_forces(
+            &pairs,
+            &mut self.particles,
+            &mut self.springs,
+            &mut self.deferred,
+            &mut self.stats,
+        );
+        let fields = FieldInput {
+            law: &s.contact,
+            walls: &self.walls,
+            gravity: s.gravity,
+            time: self.time,
+            dt: s.dt,
+            update: update_history,
+        };
+        field_forces(
+            &fields,
+            &mut self.particles,
+            &mut self.wall_springs,
+            &mut self.stats,
+        );
     }
 
     /// Stops the run when a grain's state is not finite or two grains

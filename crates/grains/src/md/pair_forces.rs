@@ -1,0 +1,385 @@
+//! Grain–grain contact forces over the Verlet list, on all cores, with a
+//! result that does not depend on the number of threads.
+//!
+//! Grains are cut into fixed blocks of consecutive indices (the block size
+//! depends on the grain count only, never on the thread count). The half
+//! list is sorted by its first grain, so each block owns a contiguous range of
+//! pairs. A block task adds each contact's force to its first grain and, when
+//! the second grain lies in the same block, to that grain too: both are its
+//! own. A contact whose second grain belongs to a later block writes that
+//! grain's share into a slot of a deferred buffer instead; a second pass then
+//! adds the deferred shares to each grain in slot order. Every force is
+//! therefore summed in the same order whatever the threads, and no two tasks
+//! ever write the same memory.
+
+use super::MdStats;
+use crate::contact::ContactLaw;
+use crate::dim::Dim;
+use crate::neighbors::NeighborList;
+use crate::particles::Particles;
+use rayon::prelude::*;
+
+/// Grains per block: large enough that few contacts cross blocks, small
+/// enough that two to a few dozen cores find work.
+pub fn block_size(n: usize) -> usize {
+    n.div_ceil(64).clamp(1024, 8192)
+}
+
+/// How the pair list is cut into blocks; rebuilt with the neighbour list.
+#[derive(Clone, Debug, Default)]
+pub struct PairBlocks {
+    block: usize,
+    /// Pairs of block b: `pair_start[b]..pair_start[b + 1]`.
+    pair_start: Vec<usize>,
+    /// Deferred slots of block b: `slot_start[b]..slot_start[b + 1]`.
+    slot_start: Vec<usize>,
+    /// Per pair: its deferred slot, or `u32::MAX` when both grains share a block.
+    slot_of_pair: Vec<u32>,
+    /// Per grain, the deferred slots where it is the second grain:
+    /// `slots_by_grain[grain_start[i]..grain_start[i + 1]]`, in slot order.
+    grain_start: Vec<u32>,
+    slots_by_grain: Vec<u32>,
+}
+
+impl PairBlocks {
+    pub fn build(pairs: &[[u32; 2]], n: usize) -> Self {
+        let block = block_size(n);
+        let n_blocks = n.div_ceil(block).max(1);
+        let mut pair_start = vec![0usize; n_blocks + 1];
+        let mut slot_start = vec![0usize; n_blocks + 1];
+        let mut slot_of_pair = Vec::with_capacity(pairs.len());
+        let mut count = vec![0u32; n + 1];
+        let mut slots = 0u32;
+        let mut b = 0;
+        for (k, &[i, j]) in pairs.iter().enumerate() {
+            let bi = i as usize / block;
+            while b < bi {
+                b += 1;
+                pair_start[b] = k;
+                slot_start[b] = slots as usize;
+            }
+            if j as usize / block == bi {
+                slot_of_pair.push(u32::MAX);
+            } else {
+                slot_of_pair.push(slots);
+                slots += 1;
+                count[j as usize + 1] += 1;
+            }
+        }
+        while b < n_blocks {
+            b += 1;
+            pair_start[b] = pairs.len();
+            slot_start[b] = slots as usize;
+        }
+        for i in 0..n {
+            count[i + 1] += count[i];
+        }
+        let grain_start = count.clone();
+        let mut fill = count;
+        let mut slots_by_grain = vec![0u32; slots as usize];
+        for (k, &[_, j]) in pairs.iter().enumerate() {
+            let s = slot_of_pair[k];
+            if s != u32::MAX {
+                let at = &mut fill[j as usize];
+                slots_by_grain[*at as usize] = s;
+                *at += 1;
+            }
+        }
+        Self {
+            block,
+            pair_start,
+            slot_start,
+            slot_of_pair,
+            grain_start,
+            slots_by_grain,
+        }
+    }
+
+    fn n_blocks(&self) -> usize {
+        self.pair_start.len() - 1
+    }
+
+    pub fn deferred_slots(&self) -> usize {
+        self.slots_by_grain.len()
+    }
+}
+
+/// Shares of deferred contacts for their second grain.
+#[derive(Clone, Debug, Default)]
+pub struct Deferred<D: Dim> {
+    force: Vec<D::V>,
+    torque: Vec<D::A>,
+}
+
+/// Inputs every block reads.
+pub struct PairInput<'a, D: Dim> {
+    pub law: &'a ContactLaw,
+    pub dt: f64,
+    pub update: bool,
+    pub neighbors: &'a NeighborList<D>,
+    pub blocks: &'a PairBlocks,
+}
+
+/// Statistics of one block, merged in block order.
+#[derive(Clone, Copy, Debug, Default)]
+struct BlockStats {
+    contacts: usize,
+    max_overlap: f64,
+    max_fraction: f64,
+    worst: (u64, u64),
+}
+
+/// One block's own slices.
+struct Block<'a, D: Dim> {
+    first: usize,
+    force: &'a mut [D::V],
+    torque: &'a mut [D::A],
+    springs: &'a mut [D::V],
+    pairs: std::ops::Range<usize>,
+    slot_force: &'a mut [D::V],
+    slot_torque: &'a mut [D::A],
+    slot_first: usize,
+}
+
+/// Splits `v` into consecutive pieces of the given lengths.
+fn split_ranges<T>(mut v: &mut [T], lengths: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
+    let mut out = Vec::new();
+    for len in lengths {
+        let (head, tail) = v.split_at_mut(len);
+        out.push(head);
+        v = tail;
+    }
+    out
+}
+
+/// Adds all pair contact forces and torques to `p.force` / `p.torque`
+/// (which the caller has zeroed) and updates the springs.
+pub fn pair_forces<D: Dim>(
+    input: &PairInput<D>,
+    p: &mut Particles<D>,
+    springs: &mut [D::V],
+    deferred: &mut Deferred<D>,
+    stats: &mut MdStats,
+) {
+    let blocks = input.blocks;
+    let n = p.len();
+    let nb = blocks.n_blocks();
+    let slots = blocks.deferred_slots();
+    deferred.force.resize(slots, D::zero());
+    deferred.torque.resize(slots, D::A::default());
+
+    let grain_lens = (0..nb).map(|b| (blocks.block * (b + 1)).min(n) - (blocks.block * b).min(n));
+    let pair_lens = (0..nb).map(|b| blocks.pair_start[b + 1] - blocks.pair_start[b]);
+    let slot_lens = (0..nb).map(|b| blocks.slot_start[b + 1] - blocks.slot_start[b]);
+    let forces = split_ranges(&mut p.force, grain_lens.clone());
+    let torques = split_ranges(&mut p.torque, grain_lens);
+    let spring_parts = split_ranges(springs, pair_lens);
+    let slot_forces = split_ranges(&mut deferred.force, slot_lens.clone());
+    let slot_torques = split_ranges(&mut deferred.torque, slot_lens);
+    let mut tasks: Vec<Block<D>> = forces
+        .into_iter()
+        .zip(torques)
+        .zip(spring_parts)
+        .zip(slot_forces.into_iter().zip(slot_torques))
+        .enumerate()
+        .map(
+            |(b, (((force, torque), springs), (slot_force, slot_torque)))| Block {
+                first: (blocks.block * b).min(n),
+                force,
+                torque,
+                springs,
+                pairs: blocks.pair_start[b]..blocks.pair_start[b + 1],
+                slot_force,
+                slot_torque,
+                slot_first: blocks.slot_start[b],
+            },
+        )
+        .collect();
+
+    let pos = &p.pos;
+    let vel = &p.vel;
+    let omega = &p.omega;
+    let radius = &p.radius;
+    let mass = &p.mass;
+    let frozen = &p.frozen;
+    let ids = &p.id;
+    let block_stats: Vec<BlockStats> = tasks
+        .par_iter_mut()
+        .map(|t| {
+            let grains = Grains {
+                pos,
+                vel,
+                omega,
+                radius,
+                mass,
+                frozen,
+            };
+            let mut s = run_block(input, &grains, t);
+            if s.contacts > 0 {
+                s.worst = (ids[s.worst.0 as usize], ids[s.worst.1 as usize]);
+            }
+            s
+        })
+        .collect();
+    drop(tasks);
+
+    // Deferred shares, per grain in slot order.
+    let block = blocks.block;
+    let d_force = &deferred.force;
+    let d_torque = &deferred.torque;
+    let rotation = input.law.rotation;
+    p.force
+        .par_chunks_mut(block)
+        .zip(p.torque.par_chunks_mut(block))
+        .enumerate()
+        .for_each(|(b, (force, torque))| {
+            for (k, (f, t)) in force.iter_mut().zip(torque.iter_mut()).enumerate() {
+                let i = b * block + k;
+                let range = blocks.grain_start[i] as usize..blocks.grain_start[i + 1] as usize;
+                for &s in &blocks.slots_by_grain[range] {
+                    *f += d_force[s as usize];
+                    if rotation {
+                        *t += d_torque[s as usize];
+                    }
+                }
+            }
+        });
+
+    for s in &block_stats {
+        stats.contacts += s.contacts;
+        stats.max_overlap = stats.max_overlap.max(s.max_overlap);
+        if s.max_fraction > stats.max_overlap_fraction {
+            stats.max_overlap_fraction = s.max_fraction;
+            stats.worst_pair = (s.worst.0, Some(s.worst.1));
+        }
+    }
+}
+
+/// Read-only per-grain arrays.
+struct Grains<'a, D: Dim> {
+    pos: &'a [D::V],
+    vel: &'a [D::V],
+    omega: &'a [D::A],
+    radius: &'a [f64],
+    mass: &'a [f64],
+    frozen: &'a [bool],
+}
+
+fn run_block<D: Dim>(input: &PairInput<D>, g: &Grains<D>, t: &mut Block<D>) -> BlockStats {
+    let law = input.law;
+    let list = input.neighbors;
+    let rotation = law.rotation;
+    let mut s = BlockStats::default();
+    let first = t.first;
+    let own = first..first + t.force.len();
+    for (local_k, k) in t.pairs.clone().enumerate() {
+        let [i, j] = list.pairs[k];
+        let (i, j) = (i as usize, j as usize);
+        // del points from j to i.
+        let del = g.pos[i] - (g.pos[j] + list.shift(list.image[k]));
+        let r2 = D::norm2(del);
+        let (ri, rj) = (g.radius[i], g.radius[j]);
+        let radsum = ri + rj;
+        let slot = input.blocks.slot_of_pair[k];
+        if r2 >= radsum * radsum {
+            t.springs[local_k] = D::zero();
+            if slot != u32::MAX {
+                let at = slot as usize - t.slot_first;
+                t.slot_force[at] = D::zero();
+                t.slot_torque[at] = D::A::default();
+            }
+            continue;
+        }
+        let r = r2.sqrt();
+        let overlap = radsum - r;
+        let n = del / r;
+        let mut v_rel = g.vel[i] - g.vel[j];
+        if rotation {
+            // Contact-point velocities: ω_i × (−r_i n) − ω_j × (r_j n).
+            v_rel -= D::ang_cross(g.omega[i] * ri + g.omega[j] * rj, n);
+        }
+        let mi = if g.frozen[i] {
+            f64::INFINITY
+        } else {
+            g.mass[i]
+        };
+        let mj = if g.frozen[j] {
+            f64::INFINITY
+        } else {
+            g.mass[j]
+        };
+        let out = law.evaluate::<D>(
+            overlap,
+            n,
+            v_rel,
+            law.damping_mass(mi, mj),
+            &mut t.springs[local_k],
+            input.dt,
+            input.update,
+        );
+        let (fi, fj) = (
+            law.scaling.force_factor(g.mass[i]),
+            law.scaling.force_factor(g.mass[j]),
+        );
+        t.force[i - first] += out.force * fi;
+        let fj_vec = -(out.force * fj);
+        // Lever arms −r_i n and +r_j n, force on j is −F: both torques are
+        // −r (n × F_t) with each grain's own radius and factor.
+        let nt = if rotation {
+            D::torque(n, out.tangential)
+        } else {
+            D::A::default()
+        };
+        if rotation {
+            t.torque[i - first] -= nt * (ri * fi);
+        }
+        if own.contains(&j) {
+            t.force[j - first] += fj_vec;
+            if rotation {
+                t.torque[j - first] -= nt * (rj * fj);
+            }
+        } else {
+            let at = slot as usize - t.slot_first;
+            t.slot_force[at] = fj_vec;
+            t.slot_torque[at] = -(nt * (rj * fj));
+        }
+        s.contacts += 1;
+        s.max_overlap = s.max_overlap.max(overlap);
+        let frac = overlap / ri.min(rj);
+        if frac > s.max_fraction {
+            s.max_fraction = frac;
+            s.worst = (i as u64, j as u64);
+        }
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blocks_partition_pairs_and_defer_cross_block_contacts() {
+        // 3000 grains, blocks of 1024: pairs inside and across blocks.
+        let pairs: Vec<[u32; 2]> = vec![
+            [0, 1],
+            [0, 1500],
+            [1023, 1024],
+            [1100, 1101],
+            [2047, 2999],
+            [2500, 2501],
+        ];
+        let b = PairBlocks::build(&pairs, 3000);
+        assert_eq!(b.block, 1024);
+        assert_eq!(b.pair_start, vec![0, 3, 5, 6]);
+        assert_eq!(b.slot_of_pair, vec![u32::MAX, 0, 1, u32::MAX, 2, u32::MAX]);
+        assert_eq!(b.slot_start, vec![0, 2, 3, 3]);
+        // Grain 1500 receives slot 0, 1024 slot 1, 2999 slot 2.
+        let slots =
+            |i: usize| &b.slots_by_grain[b.grain_start[i] as usize..b.grain_start[i + 1] as usize];
+        assert_eq!(slots(1500), &[0]);
+        assert_eq!(slots(1024), &[1]);
+        assert_eq!(slots(2999), &[2]);
+        assert!(slots(0).is_empty());
+    }
+}
