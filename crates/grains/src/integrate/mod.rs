@@ -9,6 +9,9 @@
 pub mod gear5;
 pub mod velocity_verlet;
 
+/// Grains per parallel chunk of the integrators.
+const CHUNK: usize = 4096;
+
 use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]

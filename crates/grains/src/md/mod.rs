@@ -27,6 +27,7 @@ use crate::neighbors::{spatial_sort_order, NeighborList};
 use crate::particles::Particles;
 use field_forces::{field_forces, FieldInput};
 use pair_forces::{pair_forces, Deferred, PairBlocks, PairInput};
+use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// Numerical settings of an MD run.
@@ -263,8 +264,8 @@ impl<D: Dim> Md<D> {
     /// read but not stretched.
     pub fn compute_forces(&mut self, update_history: bool) {
         let p = &mut self.particles;
-        p.force.iter_mut().for_each(|f| *f = D::zero());
-        p.torque.iter_mut().for_each(|t| *t = D::A::default());
+        p.force.par_iter_mut().for_each(|f| *f = D::zero());
+        p.torque.par_iter_mut().for_each(|t| *t = D::A::default());
         self.stats.contacts = 0;
         self.stats.max_overlap = 0.0;
         self.stats.max_overlap_fraction = 0.0;

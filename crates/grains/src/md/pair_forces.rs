@@ -39,6 +39,8 @@ pub struct PairBlocks {
     /// `slots_by_grain[grain_start[i]..grain_start[i + 1]]`, in slot order.
     grain_start: Vec<u32>,
     slots_by_grain: Vec<u32>,
+    /// One more than the largest grain index in the list.
+    grains: usize,
 }
 
 impl PairBlocks {
@@ -85,6 +87,11 @@ impl PairBlocks {
                 *at += 1;
             }
         }
+        let grains = pairs
+            .iter()
+            .map(|&[i, j]| i.max(j) as usize + 1)
+            .max()
+            .unwrap_or(0);
         Self {
             block,
             pair_start,
@@ -92,6 +99,7 @@ impl PairBlocks {
             slot_of_pair,
             grain_start,
             slots_by_grain,
+            grains,
         }
     }
 
@@ -104,11 +112,12 @@ impl PairBlocks {
     }
 }
 
-/// Shares of deferred contacts for their second grain.
+/// Shares of deferred contacts for their second grain, and per-block scratch.
 #[derive(Clone, Debug, Default)]
 pub struct Deferred<D: Dim> {
     force: Vec<D::V>,
     torque: Vec<D::A>,
+    touching: Vec<Vec<u32>>,
 }
 
 /// Inputs every block reads.
@@ -139,6 +148,8 @@ struct Block<'a, D: Dim> {
     slot_force: &'a mut [D::V],
     slot_torque: &'a mut [D::A],
     slot_first: usize,
+    /// Scratch: indices (within the block) of the pairs in contact.
+    touching: &'a mut Vec<u32>,
 }
 
 /// Splits `v` into consecutive pieces of the given lengths.
@@ -167,6 +178,12 @@ pub fn pair_forces<D: Dim>(
     let slots = blocks.deferred_slots();
     deferred.force.resize(slots, D::zero());
     deferred.torque.resize(slots, D::A::default());
+    deferred.touching.resize_with(nb, Vec::new);
+    // The unchecked reads in `run_block` rely on this.
+    assert!(
+        blocks.grains <= n,
+        "neighbour list and particle store disagree"
+    );
 
     let grain_lens = (0..nb).map(|b| (blocks.block * (b + 1)).min(n) - (blocks.block * b).min(n));
     let pair_lens = (0..nb).map(|b| blocks.pair_start[b + 1] - blocks.pair_start[b]);
@@ -176,14 +193,16 @@ pub fn pair_forces<D: Dim>(
     let spring_parts = split_ranges(springs, pair_lens);
     let slot_forces = split_ranges(&mut deferred.force, slot_lens.clone());
     let slot_torques = split_ranges(&mut deferred.torque, slot_lens);
+    let scratch = deferred.touching.iter_mut();
     let mut tasks: Vec<Block<D>> = forces
         .into_iter()
         .zip(torques)
         .zip(spring_parts)
         .zip(slot_forces.into_iter().zip(slot_torques))
+        .zip(scratch)
         .enumerate()
         .map(
-            |(b, (((force, torque), springs), (slot_force, slot_torque)))| Block {
+            |(b, ((((force, torque), springs), (slot_force, slot_torque)), touching))| Block {
                 first: (blocks.block * b).min(n),
                 force,
                 torque,
@@ -192,6 +211,7 @@ pub fn pair_forces<D: Dim>(
                 slot_force,
                 slot_torque,
                 slot_first: blocks.slot_start[b],
+                touching,
             },
         )
         .collect();
@@ -265,62 +285,81 @@ struct Grains<'a, D: Dim> {
     frozen: &'a [bool],
 }
 
+/// Grain `i`'s entry of `v`, unchecked.
+///
+/// SAFETY: callers pass indices read from the neighbour list, which was built
+/// over this same store (every index is below its length; `pair_forces`
+/// asserts the list and the store agree in size).
+#[inline(always)]
+fn at<T: Copy>(v: &[T], i: u32) -> T {
+    debug_assert!((i as usize) < v.len());
+    unsafe { *v.get_unchecked(i as usize) }
+}
+
 fn run_block<D: Dim>(input: &PairInput<D>, g: &Grains<D>, t: &mut Block<D>) -> BlockStats {
     let law = input.law;
     let list = input.neighbors;
     let rotation = law.rotation;
+    let range = t.pairs.clone();
+    let pairs = &list.pairs[range.clone()];
+    let images = &list.image[range.clone()];
+    let slots = &input.blocks.slot_of_pair[range];
+    let shift = |code: u8| list.shift(code);
+
+    // Pass 1: which listed pairs touch. Cheap and branch-light; open
+    // contacts drop their spring (written only when it was stretched).
+    t.touching.clear();
+    for (k, ((&[i, j], &code), spring)) in pairs
+        .iter()
+        .zip(images)
+        .zip(t.springs.iter_mut())
+        .enumerate()
+    {
+        let del = at(g.pos, i) - (at(g.pos, j) + shift(code));
+        let radsum = at(g.radius, i) + at(g.radius, j);
+        if D::norm2(del) < radsum * radsum {
+            t.touching.push(k as u32);
+        } else if *spring != D::zero() {
+            *spring = D::zero();
+        }
+    }
+    // Deferred shares of open contacts must read as zero.
+    t.slot_force.fill(D::zero());
+    t.slot_torque.fill(D::A::default());
+
+    // Pass 2: the contact law on the touching pairs only.
     let mut s = BlockStats::default();
     let first = t.first;
     let own = first..first + t.force.len();
-    for (local_k, k) in t.pairs.clone().enumerate() {
-        let [i, j] = list.pairs[k];
-        let (i, j) = (i as usize, j as usize);
+    for &k in t.touching.iter() {
+        let k = k as usize;
+        let [i, j] = pairs[k];
         // del points from j to i.
-        let del = g.pos[i] - (g.pos[j] + list.shift(list.image[k]));
-        let r2 = D::norm2(del);
-        let (ri, rj) = (g.radius[i], g.radius[j]);
-        let radsum = ri + rj;
-        let slot = input.blocks.slot_of_pair[k];
-        if r2 >= radsum * radsum {
-            t.springs[local_k] = D::zero();
-            if slot != u32::MAX {
-                let at = slot as usize - t.slot_first;
-                t.slot_force[at] = D::zero();
-                t.slot_torque[at] = D::A::default();
-            }
-            continue;
-        }
-        let r = r2.sqrt();
-        let overlap = radsum - r;
+        let del = at(g.pos, i) - (at(g.pos, j) + shift(images[k]));
+        let (ri, rj) = (at(g.radius, i), at(g.radius, j));
+        let r = D::norm(del);
+        let overlap = ri + rj - r;
         let n = del / r;
-        let mut v_rel = g.vel[i] - g.vel[j];
+        let mut v_rel = at(g.vel, i) - at(g.vel, j);
         if rotation {
             // Contact-point velocities: ω_i × (−r_i n) − ω_j × (r_j n).
-            v_rel -= D::ang_cross(g.omega[i] * ri + g.omega[j] * rj, n);
+            v_rel -= D::ang_cross(at(g.omega, i) * ri + at(g.omega, j) * rj, n);
         }
-        let mi = if g.frozen[i] {
-            f64::INFINITY
-        } else {
-            g.mass[i]
-        };
-        let mj = if g.frozen[j] {
-            f64::INFINITY
-        } else {
-            g.mass[j]
-        };
+        let (mi, mj) = (at(g.mass, i), at(g.mass, j));
+        // Frozen grains count as infinitely heavy.
+        let mi_eff = if at(g.frozen, i) { f64::INFINITY } else { mi };
+        let mj_eff = if at(g.frozen, j) { f64::INFINITY } else { mj };
         let out = law.evaluate::<D>(
             overlap,
             n,
             v_rel,
-            law.damping_mass(mi, mj),
-            &mut t.springs[local_k],
+            law.damping_mass(mi_eff, mj_eff),
+            &mut t.springs[k],
             input.dt,
             input.update,
         );
-        let (fi, fj) = (
-            law.scaling.force_factor(g.mass[i]),
-            law.scaling.force_factor(g.mass[j]),
-        );
+        let (fi, fj) = (law.scaling.force_factor(mi), law.scaling.force_factor(mj));
+        let (i, j) = (i as usize, j as usize);
         t.force[i - first] += out.force * fi;
         let fj_vec = -(out.force * fj);
         // Lever arms −r_i n and +r_j n, force on j is −F: both torques are
@@ -339,7 +378,7 @@ fn run_block<D: Dim>(input: &PairInput<D>, g: &Grains<D>, t: &mut Block<D>) -> B
                 t.torque[j - first] -= nt * (rj * fj);
             }
         } else {
-            let at = slot as usize - t.slot_first;
+            let at = slots[k] as usize - t.slot_first;
             t.slot_force[at] = fj_vec;
             t.slot_torque[at] = -(nt * (rj * fj));
         }

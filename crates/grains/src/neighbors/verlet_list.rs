@@ -219,9 +219,9 @@ impl<D: Dim> NeighborList<D> {
             return true;
         }
         let limit = 0.25 * self.skin * self.skin;
-        pos.iter()
-            .zip(&self.ref_pos)
-            .any(|(&p, &q)| D::norm2(p - q) > limit)
+        pos.par_chunks(4096)
+            .zip(self.ref_pos.par_chunks(4096))
+            .any(|(a, b)| a.iter().zip(b).any(|(&p, &q)| D::norm2(p - q) > limit))
     }
 
     /// The shift to add to the partner's position for image `code`.
