@@ -4,6 +4,7 @@
 
 mod bench;
 mod progress;
+mod sweep;
 
 use clap::{Parser, Subcommand};
 use grains::runner::{self, RunOptions};
@@ -53,6 +54,8 @@ enum Command {
     },
     /// Time a reference workload: chute, vib2d or bed3d.
     Bench(bench::BenchArgs),
+    /// Run a grid of scenario variants; collect summaries in sweep.csv and plot one.
+    Sweep(sweep::SweepArgs),
 }
 
 fn load(path: Option<&Path>, sets: &[String]) -> grains::Result<Loaded> {
@@ -120,6 +123,7 @@ fn execute(cli: Cli) -> grains::Result<()> {
             Ok(())
         }
         Command::Bench(args) => bench::run(args),
+        Command::Sweep(args) => sweep::run(args),
     }
 }
 

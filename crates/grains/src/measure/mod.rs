@@ -4,8 +4,18 @@
 
 pub mod convection;
 pub mod displacement;
+pub mod draw;
+pub mod phase;
+pub mod plot;
+pub mod profiles;
 pub mod temperature;
+pub mod tracer;
+pub mod trajectories;
 
 pub use convection::Convection;
 pub use displacement::DisplacementField;
+pub use phase::PhaseSnapshots;
+pub use profiles::Profiles;
 pub use temperature::granular_temperature;
+pub use tracer::Tracer;
+pub use trajectories::Trajectories;

@@ -11,7 +11,11 @@ use crate::dim::{Dim, D2, D3};
 use crate::error::{Error, Result};
 use crate::io::Frame;
 use crate::md::Md;
-use crate::measure::{granular_temperature, Convection, DisplacementField};
+use crate::measure::phase::drive;
+use crate::measure::{
+    granular_temperature, Convection, DisplacementField, PhaseSnapshots, Profiles, Tracer,
+    Trajectories,
+};
 use crate::scenario::schema::Dimension;
 use crate::scenario::{build_md, Loaded, Resolved};
 use output::Outputs;
@@ -133,14 +137,61 @@ pub fn frame<D: Dim>(md: &Md<D>) -> Frame {
 struct Measurements {
     displacement: Option<DisplacementField>,
     convection: Option<Convection>,
+    phases: Option<PhaseSnapshots>,
+    tracer: Option<Tracer>,
+    profiles: Option<Profiles>,
+    trajectories: Option<Trajectories>,
 }
 
 impl Measurements {
-    fn begin<D: Dim>(loaded: &Loaded, md: &Md<D>) -> Self {
+    /// `remaining`: steps of the measurement; `dt` the time step.
+    fn begin<D: Dim>(loaded: &Loaded, md: &Md<D>, remaining: u64, dt: f64) -> Result<Self> {
         let m = &loaded.scenario.measure;
-        Self {
+        let d0 = loaded.scenario.particles.d0;
+        let phases = match &m.phases {
+            Some(p) => Some(
+                PhaseSnapshots::begin(md, &p.phases, p.segment_time, p.displacement_after)
+                    .ok_or_else(|| {
+                        Error::input("measure.phases needs a vibrating or oscillating wall")
+                    })?,
+            ),
+            None => None,
+        };
+        let trajectories = match &m.trajectories {
+            Some(t) => {
+                let f = drive(&md.walls).map(|d| d.0).ok_or_else(|| {
+                    Error::input("measure.trajectories needs a vibrating or oscillating wall")
+                })?;
+                let window = (t.cycles / (f * dt)).round() as u64;
+                Some(Trajectories::new(md, t.every, remaining, window))
+            }
+            None => None,
+        };
+        if let Some(p) = &m.profiles {
+            if !(p.bin.is_finite() && p.bin > 0.0) {
+                return Err(Error::input(format!(
+                    "measure.profiles.bin = {}: must be positive (units of d0)",
+                    p.bin
+                )));
+            }
+        }
+        Ok(Self {
             displacement: m.displacement.then(|| DisplacementField::begin(md)),
             convection: m.convection.as_ref().map(|c| Convection::new(c.band)),
+            phases,
+            tracer: m.tracer.as_ref().map(|t| Tracer::new(t.id)),
+            profiles: m.profiles.as_ref().map(|p| Profiles::new(md, p.bin * d0)),
+            trajectories,
+        })
+    }
+
+    /// After every step (phase- and step-exact measurements).
+    fn step<D: Dim>(&mut self, md: &Md<D>) {
+        if let Some(p) = &mut self.phases {
+            p.step(md);
+        }
+        if let Some(t) = &mut self.trajectories {
+            t.step(md);
         }
     }
 
@@ -151,12 +202,44 @@ impl Measurements {
         if let Some(c) = &mut self.convection {
             c.sample(md);
         }
+        if let Some(t) = &mut self.tracer {
+            t.sample(md);
+        }
+        if let Some(p) = &mut self.profiles {
+            p.sample(md);
+        }
+    }
+
+    fn write<D: Dim>(&self, dir: &Path, md: &Md<D>, last: &Frame) -> Result<()> {
+        if let Some(p) = &self.phases {
+            p.write(dir, &md.walls)?;
+        }
+        if let Some(t) = &self.tracer {
+            t.write(dir, last)?;
+        }
+        if let Some(p) = &self.profiles {
+            p.write(dir)?;
+        }
+        if let Some(t) = &self.trajectories {
+            t.write(dir, last, &md.walls)?;
+        }
+        Ok(())
     }
 
     fn scalars(&self, summary: &mut Map<String, Value>) {
         if let Some(c) = &self.convection {
             summary.insert("convection_center_vz".into(), json!(c.center_vz()));
             summary.insert("convection_edge_vz".into(), json!(c.edge_vz()));
+            summary.insert(
+                "convection_strength".into(),
+                json!(c.center_vz() - c.edge_vz()),
+            );
+        }
+        if let Some(t) = &self.tracer {
+            summary.insert("tracer_rms".into(), json!(t.rms_spread()));
+        }
+        if let Some(p) = &self.profiles {
+            summary.insert("transport_velocity".into(), json!(p.transport_velocity()));
         }
     }
 }
@@ -189,10 +272,11 @@ fn run_dim<D: Dim>(
         }
     }
     progress.phase("run", measure);
-    let mut measurements = Measurements::begin(loaded, &md);
+    let mut measurements = Measurements::begin(loaded, &md, measure, resolved.dt)?;
     outputs.record(&md, &frame(&md), granular_temperature(&md.particles))?;
     for k in 1..=measure {
         md.step()?;
+        measurements.step(&md);
         if k % sample_every == 0 {
             measurements.sample(&md);
         }
@@ -209,6 +293,7 @@ fn run_dim<D: Dim>(
 
     let last = frame(&md);
     outputs.finish(&last, measurements.displacement.as_ref())?;
+    measurements.write(&opts.out_dir, &md, &last)?;
     let steps = relax + measure;
     let updates = (steps as f64) * md.particles.n_mobile().max(1) as f64;
     let mut summary = Map::new();

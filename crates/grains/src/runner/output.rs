@@ -7,6 +7,7 @@ use crate::io::{
     VtkSeries,
 };
 use crate::md::Md;
+use crate::measure::draw::{faint, in_box};
 use crate::measure::DisplacementField;
 use crate::scenario::schema::OutputSpec;
 use serde_json::Value;
@@ -81,7 +82,7 @@ impl Outputs {
     /// recorded as the last frame by the run loop.)
     pub fn finish(&mut self, last: &Frame, displacement: Option<&DisplacementField>) -> Result<()> {
         if self.picture {
-            render_particles(last, &PictureOptions::default())
+            render_particles(&in_box(last), &PictureOptions::default())
                 .save_png(&self.dir.join("final.png"))?;
         }
         if let Some(field) = displacement {
@@ -100,14 +101,7 @@ impl Outputs {
             let v = last.vertical();
             let from: Vec<[f64; 2]> = rows.iter().map(|r| [r.start[0], r.start[v]]).collect();
             let to: Vec<[f64; 2]> = rows.iter().map(|r| [r.end[0], r.end[v]]).collect();
-            let mut faint = last.clone();
-            faint.vel.iter_mut().for_each(|x| *x = [0.0; 3]);
-            let mut img = render_particles(&faint, &PictureOptions::default());
-            for px in img.rgb.chunks_mut(3) {
-                for c in px {
-                    *c = 255 - (255 - *c) / 4;
-                }
-            }
+            let mut img = faint(last);
             draw_arrows(&mut img, &from, &to, [200, 30, 30]);
             img.save_png(&self.dir.join("displacement.png"))?;
         }

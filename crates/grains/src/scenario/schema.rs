@@ -400,6 +400,73 @@ pub struct MeasureSpec {
     /// the edge bands (fraction of the width each), averaged over the run.
     #[serde(default)]
     pub convection: Option<ConvectionSpec>,
+    /// Snapshots at phases of the first vibrating wall (seed 002 Fig. 1):
+    /// phase_<k>.csv/png, and phase_displacement.csv/png.
+    #[serde(default)]
+    pub phases: Option<PhasesSpec>,
+    /// A tracer grain's trajectory: tracer.csv, tracer.png, `tracer_rms`.
+    #[serde(default)]
+    pub tracer: Option<TracerSpec>,
+    /// Density and horizontal-velocity profiles against height, averaged
+    /// over the run: profiles.csv, profile_*.png, `transport_velocity`.
+    #[serde(default)]
+    pub profiles: Option<ProfilesSpec>,
+    /// Positions of every grain over the last cycle (seed 002 Fig. 4):
+    /// trajectories.csv, trajectories.png.
+    #[serde(default)]
+    pub trajectories: Option<TrajectoriesSpec>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PhasesSpec {
+    /// Phases (rad) of the drive 2π f t + φ0 at which to take snapshots.
+    pub phases: Vec<f64>,
+    /// Velocity segments are |v| times this long (s); default 0.1 / f.
+    #[serde(default)]
+    pub segment_time: Option<f64>,
+    /// Also the displacement from phase 0 to this many seconds later
+    /// (seed 002 Fig. 1e: 0.015).
+    #[serde(default)]
+    pub displacement_after: Option<f64>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TracerSpec {
+    /// Id of the tracer grain (ids start at 1).
+    pub id: u64,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ProfilesSpec {
+    /// Bin height in units of d0; default 0.5.
+    #[serde(default = "default_bin")]
+    pub bin: f64,
+}
+
+fn default_bin() -> f64 {
+    0.5
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TrajectoriesSpec {
+    /// Steps between recorded positions; default 50 (the seed's Fig. 4).
+    #[serde(default = "default_traj_every")]
+    pub every: u64,
+    /// Length of the recorded window at the end of the run, in cycles;
+    /// default 1.
+    #[serde(default = "default_traj_cycles")]
+    pub cycles: f64,
+}
+
+fn default_traj_every() -> u64 {
+    50
+}
+fn default_traj_cycles() -> f64 {
+    1.0
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]

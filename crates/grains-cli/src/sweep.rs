@@ -1,0 +1,275 @@
+//! `grains sweep`: runs a grid of variants of one scenario (each its own
+//! output subdirectory), collects every summary.json scalar into sweep.csv
+//! and plots one measurement against the first varied key.
+
+use clap::Args;
+use grains::measure::plot::{save_plot, Series, PALETTE};
+use grains::runner::{self, RunOptions, Silent};
+use grains::scenario;
+use grains::Error;
+use serde_json::Value;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+#[derive(Args)]
+pub struct SweepArgs {
+    /// Scenario file (TOML).
+    scenario: PathBuf,
+    /// A key and its values, e.g. --vary walls.0.motion.frequency=40,60,80 (repeatable; the grid is their product).
+    #[arg(long = "vary", value_name = "KEY=V1,V2,...", required = true)]
+    vary: Vec<String>,
+    /// Fixed overrides applied to every variant (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// Variants run at the same time.
+    #[arg(long, default_value_t = 1)]
+    jobs: usize,
+    /// Output directory [default: runs/<scenario name>-sweep].
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Run this many steps per variant instead of the scenario's length.
+    #[arg(long)]
+    steps: Option<u64>,
+    /// summary.json scalar to plot against the first varied key.
+    #[arg(long)]
+    plot: Option<String>,
+}
+
+/// Parses `KEY=V1,V2,...`.
+fn parse_vary(s: &str) -> grains::Result<(String, Vec<String>)> {
+    let (k, v) = s
+        .split_once('=')
+        .ok_or_else(|| Error::input(format!("--vary {s}: expected KEY=V1,V2,...")))?;
+    let vals: Vec<String> = v
+        .split(',')
+        .map(|x| x.trim().to_string())
+        .filter(|x| !x.is_empty())
+        .collect();
+    if k.trim().is_empty() || vals.is_empty() {
+        return Err(Error::input(format!(
+            "--vary {s}: expected KEY=V1,V2,... with at least one value"
+        )));
+    }
+    Ok((k.trim().to_string(), vals))
+}
+
+/// Every combination of the values, the first key varying slowest.
+fn grid(axes: &[(String, Vec<String>)]) -> Vec<Vec<String>> {
+    let mut out = vec![Vec::new()];
+    for (_, vals) in axes {
+        out = out
+            .into_iter()
+            .flat_map(|row: Vec<String>| {
+                vals.iter().map(move |v| {
+                    let mut r = row.clone();
+                    r.push(v.clone());
+                    r
+                })
+            })
+            .collect();
+    }
+    out
+}
+
+/// A directory name for a variant: key=value pairs joined by '_', with
+/// characters unsafe in file names replaced.
+fn variant_name(axes: &[(String, Vec<String>)], vals: &[String]) -> String {
+    axes.iter()
+        .zip(vals)
+        .map(|((k, _), v)| format!("{k}={v}"))
+        .collect::<Vec<_>>()
+        .join("_")
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "=._-+".contains(c) {
+                c
+            } else {
+                '-'
+            }
+        })
+        .collect()
+}
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+pub fn run(args: SweepArgs) -> grains::Result<()> {
+    let axes = args
+        .vary
+        .iter()
+        .map(|s| parse_vary(s))
+        .collect::<grains::Result<Vec<_>>>()?;
+    if args.jobs == 0 {
+        return Err(Error::input("--jobs must be at least 1"));
+    }
+    if args.steps == Some(0) {
+        return Err(Error::input("--steps must be at least 1"));
+    }
+    // Load every variant first: a bad key or value fails before any run.
+    let variants = grid(&axes);
+    let mut loaded = Vec::new();
+    for vals in &variants {
+        let mut sets = args.sets.clone();
+        sets.extend(axes.iter().zip(vals).map(|((k, _), v)| format!("{k}={v}")));
+        loaded.push(scenario::load_file(&args.scenario, &sets)?);
+    }
+    let name = loaded[0].scenario.name.clone();
+    let out = args
+        .out
+        .unwrap_or_else(|| Path::new("runs").join(format!("{name}-sweep")));
+    runner::prepare(&out)?;
+    eprintln!(
+        "grains: sweep of {} variants of {} with {} jobs -> {}",
+        variants.len(),
+        args.scenario.display(),
+        args.jobs,
+        out.display()
+    );
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<grains::Result<Value>>>> =
+        Mutex::new((0..variants.len()).map(|_| None).collect());
+    std::thread::scope(|s| {
+        for _ in 0..args.jobs.min(variants.len()) {
+            s.spawn(|| loop {
+                let k = next.fetch_add(1, Ordering::SeqCst);
+                if k >= variants.len() {
+                    break;
+                }
+                let dir = out.join(variant_name(&axes, &variants[k]));
+                let opts = RunOptions {
+                    out_dir: dir,
+                    steps: args.steps,
+                };
+                let r = runner::run(&loaded[k], &opts, &mut Silent);
+                match &r {
+                    Ok(_) => eprintln!("grains: done {}", variant_name(&axes, &variants[k])),
+                    Err(e) => eprintln!(
+                        "grains: variant {} failed: {e}",
+                        variant_name(&axes, &variants[k])
+                    ),
+                }
+                results.lock().expect("no panics while locked")[k] = Some(r);
+            });
+        }
+    });
+    let results = results.into_inner().expect("no panics while locked");
+
+    // sweep.csv: varied keys, status, then every numeric scalar.
+    let mut keys = BTreeSet::new();
+    for v in results.iter().flatten().flatten() {
+        if let Value::Object(m) = v {
+            keys.extend(
+                m.iter()
+                    .filter(|(_, x)| x.is_number())
+                    .map(|(k, _)| k.clone()),
+            );
+        }
+    }
+    let mut csv = axes
+        .iter()
+        .map(|(k, _)| csv_field(k))
+        .chain(["status".to_string()])
+        .chain(keys.iter().map(|k| csv_field(k)))
+        .collect::<Vec<_>>()
+        .join(",");
+    csv.push('\n');
+    let mut failed = 0;
+    for (vals, r) in variants.iter().zip(&results) {
+        let mut row: Vec<String> = vals.iter().map(|v| csv_field(v)).collect();
+        match r {
+            Some(Ok(v)) => {
+                row.push("ok".into());
+                for k in &keys {
+                    row.push(v.get(k).map(|x| x.to_string()).unwrap_or_default());
+                }
+            }
+            Some(Err(e)) => {
+                failed += 1;
+                row.push(csv_field(&format!("error: {e}")));
+                row.extend(keys.iter().map(|_| String::new()));
+            }
+            None => unreachable!("every variant ran"),
+        }
+        csv.push_str(&row.join(","));
+        csv.push('\n');
+    }
+    grains::io::write_atomic(&out.join("sweep.csv"), csv.as_bytes())?;
+    print!("{csv}");
+
+    if let Some(m) = &args.plot {
+        // One line per combination of the other keys, against the first.
+        let mut groups: Vec<(Vec<String>, Vec<[f64; 2]>)> = Vec::new();
+        for (vals, r) in variants.iter().zip(&results) {
+            let Some(Ok(v)) = r else { continue };
+            let x: f64 = vals[0].parse().map_err(|_| {
+                Error::input(format!(
+                    "--plot needs numeric values of {}, got {}",
+                    axes[0].0, vals[0]
+                ))
+            })?;
+            let Some(y) = v.get(m).and_then(Value::as_f64) else {
+                return Err(Error::input(format!(
+                    "--plot {m}: not a number in summary.json (have: {})",
+                    keys.iter().cloned().collect::<Vec<_>>().join(", ")
+                )));
+            };
+            let rest = vals[1..].to_vec();
+            match groups.iter_mut().find(|g| g.0 == rest) {
+                Some(g) => g.1.push([x, y]),
+                None => groups.push((rest, vec![[x, y]])),
+            }
+        }
+        let series: Vec<Series> = groups
+            .into_iter()
+            .enumerate()
+            .map(|(i, (_, mut pts))| {
+                pts.sort_by(|a, b| a[0].total_cmp(&b[0]));
+                Series {
+                    points: pts,
+                    colour: PALETTE[i % PALETTE.len()],
+                    lines: true,
+                }
+            })
+            .collect();
+        let path = out.join(format!("sweep_{m}.png"));
+        save_plot(&path, &series, true)?;
+        eprintln!(
+            "grains: plotted {m} against {} -> {}",
+            axes[0].0,
+            path.display()
+        );
+    }
+    if failed > 0 {
+        return Err(Error::input(format!(
+            "{failed} of {} variants failed (see sweep.csv)",
+            variants.len()
+        )));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_is_the_product_first_key_slowest() {
+        let axes = vec![
+            ("a".to_string(), vec!["1".to_string(), "2".to_string()]),
+            ("b".to_string(), vec!["x".to_string(), "y".to_string()]),
+        ];
+        let g = grid(&axes);
+        assert_eq!(g.len(), 4);
+        assert_eq!(g[1], vec!["1".to_string(), "y".to_string()]);
+        assert_eq!(variant_name(&axes, &g[2]), "a=2_b=x");
+        assert!(parse_vary("k=").is_err());
+        assert_eq!(parse_vary("k=1, 2").unwrap().1, vec!["1", "2"]);
+    }
+}

@@ -1,0 +1,171 @@
+//! Phase-resolved snapshots (seed 002 Fig. 1a-d): positions and velocities at
+//! given phases φ = 2π f t + φ0 of the first vibrating wall, taken at the
+//! first time each phase is reached after the measurement starts; and the
+//! displacement picture of Fig. 1e: positions at phase 0 joined to the
+//! positions a fixed time (15 ms in the seed) later.
+
+use super::draw::{draw_walls, faint, hv3, in_box};
+use crate::boundary::{Motion, Wall};
+use crate::dim::Dim;
+use crate::error::Result;
+use crate::io::picture::draw_arrows;
+use crate::io::{render_particles, write_atomic, Frame, PictureOptions};
+use crate::md::Md;
+use std::collections::HashMap;
+use std::f64::consts::TAU;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Frequency (Hz) and phase offset (rad) of the first wall that vibrates or
+/// oscillates.
+pub fn drive<D: Dim>(walls: &[Wall<D>]) -> Option<(f64, f64)> {
+    walls.iter().find_map(|w| match &w.motion {
+        Motion::Vibrate {
+            frequency, phase, ..
+        }
+        | Motion::Oscillate {
+            frequency, phase, ..
+        } if *frequency > 0.0 => Some((*frequency, *phase)),
+        _ => None,
+    })
+}
+
+/// Number of cycles of the drive at time t (phase / 2π), unwrapped.
+fn cycles(f: f64, phase0: f64, t: f64) -> f64 {
+    f * t + phase0 / TAU
+}
+
+/// A grain's id, start and end positions.
+type Moved = (u64, [f64; 3], [f64; 3]);
+
+#[derive(Clone, Debug)]
+pub struct PhaseSnapshots {
+    freq: f64,
+    phase0: f64,
+    /// Target phases (rad) in [0, 2π).
+    targets: Vec<f64>,
+    taken: Vec<Option<Frame>>,
+    /// Seconds a velocity is drawn for (segment length = |v| · this).
+    segment_time: f64,
+    /// Fig. 1e interval (s); `None`: no displacement picture.
+    after: Option<f64>,
+    /// Time the reference (phase 0) positions were taken, and them by id.
+    disp_from: Option<(f64, HashMap<u64, [f64; 3]>)>,
+    disp: Option<Vec<Moved>>,
+    /// Time the measurement started (the walls' "starting position").
+    t_start: f64,
+    prev: f64,
+}
+
+impl PhaseSnapshots {
+    /// `None` when the scenario has no vibrating wall.
+    pub fn begin<D: Dim>(
+        md: &Md<D>,
+        phases: &[f64],
+        segment_time: Option<f64>,
+        after: Option<f64>,
+    ) -> Option<Self> {
+        let (freq, phase0) = drive(&md.walls)?;
+        Some(Self {
+            freq,
+            phase0,
+            targets: phases.iter().map(|p| p.rem_euclid(TAU)).collect(),
+            taken: vec![None; phases.len()],
+            segment_time: segment_time.unwrap_or(0.1 / freq),
+            after,
+            disp_from: None,
+            disp: None,
+            t_start: md.time,
+            prev: cycles(freq, phase0, md.time),
+        })
+    }
+
+    /// Called after every step.
+    pub fn step<D: Dim>(&mut self, md: &Md<D>) {
+        let c = cycles(self.freq, self.phase0, md.time);
+        for (k, &target) in self.targets.iter().enumerate() {
+            let s = target / TAU;
+            if self.taken[k].is_none() && (c - s).floor() > (self.prev - s).floor() {
+                self.taken[k] = Some(crate::runner::frame(md));
+            }
+        }
+        if let Some(after) = self.after {
+            if self.disp_from.is_none() && c.floor() > self.prev.floor() {
+                let f = crate::runner::frame(md);
+                let map = f.id.iter().copied().zip(f.pos.iter().copied()).collect();
+                self.disp_from = Some((md.time, map));
+            } else if let Some((t0, from)) = &self.disp_from {
+                if self.disp.is_none() && md.time >= t0 + after {
+                    let f = crate::runner::frame(md);
+                    let rows =
+                        f.id.iter()
+                            .zip(&f.pos)
+                            .filter_map(|(id, p)| from.get(id).map(|s| (*id, *s, *p)))
+                            .collect();
+                    self.disp = Some(rows);
+                }
+            }
+        }
+        self.prev = c;
+    }
+
+    /// Writes phase_<k>.csv and phase_<k>.png per target phase reached, and
+    /// phase_displacement.{csv,png}.
+    pub fn write<D: Dim>(&self, dir: &Path, walls: &[Wall<D>]) -> Result<()> {
+        for (k, snap) in self.taken.iter().enumerate() {
+            let Some(full) = snap else { continue };
+            let mut csv = format!(
+                "# phase = {} rad, time = {} s\nid,x,y,z,vx,vy,vz,radius\n",
+                self.targets[k], full.time
+            );
+            for i in 0..full.len() {
+                let (p, v) = (full.pos[i], full.vel[i]);
+                let _ = writeln!(
+                    csv,
+                    "{},{},{},{},{},{},{},{}",
+                    full.id[i], p[0], p[1], p[2], v[0], v[1], v[2], full.radius[i]
+                );
+            }
+            write_atomic(&dir.join(format!("phase_{k}.csv")), csv.as_bytes())?;
+            let f = &in_box(full);
+            let mut img = render_particles(f, &PictureOptions::default());
+            draw_walls(&mut img, walls, self.t_start, [185, 185, 185], 2.0);
+            draw_walls(&mut img, walls, f.time, [30, 30, 30], 3.0);
+            for i in 0..f.len() {
+                let a = hv3(f.pos[i], f.dim);
+                let v = hv3(f.vel[i], f.dim);
+                let b = [
+                    a[0] + v[0] * self.segment_time,
+                    a[1] + v[1] * self.segment_time,
+                ];
+                let (pa, pb) = (img.view.to_pixel(a), img.view.to_pixel(b));
+                img.draw_segment(pa, pb, 2.0, [200, 30, 30]);
+            }
+            img.save_png(&dir.join(format!("phase_{k}.png")))?;
+        }
+        if let (Some(rows), Some(after)) = (&self.disp, self.after) {
+            let mut csv = format!("# interval = {after} s\nid,x0,y0,z0,x1,y1,z1\n");
+            for (id, s, e) in rows {
+                let _ = writeln!(
+                    csv,
+                    "{id},{},{},{},{},{},{}",
+                    s[0], s[1], s[2], e[0], e[1], e[2]
+                );
+            }
+            write_atomic(&dir.join("phase_displacement.csv"), csv.as_bytes())?;
+            if let Some(f) = self.taken.iter().flatten().next() {
+                let dim = f.dim;
+                let mut img = faint(f);
+                let from: Vec<[f64; 2]> = rows.iter().map(|r| hv3(r.1, dim)).collect();
+                let to: Vec<[f64; 2]> = rows.iter().map(|r| hv3(r.2, dim)).collect();
+                for p in &from {
+                    let c = img.view.to_pixel(*p);
+                    img.fill_disk(c, 2.5, [30, 30, 30], true);
+                }
+                draw_arrows(&mut img, &from, &to, [200, 30, 30]);
+                img.save_png(&dir.join("phase_displacement.png"))?;
+            }
+        }
+        Ok(())
+    }
+}

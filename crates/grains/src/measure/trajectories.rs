@@ -1,0 +1,70 @@
+//! Particle trajectories over one cycle in steady state (seed 002 Fig. 4):
+//! every mobile grain's position every `every` steps during the last cycle
+//! of the run.
+
+use super::draw::{draw_walls, faint, hv3, id_colour};
+use crate::boundary::Wall;
+use crate::dim::Dim;
+use crate::error::Result;
+use crate::io::{write_atomic, Frame};
+use crate::md::Md;
+use std::fmt::Write as _;
+use std::path::Path;
+
+#[derive(Clone, Debug)]
+pub struct Trajectories {
+    every: u64,
+    /// Absolute engine steps of the recorded window [start, end].
+    start: u64,
+    end: u64,
+    /// (id, step, time, xyz), positions as in the engine (wrapped).
+    rows: Vec<(u64, u64, f64, [f64; 3])>,
+}
+
+impl Trajectories {
+    /// Records during the last `window` steps of a run that ends `remaining`
+    /// steps from now.
+    pub fn new<D: Dim>(md: &Md<D>, every: u64, remaining: u64, window: u64) -> Self {
+        let end = md.step + remaining;
+        Self {
+            every: every.max(1),
+            start: end.saturating_sub(window).max(md.step),
+            end,
+            rows: Vec::new(),
+        }
+    }
+
+    /// Called after every step.
+    pub fn step<D: Dim>(&mut self, md: &Md<D>) {
+        if md.step < self.start
+            || md.step > self.end
+            || !(md.step - self.start).is_multiple_of(self.every)
+        {
+            return;
+        }
+        let p = &md.particles;
+        for i in 0..p.n_owned() {
+            if !p.frozen[i] {
+                self.rows
+                    .push((p.id[i], md.step, md.time, D::to_xyz(p.pos[i])));
+            }
+        }
+    }
+
+    /// trajectories.csv and trajectories.png (dots over the final state,
+    /// one colour per grain, walls at the end time).
+    pub fn write<D: Dim>(&self, dir: &Path, last: &Frame, walls: &[Wall<D>]) -> Result<()> {
+        let mut csv = format!("# every {} steps\nid,step,time,x,y,z\n", self.every);
+        for (id, s, t, x) in &self.rows {
+            let _ = writeln!(csv, "{id},{s},{t},{},{},{}", x[0], x[1], x[2]);
+        }
+        write_atomic(&dir.join("trajectories.csv"), csv.as_bytes())?;
+        let mut img = faint(last);
+        for (id, _, _, x) in &self.rows {
+            let c = img.view.to_pixel(hv3(*x, last.dim));
+            img.fill_disk(c, 1.6, id_colour(*id), true);
+        }
+        draw_walls(&mut img, walls, last.time, [30, 30, 30], 2.0);
+        img.save_png(&dir.join("trajectories.png"))
+    }
+}

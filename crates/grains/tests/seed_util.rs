@@ -1,0 +1,26 @@
+//! Helpers for the seed 002 tests (included by them with `#[path]`).
+#![allow(dead_code)]
+
+/// Runs a shipped scenario (scenarios/NAME.toml) through the library runner
+/// with `sets` applied and no frames or pictures; returns summary.json.
+pub fn run_scenario(name: &str, tag: &str, sets: &[&str]) -> serde_json::Value {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let path = root.join("scenarios").join(format!("{name}.toml"));
+    let mut all: Vec<String> = vec!["output.frames=false".into(), "output.picture=false".into()];
+    all.extend(sets.iter().map(|s| s.to_string()));
+    let loaded = grains::scenario::load_file(&path, &all).expect("scenario loads");
+    let out = std::env::temp_dir().join(format!("grains-test-{name}-{tag}-{}", std::process::id()));
+    let opts = grains::runner::RunOptions {
+        out_dir: out.clone(),
+        steps: None,
+    };
+    let s = grains::runner::run(&loaded, &opts, &mut grains::runner::Silent).expect("run");
+    let _ = std::fs::remove_dir_all(&out);
+    s
+}
+
+pub fn num(s: &serde_json::Value, key: &str) -> f64 {
+    s[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{key} missing in {s}"))
+}
