@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Runs LAMMPS and grains on the same workload back to back, one core each,
+# and prints both loop times per particle-step and their ratio.
+#
+#   bench/compare_lammps.sh chute 2000     # workload, steps
+#   bench/compare_lammps.sh vib2d 20000
+#
+# Needs LAMMPS (`apt-get install lammps`, command `lmp`) and a release build
+# of grains (`cargo build --release`). Run from the repository root.
+set -euo pipefail
+workload=${1:-chute}
+steps=${2:-1000}
+threads=${THREADS:-1}
+root=$(cd "$(dirname "$0")/.." && pwd)
+grains="$root/target/release/grains"
+command -v lmp >/dev/null || { echo "lmp not found: apt-get install lammps" >&2; exit 2; }
+[ -x "$grains" ] || { echo "$grains not found: cargo build --release" >&2; exit 2; }
+case "$workload" in
+  chute) input=in.chute; atoms=34656 ;;
+  vib2d) input=in.vib2d; atoms=3700 ;;
+  *) echo "unknown workload $workload (chute or vib2d)" >&2; exit 2 ;;
+esac
+
+cd "$root/bench"
+lmp_out=$(OMP_NUM_THREADS=1 lmp -in "$input" -var steps "$steps" -log none -nocite)
+lmp_loop=$(echo "$lmp_out" | awk '/^Loop time of/ {print $4}')
+cd "$root"
+grains_json=$("$grains" bench "$workload" --steps "$steps" --threads "$threads" --json)
+grains_loop=$(echo "$grains_json" | python3 -c 'import json,sys; print(json.load(sys.stdin)["wall_seconds"])')
+python3 - "$workload" "$steps" "$atoms" "$lmp_loop" "$grains_loop" "$threads" <<'PY'
+import sys
+w, steps, atoms, lmp, gr, threads = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4]), float(sys.argv[5]), sys.argv[6]
+per = lambda t: 1e9 * t / (steps * atoms)
+print(f"{w}: {steps} steps, {atoms} atoms (all atoms counted for both codes)")
+print(f"  LAMMPS (1 core)       loop {lmp:8.3f} s  {per(lmp):7.1f} ns per particle-step")
+print(f"  grains ({threads} thread(s))   loop {gr:8.3f} s  {per(gr):7.1f} ns per particle-step")
+print(f"  grains / LAMMPS time: {gr / lmp:.3f}")
+PY
