@@ -65,6 +65,27 @@ fn load(path: Option<&Path>, sets: &[String]) -> grains::Result<Loaded> {
     }
 }
 
+/// The scenario name as one harmless path component (no separators, no
+/// leading dots), so the default output directory stays under `runs/`.
+fn safe_dir_name(name: &str) -> String {
+    let cleaned: String = name
+        .chars()
+        .map(|c| {
+            if c.is_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let cleaned = cleaned.trim_start_matches('.');
+    if cleaned.is_empty() {
+        "run".to_string()
+    } else {
+        cleaned.to_string()
+    }
+}
+
 fn set_threads(threads: Option<usize>) -> grains::Result<()> {
     if let Some(n) = threads {
         if n == 0 {
@@ -91,7 +112,8 @@ fn execute(cli: Cli) -> grains::Result<()> {
             let loaded = load(scenario.as_deref(), &sets)?;
             let from_file = Some(loaded.scenario.run.threads).filter(|&n| n > 0);
             set_threads(threads.or(from_file))?;
-            let out_dir = out.unwrap_or_else(|| Path::new("runs").join(&loaded.scenario.name));
+            let out_dir =
+                out.unwrap_or_else(|| Path::new("runs").join(safe_dir_name(&loaded.scenario.name)));
             if steps == Some(0) {
                 return Err(Error::input("--steps must be at least 1"));
             }
@@ -143,6 +165,8 @@ fn main() -> ExitCode {
                         std::io::ErrorKind::NotFound
                             | std::io::ErrorKind::PermissionDenied
                             | std::io::ErrorKind::InvalidData
+                            | std::io::ErrorKind::IsADirectory
+                            | std::io::ErrorKind::NotADirectory
                     ) =>
                 {
                     2

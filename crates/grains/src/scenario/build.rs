@@ -107,6 +107,9 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Vec<ParticleRecord
             ps.spacing
         )));
     }
+    if matches!(ps.placement, Placement::Lattice | Placement::Random) {
+        check_memory(ps.count)?;
+    }
     let band = SizeBand {
         d0: ps.d0,
         width: ps.width,
@@ -174,6 +177,46 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Vec<ParticleRecord
     Ok(out)
 }
 
+/// Memory a grain needs, all told: its state (about 400 bytes with the Gear
+/// history) plus its share of the neighbour list and contact springs. A
+/// generous round figure, used only to refuse impossible runs up front.
+const BYTES_PER_GRAIN: u64 = 1024;
+
+/// Refuses a grain count that cannot fit in the memory available now.
+fn check_memory(count: usize) -> Result<()> {
+    let need = (count as u64).saturating_mul(BYTES_PER_GRAIN);
+    if let Some(avail) = available_memory() {
+        if need > avail {
+            return Err(Error::input(format!(
+                "particles.count = {count} needs about {:.1} GiB (about {BYTES_PER_GRAIN} bytes per grain), \
+                 but only {:.1} GiB of memory is available",
+                need as f64 / 1073741824.0,
+                avail as f64 / 1073741824.0
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// MemAvailable from /proc/meminfo (Linux); `None` elsewhere.
+fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// Names the scenario key when the initial-state file cannot be read.
+fn file_error(e: Error, name: &str) -> Error {
+    match e {
+        Error::Io { path, source } => Error::input(format!(
+            "particles.file = \"{name}\": cannot read {}: {source}",
+            path.display()
+        )),
+        other => other,
+    }
+}
+
 fn from_file<D: Dim>(loaded: &Loaded) -> Result<Vec<ParticleRecord<D>>> {
     let ps = &loaded.scenario.particles;
     let Some(name) = &ps.file else {
@@ -190,7 +233,7 @@ fn from_file<D: Dim>(loaded: &Loaded) -> Result<Vec<ParticleRecord<D>>> {
     let mut out = Vec::new();
     match format {
         FileFormat::Lammps => {
-            let data = read_lammps_data(&path)?;
+            let data = read_lammps_data(&path).map_err(|e| file_error(e, name))?;
             if D::D == 2 && !data.is_planar() {
                 return Err(Error::input(format!(
                     "{}: grains have non-zero z, but the scenario is 2d",
@@ -217,7 +260,8 @@ fn from_file<D: Dim>(loaded: &Loaded) -> Result<Vec<ParticleRecord<D>>> {
             }
         }
         FileFormat::Csv => {
-            for (k, c) in read_particles_csv(&path, D::D)?.into_iter().enumerate() {
+            let rows = read_particles_csv(&path, D::D).map_err(|e| file_error(e, name))?;
+            for (k, c) in rows.into_iter().enumerate() {
                 let id = c.id.unwrap_or(k as u64 + 1);
                 let mut g = grain::<D>(
                     id,
@@ -332,7 +376,12 @@ fn wall<D: Dim>(k: usize, w: &WallSpec, dom: &Domain<D>) -> Result<Wall<D>> {
 }
 
 /// Builds the engine of a scenario, with the numbers it was resolved to.
+/// Input errors name the scenario they come from.
 pub fn build_md<D: Dim>(loaded: &Loaded) -> Result<(Md<D>, Resolved)> {
+    build_md_inner(loaded).map_err(|e| super::in_scenario(e, &loaded.origin))
+}
+
+fn build_md_inner<D: Dim>(loaded: &Loaded) -> Result<(Md<D>, Resolved)> {
     let s = &loaded.scenario;
     let dom = domain::<D>(s)?;
     let records = grains::<D>(loaded, &dom)?;

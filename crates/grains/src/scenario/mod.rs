@@ -36,6 +36,15 @@ impl Loaded {
     }
 }
 
+/// Prefixes an input error with the scenario it was found in, unless the
+/// message already names it.
+pub fn in_scenario(e: Error, origin: &str) -> Error {
+    match e {
+        Error::Input(m) if !m.contains(origin) => Error::Input(format!("{origin}: {m}")),
+        other => other,
+    }
+}
+
 /// Reads a scenario file and applies `KEY=VALUE` overrides.
 pub fn load_file(path: &Path, sets: &[String]) -> Result<Loaded> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
@@ -52,14 +61,22 @@ pub fn load_str(text: &str, origin: &str, base_dir: PathBuf, sets: &[String]) ->
         let (k, v) = overrides::parse_assignment(s)?;
         overrides::apply(&mut tree, &k, v)?;
     }
-    let scenario: Scenario = tree.try_into().map_err(|e: toml::de::Error| {
-        let note = if sets.is_empty() {
-            String::new()
-        } else {
-            " (after --set overrides)".to_string()
-        };
-        Error::input(format!("{origin}{note}: {}", e.to_string().trim_end()))
-    })?;
+    // Without overrides, read the text itself so schema errors keep their
+    // line and column; overrides are applied to the parsed tree.
+    let from_tree = |tree: toml::Value| -> std::result::Result<Scenario, String> {
+        tree.try_into()
+            .map_err(|e: toml::de::Error| e.to_string().trim_end().to_string())
+    };
+    let scenario = if sets.is_empty() {
+        toml::from_str::<Scenario>(text).map_err(|e| {
+            // The text parse knows the line; the tree parse names the key.
+            let key = from_tree(tree).err().unwrap_or_default();
+            Error::input(format!("{origin}: {}\n{key}", e.to_string().trim_end()))
+        })?
+    } else {
+        from_tree(tree)
+            .map_err(|e| Error::input(format!("{origin} (after --set overrides): {e}")))?
+    };
     Ok(Loaded {
         scenario,
         origin: origin.to_string(),

@@ -220,9 +220,32 @@ pub fn resolve(s: &Scenario, lightest_mass: f64) -> Result<Resolved> {
             } else {
                 format!("auto: t_c / {safety} at impact speed {v_impact:.3e} m/s")
             };
-            (contact_time / safety, how)
+            // A heavily damped contact relaxes faster than it oscillates:
+            // the explicit schemes then need dt well below 1/γ as well.
+            let damping_limit = std::f64::consts::PI / (contact.gamma.max(1e-300) * safety);
+            if damping_limit < contact_time / safety {
+                (
+                    damping_limit,
+                    format!(
+                        "auto: pi / (gamma_eff {:.3e} s^-1 x {safety}), the damping time",
+                        contact.gamma
+                    ),
+                )
+            } else {
+                (contact_time / safety, how)
+            }
         }
-        TimeStep::Seconds(dt) => (positive("run.dt", dt)?, "given".to_string()),
+        TimeStep::Seconds(dt) => {
+            let dt = positive("run.dt", dt)?;
+            if dt * contact.gamma > 2.0 {
+                return Err(Error::input(format!(
+                    "run.dt = {dt:e} s is longer than 2/gamma = {:.3e} s for the contact damping \
+                     (contact.gamma_n): the explicit integrators would blow up; lower run.dt or contact.gamma_n",
+                    2.0 / contact.gamma
+                )));
+            }
+            (dt, "given".to_string())
+        }
     };
     if !(contact_time.is_finite() && contact_time > 0.0) {
         return Err(Error::input(format!(
@@ -248,6 +271,13 @@ pub fn resolve(s: &Scenario, lightest_mass: f64) -> Result<Resolved> {
         return Err(Error::input(
             "the run has no length: give run.duration (s) or run.cycles",
         ));
+    }
+    const MAX_STEPS: f64 = 1e11;
+    if (relax + measure) / dt > MAX_STEPS {
+        return Err(Error::input(format!(
+            "the run would take {:.2e} steps of dt = {dt:.3e} s; check run.duration/run.cycles, run.dt and the contact parameters",
+            (relax + measure) / dt
+        )));
     }
     let steps = |t: f64| (t / dt).round() as u64;
     let every = match s.output.every {
