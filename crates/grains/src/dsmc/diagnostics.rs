@@ -1,0 +1,1 @@
+//! Validity diagnostics (stub).
