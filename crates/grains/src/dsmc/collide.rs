@@ -107,21 +107,46 @@ impl std::ops::AddAssign for Tally {
     }
 }
 
-/// Performs the collisions of one cell.
+/// Collides particles i and j of relative velocity `g` = v_i − v_j
+/// (|g|² = `g2`) with restitution e given as (1 + e)/2; returns the change of
+/// v_j (v_i changes by its opposite).
+#[inline(always)]
+pub fn collide_pair<D: GasDim>(
+    vi: &mut D::V,
+    vj: &mut D::V,
+    g2: f64,
+    half_one_plus_e: f64,
+    rng: &mut Stream,
+) -> D::V {
+    let g = *vi - *vj;
+    let dv = D::transfer(g, g2, rng) * half_one_plus_e;
+    *vi -= dv;
+    *vj += dv;
+    dv
+}
+
+/// Performs the collisions of one cell, whose particles are
+/// `base[idx[k]]`.
+///
+/// # Safety
+/// `base` must point to a live array that every entry of `idx` indexes,
+/// the entries of `idx` must be distinct, and no other thread may touch
+/// those particles during the call.
 #[inline]
-pub fn collide_cell<D: GasDim>(
-    ps: &mut [Particle<D>],
+pub unsafe fn collide_cell<D: GasDim>(
+    base: *mut Particle<D>,
+    idx: &[u32],
     st: &mut CellState,
     sel: &Selection,
     rng: &mut Stream,
 ) -> Tally {
-    let n = ps.len();
+    let n = idx.len();
     if n < 2 {
         return Tally::default();
     }
     let nf = n as f64;
-    let expected = nf * (nf - 1.0) * st.vmax * sel.rate * sel.correction.factor(n)
-        + st.remainder as f64;
+    let expected =
+        nf * (nf - 1.0) * st.vmax * sel.rate * sel.correction.factor(n) + st.remainder as f64;
     let m = expected.floor();
     st.remainder = (expected - m) as f32;
     let m = m as u64;
@@ -135,7 +160,11 @@ pub fn collide_cell<D: GasDim>(
         if j >= i {
             j += 1;
         }
-        let g = ps[i].v - ps[j].v;
+        // SAFETY: distinct entries of `idx` (i ≠ j) into the live array,
+        // owned by this call (the caller's contract).
+        let pi = unsafe { &mut *base.add(*idx.get_unchecked(i) as usize) };
+        let pj = unsafe { &mut *base.add(*idx.get_unchecked(j) as usize) };
+        let g = pi.v - pj.v;
         let g2 = D::norm2(g);
         if g2 > vmax2 {
             vmax2 = g2;
@@ -143,9 +172,7 @@ pub fn collide_cell<D: GasDim>(
         }
         let z = rng.uniform() * vmax;
         if z * z < g2 {
-            let dv = D::transfer(g, g2, rng) * sel.half_one_plus_e;
-            ps[i].v -= dv;
-            ps[j].v += dv;
+            collide_pair::<D>(&mut pi.v, &mut pj.v, g2, sel.half_one_plus_e, rng);
             hits += 1;
         }
     }

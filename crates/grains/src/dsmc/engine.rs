@@ -18,7 +18,8 @@
 use super::collide::{collide_cell, CellState, GasDim, Selection, Tally};
 use super::dense::{Correction, DenseGas};
 use super::rng::Stream;
-use super::sort::{sort_in_place, CellGrid};
+use super::sort::{gather_in_place, sort_indices, CellGrid, RESORT_EVERY};
+use super::store::Particle;
 use super::store::{cross_section, Store};
 use crate::boundary::Motion;
 use crate::dim::Dim;
@@ -60,6 +61,16 @@ impl<D: Dim> PlaneWall<D> {
     }
 }
 
+/// The particle array shared by the collision tasks, each of which touches
+/// only the particles of its own cells.
+struct SharedParticles<D: Dim>(*mut Particle<D>);
+// SAFETY: see `Dsmc::collide`: tasks write disjoint particles.
+unsafe impl<D: Dim> Send for SharedParticles<D> {}
+unsafe impl<D: Dim> Sync for SharedParticles<D> {}
+
+/// A wall and, when rigid, its place and velocity at the end of the step.
+type WallNow<'a, D> = (&'a PlaneWall<D>, Option<(f64, <D as Dim>::V)>);
+
 /// Settings of a run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DsmcSettings {
@@ -90,9 +101,12 @@ pub struct Dsmc<D: GasDim> {
     pub settings: DsmcSettings,
     pub time: f64,
     pub step: u64,
-    /// Cell of each particle before a sort, destination during it.
+    /// Cell of each particle, written by streaming.
     key: Vec<u32>,
-    /// First particle of each cell (length cells + 1), valid after a step.
+    /// Particle indices sorted by cell: cell c holds
+    /// `order[start[c]..start[c + 1]]`.
+    pub order: Vec<u32>,
+    /// First entry of each cell in `order` (length cells + 1).
     pub start: Vec<u32>,
     fill: Vec<u32>,
     pub cells: Vec<CellState>,
@@ -145,6 +159,7 @@ impl<D: GasDim> Dsmc<D> {
             time: 0.0,
             step: 0,
             key: vec![0; n],
+            order: vec![0; n],
             start: vec![0; ncell + 1],
             fill: vec![0; ncell],
             cells: vec![
@@ -163,7 +178,8 @@ impl<D: GasDim> Dsmc<D> {
         me
     }
 
-    /// Cell of every particle, then the sort (also used at construction).
+    /// Cell of every particle, then the sort and the reordering of the
+    /// records (at construction).
     fn sort_now(&mut self) {
         let grid = &self.grid;
         self.store
@@ -175,12 +191,15 @@ impl<D: GasDim> Dsmc<D> {
                     *k = grid.cell_of::<D>(q.x);
                 }
             });
-        sort_in_place(
-            &mut self.store.p,
-            &mut self.key,
-            &mut self.start,
-            &mut self.fill,
-        );
+        sort_indices(&self.key, &mut self.start, &mut self.fill, &mut self.order);
+        gather_in_place(&mut self.store.p, &mut self.order);
+    }
+
+    /// The particles of cell `c`.
+    pub fn cell_particles(&self, c: usize) -> impl Iterator<Item = &Particle<D>> + '_ {
+        self.order[self.start[c] as usize..self.start[c + 1] as usize]
+            .iter()
+            .map(|&i| &self.store.p[i as usize])
     }
 
     /// The selection constants (for tests and diagnostics).
@@ -191,13 +210,11 @@ impl<D: GasDim> Dsmc<D> {
     /// One time step.
     pub fn step(&mut self) {
         self.stream();
-        sort_in_place(
-            &mut self.store.p,
-            &mut self.key,
-            &mut self.start,
-            &mut self.fill,
-        );
+        sort_indices(&self.key, &mut self.start, &mut self.fill, &mut self.order);
         self.step += 1;
+        if self.step.is_multiple_of(RESORT_EVERY) {
+            gather_in_place(&mut self.store.p, &mut self.order);
+        }
         let t = self.collide();
         self.last = t;
         self.totals += t;
@@ -218,7 +235,7 @@ impl<D: GasDim> Dsmc<D> {
         let radius = 0.5 * self.store.diameter;
         let ew = self.settings.wall_restitution;
         // Rigid walls: place and velocity once per step.
-        let walls: Vec<(&PlaneWall<D>, Option<(f64, D::V)>)> = self
+        let walls: Vec<WallNow<D>> = self
             .walls
             .iter()
             .map(|w| {
@@ -233,7 +250,6 @@ impl<D: GasDim> Dsmc<D> {
             }
         }
         let grid = &self.grid;
-        let domain = &self.domain;
         self.store
             .p
             .par_chunks_mut(STREAM_CHUNK)
@@ -261,20 +277,14 @@ impl<D: GasDim> Dsmc<D> {
                     for (a, p) in periodic.iter().enumerate().take(D::D) {
                         if let Some((lo, l)) = *p {
                             let xa = D::get(x, a);
-                            if xa < lo {
-                                D::set(&mut x, a, xa + l);
-                            } else if xa >= lo + l {
-                                D::set(&mut x, a, xa - l);
+                            if xa < lo || xa >= lo + l {
+                                let mut w = xa - l * ((xa - lo) / l).floor();
+                                if w >= lo + l {
+                                    w -= l;
+                                }
+                                D::set(&mut x, a, w);
                             }
                         }
-                    }
-                    if !(0..D::D).all(|a| {
-                        !domain.is_periodic(a) || {
-                            let xa = D::get(x, a);
-                            xa >= D::get(domain.lo, a) && xa < D::get(domain.hi, a)
-                        }
-                    }) {
-                        x = domain.wrap(x);
                     }
                     q.x = x;
                     q.v = v;
@@ -285,38 +295,31 @@ impl<D: GasDim> Dsmc<D> {
     }
 
     fn collide(&mut self) -> Tally {
-        let ncell = self.grid.cells();
         let start = &self.start;
+        let order = &self.order;
         let sel = self.selection;
         let seed = self.settings.seed;
         let step = self.step;
-        let mut tasks = Vec::with_capacity(ncell.div_ceil(CELL_CHUNK));
-        let mut rest_p = &mut self.store.p[..];
-        let mut rest_c = &mut self.cells[..];
-        let mut c0 = 0;
-        while c0 < ncell {
-            let c1 = (c0 + CELL_CHUNK).min(ncell);
-            let np = (start[c1] - start[c0]) as usize;
-            let (p, pr) = std::mem::take(&mut rest_p).split_at_mut(np);
-            let (c, cr) = std::mem::take(&mut rest_c).split_at_mut(c1 - c0);
-            tasks.push((c0, p, c));
-            rest_p = pr;
-            rest_c = cr;
-            c0 = c1;
-        }
-        tasks
-            .into_par_iter()
-            .map(|(c0, ps, cs)| {
-                let base = start[c0];
+        let base = SharedParticles(self.store.p.as_mut_ptr());
+        self.cells
+            .par_chunks_mut(CELL_CHUNK)
+            .enumerate()
+            .map(|(k, cs)| {
+                let base = &base;
+                let c0 = k * CELL_CHUNK;
                 let mut t = Tally::default();
-                for (k, st) in cs.iter_mut().enumerate() {
-                    let c = c0 + k;
-                    let (s, e) = ((start[c] - base) as usize, (start[c + 1] - base) as usize);
-                    if e - s < 2 {
+                for (i, st) in cs.iter_mut().enumerate() {
+                    let c = c0 + i;
+                    let idx = &order[start[c] as usize..start[c + 1] as usize];
+                    if idx.len() < 2 {
                         continue;
                     }
                     let mut rng = Stream::new(seed, step, c as u64);
-                    t += collide_cell(&mut ps[s..e], st, &sel, &mut rng);
+                    // SAFETY: `order` is a permutation of the particle
+                    // indices and each cell lists its own disjoint part of
+                    // it, so concurrent cells touch disjoint particles; the
+                    // store is not otherwise borrowed during this loop.
+                    t += unsafe { collide_cell(base.0, idx, st, &sel, &mut rng) };
                 }
                 t
             })

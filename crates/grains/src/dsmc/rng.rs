@@ -96,7 +96,13 @@ mod tests {
         for _ in 0..1000 {
             assert!(r.below(7) < 7);
         }
-        assert_ne!(Stream::new(7, 3, 11).next_u64(), Stream::new(7, 3, 12).next_u64());
-        assert_ne!(Stream::new(7, 4, 11).next_u64(), Stream::new(7, 3, 11).next_u64());
+        assert_ne!(
+            Stream::new(7, 3, 11).next_u64(),
+            Stream::new(7, 3, 12).next_u64()
+        );
+        assert_ne!(
+            Stream::new(7, 4, 11).next_u64(),
+            Stream::new(7, 3, 11).next_u64()
+        );
     }
 }

@@ -1,16 +1,23 @@
 //! The cell grid and the in-place counting sort.
 //!
 //! After streaming, each particle's cell index is written into `key` (one
-//! `u32` per particle). A counting sort turns it into each particle's
-//! destination, and the particles are moved there in place by following the
-//! permutation's cycles: every record is read and written once, and no
-//! second copy of the store is ever allocated. Particles move less than a
-//! cell per step, so most of the permutation is local and the sort runs at
-//! memory speed. After the sort the particles of cell c are the contiguous
-//! slice `start[c]..start[c + 1]`, in the cells' order (x fastest, the
-//! vertical axis slowest, so a horizontal layer of cells is contiguous too).
+//! `u32` per particle). Every step a counting sort of the particle indices
+//! (`order`, one more `u32`) lists each cell's particles; the collisions
+//! reach them through it. Every few steps the records themselves are put
+//! in that order, in place, by following the permutation's cycles (each
+//! record read and written once, no second copy of the store), so that a
+//! cell's particles stay close in memory: particles move less than a cell
+//! per step, and a cell's members drift only a few rows of cells away
+//! between re-sorts. Cells are numbered x fastest, the vertical axis
+//! slowest, so a horizontal layer of cells is contiguous.
+//!
+//! Moving the records every step would cost a dependent cache miss per hop
+//! of a permutation cycle; doing it every [`RESORT_EVERY`] steps amortizes
+//! that while the index sort streams through memory.
 
-use super::store::Particle;
+/// Steps between physical re-sorts of the records.
+pub const RESORT_EVERY: u64 = 16;
+
 use crate::dim::Dim;
 
 /// A regular grid of cells covering the domain.
@@ -88,50 +95,47 @@ impl CellGrid {
     }
 }
 
-/// Counting sort of `p` by the cell indices in `key`, in place. On return
-/// `start` (length cells + 1) holds each cell's first particle and every
-/// `key[i] == i`. `fill` is scratch of length cells.
-pub fn sort_in_place<D: Dim>(
-    p: &mut [Particle<D>],
-    key: &mut [u32],
-    start: &mut [u32],
-    fill: &mut [u32],
-) {
-    debug_assert_eq!(p.len(), key.len());
+/// Counting sort of the particle indices by the cell indices in `key`.
+/// On return `start` (length cells + 1) holds each cell's first entry in
+/// `order`, and `order[start[c]..start[c + 1]]` lists the particles of cell
+/// c in increasing index (a stable sort). `fill` is scratch of length cells.
+pub fn sort_indices(key: &[u32], start: &mut [u32], fill: &mut [u32], order: &mut [u32]) {
+    debug_assert_eq!(order.len(), key.len());
     debug_assert_eq!(start.len(), fill.len() + 1);
     start.fill(0);
-    for &c in key.iter() {
+    for &c in key {
         start[c as usize + 1] += 1;
     }
     for c in 1..start.len() {
         start[c] += start[c - 1];
     }
     fill.copy_from_slice(&start[..start.len() - 1]);
-    for k in key.iter_mut() {
-        let c = *k as usize;
-        *k = fill[c];
-        fill[c] += 1;
+    for (i, &c) in key.iter().enumerate() {
+        let f = &mut fill[c as usize];
+        order[*f as usize] = i as u32;
+        *f += 1;
     }
-    permute_in_place(p, key);
 }
 
-/// Moves `p[i]` to `p[dest[i]]` for every i by following cycles; leaves
-/// `dest[i] == i`. Each record is read once and written once.
-pub fn permute_in_place<T: Copy>(p: &mut [T], dest: &mut [u32]) {
+/// Reorders `p` in place so that the new `p[k]` is the old `p[order[k]]`,
+/// by following the permutation's cycles (each record is read and written
+/// once, with one record of scratch); leaves `order[k] == k`.
+pub fn gather_in_place<T: Copy>(p: &mut [T], order: &mut [u32]) {
     for i in 0..p.len() {
-        let mut d = dest[i] as usize;
-        if d == i {
+        if order[i] as usize == i {
             continue;
         }
-        let mut carry = p[i];
+        let first = p[i];
+        let mut j = i;
         loop {
-            let next = dest[d] as usize;
-            dest[d] = d as u32;
-            std::mem::swap(&mut carry, &mut p[d]);
-            if d == i {
+            let k = order[j] as usize;
+            order[j] = j as u32;
+            if k == i {
+                p[j] = first;
                 break;
             }
-            d = next;
+            p[j] = p[k];
+            j = k;
         }
     }
 }
@@ -140,18 +144,17 @@ pub fn permute_in_place<T: Copy>(p: &mut [T], dest: &mut [u32]) {
 mod tests {
     use super::*;
     use crate::dim::D2;
+    use crate::dsmc::store::Particle;
     use glam::DVec2;
 
     #[test]
-    fn permutation_places_every_record() {
-        let mut p: Vec<u32> = (0..10).collect();
-        let mut dest = vec![3u32, 0, 1, 2, 9, 5, 8, 7, 6, 4];
-        let want_at = dest.clone();
-        permute_in_place(&mut p, &mut dest);
-        for (i, &d) in want_at.iter().enumerate() {
-            assert_eq!(p[d as usize], i as u32);
-        }
-        assert!(dest.iter().enumerate().all(|(i, &d)| d as usize == i));
+    fn gather_places_every_record() {
+        let mut p: Vec<u32> = (0..10).map(|i| 100 + i).collect();
+        let mut order = vec![3u32, 0, 1, 2, 9, 5, 8, 7, 6, 4];
+        let want: Vec<u32> = order.iter().map(|&k| 100 + k).collect();
+        gather_in_place(&mut p, &mut order);
+        assert_eq!(p, want);
+        assert!(order.iter().enumerate().all(|(i, &d)| d as usize == i));
     }
 
     #[test]
@@ -166,10 +169,13 @@ mod tests {
                 v: DVec2::new(x, 0.0),
             })
             .collect();
-        let mut key: Vec<u32> = p.iter().map(|q| grid.cell_of::<D2>(q.x)).collect();
+        let key: Vec<u32> = p.iter().map(|q| grid.cell_of::<D2>(q.x)).collect();
         let mut start = vec![0; 9];
         let mut fill = vec![0; 8];
-        sort_in_place(&mut p, &mut key, &mut start, &mut fill);
+        let mut order = vec![0; 5];
+        sort_indices(&key, &mut start, &mut fill, &mut order);
+        assert_eq!(order, vec![1, 4, 3, 0, 2]);
+        gather_in_place(&mut p, &mut order);
         assert_eq!(start, vec![0, 2, 3, 3, 3, 3, 3, 3, 5]);
         assert_eq!(p[0].x, DVec2::new(0.2, 0.1));
         assert_eq!(p[1].x, DVec2::new(0.7, 0.9));

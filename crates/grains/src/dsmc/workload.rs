@@ -37,7 +37,7 @@ pub fn hard_sphere_gas<D: GasDim>(n: usize, seed: u64) -> Dsmc<D> {
     let total_cells: usize = nc[..D::D].iter().product();
     let count = (PER_CELL as usize) * total_cells;
     let density = PER_CELL; // per unit cell volume
-    // λ = 1/(√2 n σ_cross) = 2 (two cell edges).
+                            // λ = 1/(√2 n σ_cross) = 2 (two cell edges).
     let cross = 1.0 / (std::f64::consts::SQRT_2 * density * 2.0);
     let diameter = if D::D == 2 {
         cross / 2.0
