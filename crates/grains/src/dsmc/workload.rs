@@ -81,3 +81,64 @@ pub fn hard_sphere_gas<D: GasDim>(n: usize, seed: u64) -> Dsmc<D> {
         },
     )
 }
+
+/// A homogeneous gas in a periodic cube (square in 2D) for tests and
+/// studies.
+#[derive(Clone, Copy, Debug)]
+pub struct PeriodicGas {
+    pub count: usize,
+    /// Box edge.
+    pub length: f64,
+    pub diameter: f64,
+    /// √(T/m) of the initial Maxwellian (m = 1).
+    pub thermal_speed: f64,
+    pub cell: f64,
+    pub dt: f64,
+    pub restitution: f64,
+    pub dense: DenseGas,
+    pub seed: u64,
+}
+
+impl PeriodicGas {
+    /// Builds the engine: uniform positions, Maxwellian velocities with the
+    /// mean removed (zero total momentum).
+    pub fn build<D: GasDim>(&self) -> Dsmc<D> {
+        let mut rng = Stream::for_purpose(self.seed, 2);
+        let mut p: Vec<Particle<D>> = (0..self.count)
+            .map(|_| {
+                let mut x = D::zero();
+                for a in 0..D::D {
+                    D::set(&mut x, a, rng.uniform() * self.length);
+                }
+                Particle {
+                    x,
+                    v: maxwellian::<D>(&mut rng, self.thermal_speed),
+                }
+            })
+            .collect();
+        let mean = p.iter().fold(D::zero(), |a, q| a + q.v) / self.count.max(1) as f64;
+        for q in &mut p {
+            q.v -= mean;
+        }
+        let mut hi = D::zero();
+        for a in 0..D::D {
+            D::set(&mut hi, a, self.length);
+        }
+        Dsmc::new(
+            Store::new(p, self.diameter, 1.0),
+            Domain::new(D::zero(), hi, [true; 3]),
+            D::zero(),
+            Vec::new(),
+            DsmcSettings {
+                dt: self.dt,
+                restitution: self.restitution,
+                wall_restitution: 1.0,
+                dense: self.dense,
+                rcp: super::dense::default_rcp(D::D),
+                seed: self.seed,
+                cell: self.cell,
+                vmax_floor: 0.0,
+            },
+        )
+    }
+}
