@@ -6,7 +6,7 @@ use grains::dsmc::rng::Stream;
 use grains::dsmc::store::cross_section;
 use grains::dsmc::workload::PeriodicGas;
 use grains::dsmc::{collision_frequency, haff_time, DenseGas, Dsmc};
-use grains::{Dim, D2, D3};
+use grains::{D2, D3};
 
 /// Mean free path λ = 1/(√2 n σ_cross χ).
 fn mean_free_path(dim: usize, n: f64, d: f64, chi: f64) -> f64 {
