@@ -4,6 +4,11 @@
 //! `scenarios/bench-*.toml` reading the same data files); `bed3d` is a
 //! synthetic dense bed of N spheres built without a data file. Only the
 //! stepping loop is timed, as LAMMPS's "Loop time" is.
+//!
+//! `gas2d` and `gas3d` time the DSMC engine on the elastic hard-sphere gas
+//! that mirrors SPARTA's `bench/sparta/in.hs3d` (10 particles per cell, cell
+//! = λ/2, ω τ = 0.30, Maxwellian start; see `grains::dsmc::workload`): 30
+//! untimed warm-up steps, then the timed ones.
 
 use clap::Args;
 use grains::md::Md;
@@ -15,9 +20,9 @@ use std::time::Instant;
 
 #[derive(Args)]
 pub struct BenchArgs {
-    /// chute, vib2d or bed3d.
+    /// chute, vib2d, bed3d, gas2d or gas3d.
     workload: String,
-    /// Steps to time [default: chute 1000, vib2d 10000, bed3d 1000].
+    /// Steps to time [default: chute 1000, vib2d 10000, bed3d 1000, gas 300].
     #[arg(long)]
     steps: Option<u64>,
     /// Worker threads (default: all cores).
@@ -26,9 +31,9 @@ pub struct BenchArgs {
     /// gear5 or verlet [default: verlet, as LAMMPS's nve/sphere].
     #[arg(long, value_parser = ["gear5", "verlet"])]
     integrator: Option<String>,
-    /// Grains in the synthetic bed3d workload.
-    #[arg(long, default_value_t = 20_000)]
-    particles: usize,
+    /// Grains in the synthetic workloads [default: bed3d 20000, gas 1000000].
+    #[arg(long)]
+    particles: Option<usize>,
     /// One JSON line instead of text.
     #[arg(long)]
     json: bool,
@@ -121,6 +126,16 @@ pub fn run(args: BenchArgs) -> Result<()> {
             .build_global()
             .map_err(|e| Error::input(format!("--threads {n}: {e}")))?;
     }
+    if let Some(dim) = args.workload.strip_prefix("gas") {
+        return match dim {
+            "2d" => gas::<grains::D2>(&args),
+            "3d" => gas::<grains::D3>(&args),
+            _ => Err(Error::input(format!(
+                "unknown workload `{}`: choose chute, vib2d, bed3d, gas2d or gas3d",
+                args.workload
+            ))),
+        };
+    }
     let mut sets = Vec::new();
     if let Some(i) = &args.integrator {
         sets.push(format!("run.integrator={i}"));
@@ -132,22 +147,18 @@ pub fn run(args: BenchArgs) -> Result<()> {
             10_000,
         ),
         "bed3d" => {
-            if args.particles == 0 {
+            let n = args.particles.unwrap_or(20_000);
+            if n == 0 {
                 return Err(Error::input("--particles must be at least 1"));
             }
             (
-                load_str(
-                    &bed3d_scenario(args.particles),
-                    "bed3d",
-                    PathBuf::from("."),
-                    &sets,
-                )?,
+                load_str(&bed3d_scenario(n), "bed3d", PathBuf::from("."), &sets)?,
                 1000,
             )
         }
         other => {
             return Err(Error::input(format!(
-                "unknown workload `{other}`: choose chute, vib2d or bed3d"
+                "unknown workload `{other}`: choose chute, vib2d, bed3d, gas2d or gas3d"
             )))
         }
     };
@@ -182,4 +193,67 @@ pub fn run(args: BenchArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The DSMC hard-sphere gas workloads.
+fn gas<D: grains::dsmc::GasDim>(args: &BenchArgs) -> Result<()> {
+    let n = args.particles.unwrap_or(1_000_000);
+    if n == 0 {
+        return Err(Error::input("--particles must be at least 1"));
+    }
+    let steps = args.steps.unwrap_or(300);
+    let mut gas = grains::dsmc::workload::hard_sphere_gas::<D>(n, 12345);
+    gas.run(30);
+    let before = gas.totals;
+    let cpu0 = cpu_seconds();
+    let start = Instant::now();
+    gas.run(steps);
+    let wall = start.elapsed().as_secs_f64();
+    let cpu = cpu_seconds() - cpu0;
+    let particles = gas.store.len();
+    let updates = (steps as f64 * particles as f64).max(1.0);
+    let ns = 1e9 * wall / updates;
+    let collisions = (gas.totals.collisions - before.collisions) as f64 / updates;
+    let candidates = (gas.totals.candidates - before.candidates) as f64 / updates;
+    let threads = rayon::current_num_threads();
+    let rss = peak_rss_bytes();
+    if args.json {
+        println!(
+            "{}",
+            json!({
+                "workload": args.workload, "particles": particles, "steps": steps, "threads": threads,
+                "wall_seconds": wall, "ns_per_particle_step": ns, "peak_rss_bytes": rss,
+                "collisions_per_particle_step": collisions,
+                "candidates_per_particle_step": candidates,
+                "cells": gas.grid.cells(),
+                "cpu_seconds": cpu, "cpu_ns_per_particle_step": 1e9 * cpu / updates,
+                "bytes_per_particle": rss as f64 / particles as f64,
+            })
+        );
+    } else {
+        println!(
+            "{}: {particles} particles, {} cells, {steps} steps, {threads} thread(s): {wall:.3} s, {ns:.1} ns per particle-step (CPU {:.1} ns), {collisions:.4} collisions and {candidates:.4} candidates per particle-step, peak RSS {:.1} MiB ({:.1} B per particle)",
+            args.workload,
+            gas.grid.cells(),
+            1e9 * cpu / updates,
+            rss as f64 / 1048576.0,
+            rss as f64 / particles as f64
+        );
+    }
+    Ok(())
+}
+
+/// User plus system CPU time of this process (s), from /proc/self/stat; 0
+/// where unavailable. On a shared machine it shows what wall time hides.
+fn cpu_seconds() -> f64 {
+    std::fs::read_to_string("/proc/self/stat")
+        .ok()
+        .and_then(|s| {
+            let rest = s.rsplit_once(')')?.1;
+            let f: Vec<&str> = rest.split_whitespace().collect();
+            let ut: f64 = f.get(11)?.parse().ok()?;
+            let st: f64 = f.get(12)?.parse().ok()?;
+            Some((ut + st) / 100.0)
+        })
+        .unwrap_or(0.0)
 }

@@ -8,6 +8,7 @@ pub mod boundary;
 pub mod contact;
 pub mod dim;
 pub mod domain;
+pub mod dsmc;
 pub mod error;
 pub mod integrate;
 pub mod io;

@@ -52,6 +52,9 @@ impl Progress for Silent {
 /// Builds the engine of a scenario without running it, and reports what
 /// `grains check` prints.
 pub fn check(loaded: &Loaded) -> Result<Value> {
+    if loaded.scenario.method == crate::dsmc::Method::Dsmc {
+        return crate::dsmc::runner::check(loaded);
+    }
     fn go<D: Dim>(loaded: &Loaded) -> Result<Value> {
         let (md, r) = build_md::<D>(loaded)?;
         Ok(resolved_json(loaded, &md, &r))
@@ -64,6 +67,9 @@ pub fn check(loaded: &Loaded) -> Result<Value> {
 
 /// Runs a scenario; returns the summary that was written to summary.json.
 pub fn run(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) -> Result<Value> {
+    if loaded.scenario.method == crate::dsmc::Method::Dsmc {
+        return crate::dsmc::runner::run(loaded, opts, progress);
+    }
     match loaded.scenario.dimension {
         Dimension::Two => run_dim::<D2>(loaded, opts, progress),
         Dimension::Three => run_dim::<D3>(loaded, opts, progress),

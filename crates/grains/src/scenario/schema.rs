@@ -18,6 +18,9 @@ pub struct Scenario {
     pub description: String,
     /// "2d" (disks, y vertical) or "3d" (spheres, z vertical).
     pub dimension: Dimension,
+    /// "md" (soft spheres, default) or "dsmc" (stochastic hard-sphere gas).
+    #[serde(default)]
+    pub method: crate::dsmc::Method,
     /// Seed of every random stream (placement, velocities).
     #[serde(default = "default_seed")]
     pub seed: u64,
@@ -35,6 +38,9 @@ pub struct Scenario {
     pub output: OutputSpec,
     #[serde(default)]
     pub measure: MeasureSpec,
+    /// Settings of method = "dsmc".
+    #[serde(default)]
+    pub dsmc: Option<crate::dsmc::DsmcSpec>,
 }
 
 fn default_seed() -> u64 {
