@@ -339,7 +339,8 @@ fn run_block<D: Dim>(input: &PairInput<D>, g: &Grains<D>, t: &mut Block<D>) -> B
         let (ri, rj) = (at(g.radius, i), at(g.radius, j));
         let r = D::norm(del);
         let overlap = ri + rj - r;
-        let n = del / r;
+        // One division, three multiplications.
+        let n = del * (1.0 / r);
         let mut v_rel = at(g.vel, i) - at(g.vel, j);
         if rotation {
             // Contact-point velocities: ω_i × (−r_i n) − ω_j × (r_j n).
@@ -384,9 +385,10 @@ fn run_block<D: Dim>(input: &PairInput<D>, g: &Grains<D>, t: &mut Block<D>) -> B
         }
         s.contacts += 1;
         s.max_overlap = s.max_overlap.max(overlap);
-        let frac = overlap / ri.min(rj);
-        if frac > s.max_fraction {
-            s.max_fraction = frac;
+        // Compare before dividing: the fraction is needed only for a new worst.
+        let r_min = ri.min(rj);
+        if overlap > s.max_fraction * r_min {
+            s.max_fraction = overlap / r_min;
             s.worst = (i as u64, j as u64);
         }
     }
