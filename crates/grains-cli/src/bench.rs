@@ -117,15 +117,7 @@ fn time_steps<D: Dim>(md: &mut Md<D>, steps: u64) -> Result<f64> {
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
-    if let Some(n) = args.threads {
-        if n == 0 {
-            return Err(Error::input("--threads must be at least 1"));
-        }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-            .map_err(|e| Error::input(format!("--threads {n}: {e}")))?;
-    }
+    crate::set_threads(args.threads)?;
     if let Some(dim) = args.workload.strip_prefix("gas") {
         return match dim {
             "2d" => gas::<grains::D2>(&args),

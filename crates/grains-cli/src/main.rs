@@ -86,7 +86,7 @@ fn safe_dir_name(name: &str) -> String {
     }
 }
 
-fn set_threads(threads: Option<usize>) -> grains::Result<()> {
+pub(crate) fn set_threads(threads: Option<usize>) -> grains::Result<()> {
     if let Some(n) = threads {
         if n == 0 {
             return Err(Error::input("--threads must be at least 1"));

@@ -7,7 +7,6 @@ use super::engine::{haff_time, maxwellian, Dsmc, DsmcSettings, PlaneWall};
 use super::rng::Stream;
 use super::spec::DsmcSpec;
 use super::store::{particle_volume, Particle, Store};
-use crate::boundary::Motion;
 use crate::dim::{Dim, D2, D3};
 use crate::domain::Domain;
 use crate::error::{Error, Result};
@@ -125,38 +124,25 @@ pub fn build<D: GasDim>(loaded: &Loaded) -> Result<(Dsmc<D>, Plan)> {
             )));
         };
         let motion = match &w.motion {
-            MotionSpec::Fixed => Motion::Fixed,
-            MotionSpec::Vibrate {
-                amplitude,
-                frequency,
-                modulation,
-                wavelength,
-                phase,
-                direction,
-            } => {
-                wall_speed = wall_speed
-                    .max(std::f64::consts::TAU * frequency * amplitude * (1.0 + modulation.abs()));
-                Motion::Vibrate {
-                    direction: match direction {
-                        Some(d) => vector::<D>(&format!("{key}.motion.direction"), d)?,
-                        None => D::unit(D::vertical()),
-                    },
-                    amplitude: *amplitude,
-                    modulation: *modulation,
-                    wavelength: wavelength.unwrap_or(domain.length(0)),
-                    frequency: *frequency,
-                    phase: *phase,
-                }
+            MotionSpec::Fixed | MotionSpec::Vibrate { .. } | MotionSpec::Translate { .. } => {
+                crate::scenario::build::motion::<D>(&key, &w.motion, &domain)?
             }
-            MotionSpec::Translate { velocity } => Motion::Translate {
-                velocity: vector::<D>(&format!("{key}.motion.velocity"), velocity)?,
-            },
             _ => {
                 return Err(Error::input(format!(
                     "{key}: method = \"dsmc\" supports fixed, vibrate and translate motions"
                 )))
             }
         };
+        if let MotionSpec::Vibrate {
+            amplitude,
+            frequency,
+            modulation,
+            ..
+        } = &w.motion
+        {
+            wall_speed = wall_speed
+                .max(std::f64::consts::TAU * frequency * amplitude * (1.0 + modulation.abs()));
+        }
         if w.remove_at.is_some() {
             return Err(Error::input(format!(
                 "{key}: remove_at is not supported by method = \"dsmc\""

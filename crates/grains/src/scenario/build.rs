@@ -328,7 +328,20 @@ fn wall<D: Dim>(k: usize, w: &WallSpec, dom: &Domain<D>) -> Result<Wall<D>> {
             diameter: *diameter,
         },
     };
-    let motion = match &w.motion {
+    let motion = motion::<D>(&key, &w.motion, dom)?;
+    let mut wall = Wall::new(w.name.clone(), shape, motion)
+        .map_err(|e| Error::input(format!("{key}: {e}")))?;
+    if let Some(t) = w.remove_at {
+        wall = wall
+            .with_remove_at(t)
+            .map_err(|e| Error::input(format!("{key}: {e}")))?;
+    }
+    Ok(wall)
+}
+
+/// A wall motion from its scenario table; `key` names the wall in messages.
+pub fn motion<D: Dim>(key: &str, spec: &MotionSpec, dom: &Domain<D>) -> Result<Motion<D>> {
+    Ok(match spec {
         MotionSpec::Fixed => Motion::Fixed,
         MotionSpec::Vibrate {
             amplitude,
@@ -339,7 +352,7 @@ fn wall<D: Dim>(k: usize, w: &WallSpec, dom: &Domain<D>) -> Result<Wall<D>> {
             direction,
         } => Motion::Vibrate {
             direction: match direction {
-                Some(d) => v("motion.direction", d)?,
+                Some(d) => vector::<D>(&format!("{key}.motion.direction"), d)?,
                 None => D::unit(D::vertical()),
             },
             amplitude: *amplitude,
@@ -353,26 +366,18 @@ fn wall<D: Dim>(k: usize, w: &WallSpec, dom: &Domain<D>) -> Result<Wall<D>> {
             frequency,
             phase,
         } => Motion::Oscillate {
-            amplitude: v("motion.amplitude", amplitude)?,
+            amplitude: vector::<D>(&format!("{key}.motion.amplitude"), amplitude)?,
             frequency: *frequency,
             phase: *phase,
         },
         MotionSpec::Rotate { center, omega } => Motion::Rotate {
-            center: v("motion.center", center)?,
+            center: vector::<D>(&format!("{key}.motion.center"), center)?,
             omega: angular::<D>(&format!("{key}.motion.omega"), omega)?,
         },
         MotionSpec::Translate { velocity } => Motion::Translate {
-            velocity: v("motion.velocity", velocity)?,
+            velocity: vector::<D>(&format!("{key}.motion.velocity"), velocity)?,
         },
-    };
-    let mut wall = Wall::new(w.name.clone(), shape, motion)
-        .map_err(|e| Error::input(format!("{key}: {e}")))?;
-    if let Some(t) = w.remove_at {
-        wall = wall
-            .with_remove_at(t)
-            .map_err(|e| Error::input(format!("{key}: {e}")))?;
-    }
-    Ok(wall)
+    })
 }
 
 /// Builds the engine of a scenario, with the numbers it was resolved to.
