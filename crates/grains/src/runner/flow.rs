@@ -438,7 +438,7 @@ impl Recycler {
         let t0 = self.start + self.spec.transient;
         let window = end - t0;
         let counted: Vec<&(f64, f64)> = self.exits.iter().filter(|e| e.0 >= t0).collect();
-        let mass: f64 = counted.iter().map(|e| e.1).sum();
+        let mass: f64 = counted.iter().map(|e| e.1).sum::<f64>() + 0.0;
         let (rate, grains) = if window > 0.0 {
             (mass / window, counted.len() as f64 / window)
         } else {
