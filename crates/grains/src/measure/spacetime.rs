@@ -85,24 +85,38 @@ impl Spacetime {
         if self.rows.is_empty() {
             return Ok(());
         }
-        let max = self
+        // At most 400 columns: average consecutive samples.
+        let stride = self.rows.len().div_ceil(400);
+        let cols: Vec<(f64, Vec<f64>)> = self
             .rows
+            .chunks(stride)
+            .map(|c| {
+                let mut n = vec![0.0; self.bins];
+                for (_, r) in c {
+                    for (a, x) in n.iter_mut().zip(r) {
+                        *a += x / c.len() as f64;
+                    }
+                }
+                (c[0].0, n)
+            })
+            .collect();
+        let max = cols
             .iter()
             .flat_map(|r| r.1.iter().copied())
             .fold(0.0, f64::max)
             .max(1e-300);
         let (px_t, px_z) = (
-            (400 / self.rows.len()).max(1) as u32,
+            (400 / cols.len()).max(1) as u32,
             (300 / self.bins).max(1) as u32,
         );
-        let (w, h) = (self.rows.len() as u32 * px_t, self.bins as u32 * px_z);
+        let (w, h) = (cols.len() as u32 * px_t, self.bins as u32 * px_z);
         let view = View {
             origin: [0.0, 0.0],
             scale: 1.0,
             height: h,
         };
         let mut img = Image::new(w, h, view);
-        for (c, (_, n)) in self.rows.iter().enumerate() {
+        for (c, (_, n)) in cols.iter().enumerate() {
             for (k, x) in n.iter().enumerate() {
                 let g = (255.0 * (1.0 - x / max)).round() as u8;
                 for dx in 0..px_t {
