@@ -19,3 +19,9 @@ pub use profiles::Profiles;
 pub use temperature::granular_temperature;
 pub use tracer::Tracer;
 pub use trajectories::Trajectories;
+
+pub mod spacetime;
+pub mod surface;
+
+pub use spacetime::Spacetime;
+pub use surface::{fit_line, surface, SurfaceFit};

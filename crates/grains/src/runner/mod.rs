@@ -5,6 +5,7 @@
 //! rows, frames and measurement samples at every output interval); finish
 //! (the final frame, pictures, measurement files and summary.json).
 
+pub mod flow;
 mod output;
 
 use crate::dim::{Dim, D2, D3};
@@ -56,7 +57,9 @@ pub fn check(loaded: &Loaded) -> Result<Value> {
         return crate::dsmc::runner::check(loaded);
     }
     fn go<D: Dim>(loaded: &Loaded) -> Result<Value> {
+        let loaded = &*flow::expand(loaded)?;
         let (md, r) = build_md::<D>(loaded)?;
+        flow::FlowRun::begin(loaded, &md)?;
         Ok(resolved_json(loaded, &md, &r))
     }
     match loaded.scenario.dimension {
@@ -256,7 +259,9 @@ fn run_dim<D: Dim>(
     progress: &mut dyn Progress,
 ) -> Result<Value> {
     prepare(&opts.out_dir)?;
+    let loaded = &*flow::expand(loaded)?;
     let (mut md, resolved) = build_md::<D>(loaded)?;
+    let mut flow = flow::FlowRun::begin(loaded, &md)?;
     let mut outputs = Outputs::create(&opts.out_dir, &loaded.scenario.output)?;
     let started = Instant::now();
     let (relax, measure) = match opts.steps {
@@ -272,6 +277,7 @@ fn run_dim<D: Dim>(
         progress.phase("relax", relax);
         for k in 1..=relax {
             md.step()?;
+            flow.after_step(&mut md);
             if k % 256 == 0 || k == relax {
                 progress.advance(k, md.time);
             }
@@ -282,9 +288,11 @@ fn run_dim<D: Dim>(
     outputs.record(&md, &frame(&md), granular_temperature(&md.particles))?;
     for k in 1..=measure {
         md.step()?;
+        flow.after_step(&mut md);
         measurements.step(&md);
         if k % sample_every == 0 {
             measurements.sample(&md);
+            flow.sample(&md);
         }
         if k % every == 0 || k == measure {
             outputs.record(&md, &frame(&md), granular_temperature(&md.particles))?;
@@ -329,6 +337,7 @@ fn run_dim<D: Dim>(
     );
     summary.insert("neighbor_builds".into(), json!(md.neighbor_builds()));
     measurements.scalars(&mut summary);
+    flow.finish(&opts.out_dir, &md, &mut summary)?;
     let summary = Value::Object(summary);
     outputs.write_summary(&summary)?;
     Ok(summary)

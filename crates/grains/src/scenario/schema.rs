@@ -41,6 +41,9 @@ pub struct Scenario {
     /// Settings of method = "dsmc".
     #[serde(default)]
     pub dsmc: Option<crate::dsmc::DsmcSpec>,
+    /// A silo generated from a few numbers (`hopper.outlet` is the outlet width).
+    #[serde(default)]
+    pub hopper: Option<HopperSpec>,
 }
 
 fn default_seed() -> u64 {
@@ -319,6 +322,9 @@ pub struct RunSpec {
     /// Threads for the force loop (0: all cores).
     #[serde(default)]
     pub threads: usize,
+    /// Run events: settle, then remove a wall or tilt gravity.
+    #[serde(default)]
+    pub events: Option<EventsSpec>,
 }
 
 fn default_safety() -> f64 {
@@ -421,6 +427,109 @@ pub struct MeasureSpec {
     /// trajectories.csv, trajectories.png.
     #[serde(default)]
     pub trajectories: Option<TrajectoriesSpec>,
+    /// Slope of the free surface left at the end of the run (angle of
+    /// repose): `repose_angle_deg`, surface.csv.
+    #[serde(default)]
+    pub repose: Option<SurfaceSpec>,
+    /// Slope of the free surface averaged over the run (rotating drum):
+    /// `dynamic_angle_deg`.
+    #[serde(default)]
+    pub surface_angle: Option<SurfaceSpec>,
+    /// Density along the vertical axis against time: spacetime.csv/png.
+    #[serde(default)]
+    pub spacetime: Option<SpacetimeSpec>,
+}
+
+/// A free-surface fit: the top grain of each column of width `column` (d0)
+/// within `x_range` (m, along x), heights above `min_height` (m) fitted by
+/// least squares.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceSpec {
+    /// Column width in units of d0; default 2.
+    #[serde(default = "default_column")]
+    pub column: f64,
+    /// Range of x (m) over which columns are fitted.
+    pub x_range: Vec<f64>,
+    /// Columns whose top grain is below this height (m) are left out.
+    #[serde(default)]
+    pub min_height: f64,
+}
+
+fn default_column() -> f64 {
+    2.0
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SpacetimeSpec {
+    /// Bin length along the vertical axis, in units of d0; default 1.
+    #[serde(default = "default_st_bin")]
+    pub bin: f64,
+}
+
+fn default_st_bin() -> f64 {
+    1.0
+}
+
+/// Events during a run. Settling ends when the kinetic energy per mobile
+/// grain falls below `settle_energy` m g d0 (m the mean grain mass), but not
+/// before `settle_min` seconds; then `remove_wall` disappears, or gravity
+/// starts to turn at `tilt_rate` (the box tilts) until the grains flow.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct EventsSpec {
+    /// Threshold of the kinetic energy per grain, in units of m g d0; default 1e-3.
+    #[serde(default = "default_settle_energy")]
+    pub settle_energy: f64,
+    /// Earliest end of settling (s); default 0.
+    #[serde(default)]
+    pub settle_min: f64,
+    /// Name of the wall removed once settled.
+    #[serde(default)]
+    pub remove_wall: Option<String>,
+    /// Tilting rate of gravity (degrees per second) once settled; the box is
+    /// tilted so that the pile leans towards +x.
+    #[serde(default)]
+    pub tilt_rate: Option<f64>,
+    /// The pile has failed when the kinetic energy per grain exceeds this
+    /// (units of m g d0) while tilting; default 1e-2.
+    #[serde(default = "default_fail_energy")]
+    pub fail_energy: f64,
+    /// Grains below this height (m) are taken out of the run: frozen and
+    /// parked below it (they fell out of the box).
+    #[serde(default)]
+    pub sink: Option<f64>,
+}
+
+fn default_settle_energy() -> f64 {
+    1e-3
+}
+fn default_fail_energy() -> f64 {
+    1e-2
+}
+
+/// A flat-bottomed silo built from planes (sides) and segments/polygons
+/// (the floor with a centred outlet). 2D: a slot of width `outlet`; 3D: a
+/// square orifice of side `outlet`. Grains that leave through the outlet and
+/// fall below `sink` are put back at the top (recycled), so discharge is
+/// steady.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct HopperSpec {
+    /// Outlet width D (m): the gap between the floor's edges.
+    pub outlet: f64,
+    /// Height of the floor (m); default 0.
+    #[serde(default)]
+    pub floor: f64,
+    /// Grains below this height (m) are recycled; default floor − 10 d0.
+    #[serde(default)]
+    pub sink: Option<f64>,
+    /// Height band (m) where recycled grains are put back, [low, high].
+    pub refill: Vec<f64>,
+    /// Discharge before the flow rate is measured (s); default 0.
+    #[serde(default)]
+    pub transient: f64,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]

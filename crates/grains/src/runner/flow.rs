@@ -1,0 +1,463 @@
+//! Flow scenarios: run events (settle, then remove a wall or tilt the box),
+//! the silo generated from `[hopper]` with recycling of discharged grains,
+//! and the measurements that go with them (angle of repose, marginal angle,
+//! flow rate, dynamic angle of a drum, space–time density).
+//!
+//! The runner calls [`expand`] before building the engine, then
+//! [`FlowRun::after_step`] after every step (relaxation included),
+//! [`FlowRun::sample`] at every sample and [`FlowRun::finish`] at the end.
+
+use crate::dim::Dim;
+use crate::error::{Error, Result};
+use crate::io::write_atomic;
+use crate::md::Md;
+use crate::measure::{surface, Spacetime, SurfaceFit};
+use crate::scenario::schema::{
+    Dimension, EventsSpec, HopperSpec, MotionSpec, ShapeSpec, SurfaceSpec, WallSpec,
+};
+use crate::scenario::Loaded;
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use serde_json::{json, Map, Value};
+use std::borrow::Cow;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The scenario with the walls of `[hopper]` added (unchanged without one).
+pub fn expand(loaded: &Loaded) -> Result<Cow<'_, Loaded>> {
+    let Some(h) = &loaded.scenario.hopper else {
+        return Ok(Cow::Borrowed(loaded));
+    };
+    let mut out = loaded.clone();
+    out.scenario
+        .walls
+        .extend(hopper_walls(&loaded.scenario, h)?);
+    Ok(Cow::Owned(out))
+}
+
+fn wall(name: &str, shape: ShapeSpec) -> WallSpec {
+    WallSpec {
+        name: name.into(),
+        shape,
+        motion: MotionSpec::Fixed,
+        remove_at: None,
+    }
+}
+
+/// Side walls on the domain's faces and a floor at `h.floor` with a centred
+/// outlet: a slot of width D (2D) or a square hole of side D (3D).
+fn hopper_walls(s: &crate::scenario::Scenario, h: &HopperSpec) -> Result<Vec<WallSpec>> {
+    let (lo, hi) = (&s.domain.lo, &s.domain.hi);
+    let f = h.floor;
+    let d = h.outlet;
+    let width = hi[0] - lo[0];
+    if !(d.is_finite() && d > 0.0 && d < width) {
+        return Err(Error::input(format!(
+            "hopper.outlet = {d}: must be positive and narrower than the domain ({width} m)"
+        )));
+    }
+    if h.refill.len() != 2 || h.refill[0] >= h.refill[1] {
+        return Err(Error::input(
+            "hopper.refill must be [low, high] heights (m) with low < high",
+        ));
+    }
+    let xc = 0.5 * (lo[0] + hi[0]);
+    let (a, b) = (xc - 0.5 * d, xc + 0.5 * d);
+    let plane = |p: Vec<f64>, n: Vec<f64>| ShapeSpec::Plane {
+        point: p,
+        normal: n,
+    };
+    Ok(match s.dimension {
+        Dimension::Two => vec![
+            wall("silo-left", plane(vec![lo[0], f], vec![1.0, 0.0])),
+            wall("silo-right", plane(vec![hi[0], f], vec![-1.0, 0.0])),
+            wall(
+                "floor-left",
+                ShapeSpec::Segment {
+                    a: vec![lo[0], f],
+                    b: vec![a, f],
+                },
+            ),
+            wall(
+                "floor-right",
+                ShapeSpec::Segment {
+                    a: vec![b, f],
+                    b: vec![hi[0], f],
+                },
+            ),
+        ],
+        Dimension::Three => {
+            let yc = 0.5 * (lo[1] + hi[1]);
+            let (c, e) = (yc - 0.5 * d, yc + 0.5 * d);
+            if e - c >= hi[1] - lo[1] {
+                return Err(Error::input(format!(
+                    "hopper.outlet = {d}: must be narrower than the domain along y"
+                )));
+            }
+            let poly = |v: [[f64; 2]; 4]| ShapeSpec::Polygon {
+                vertices: v.iter().map(|p| vec![p[0], p[1], f]).collect(),
+            };
+            vec![
+                wall(
+                    "silo-left",
+                    plane(vec![lo[0], 0.0, 0.0], vec![1.0, 0.0, 0.0]),
+                ),
+                wall(
+                    "silo-right",
+                    plane(vec![hi[0], 0.0, 0.0], vec![-1.0, 0.0, 0.0]),
+                ),
+                wall(
+                    "silo-front",
+                    plane(vec![0.0, lo[1], 0.0], vec![0.0, 1.0, 0.0]),
+                ),
+                wall(
+                    "silo-back",
+                    plane(vec![0.0, hi[1], 0.0], vec![0.0, -1.0, 0.0]),
+                ),
+                wall(
+                    "floor-left",
+                    poly([[lo[0], lo[1]], [a, lo[1]], [a, hi[1]], [lo[0], hi[1]]]),
+                ),
+                wall(
+                    "floor-right",
+                    poly([[b, lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [b, hi[1]]]),
+                ),
+                wall(
+                    "floor-front",
+                    poly([[a, lo[1]], [b, lo[1]], [b, c], [a, c]]),
+                ),
+                wall("floor-back", poly([[a, e], [b, e], [b, hi[1]], [a, hi[1]]])),
+            ]
+        }
+    })
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Stage {
+    Settling,
+    /// Settled at this time; the wall is gone or tilting goes on.
+    Settled(f64),
+    /// Tilting failed at this angle (degrees).
+    Failed(f64),
+}
+
+/// Everything a flow scenario adds to a run.
+pub struct FlowRun<D: Dim> {
+    events: Option<EventsSpec>,
+    stage: Stage,
+    g0: D::V,
+    energy_unit: f64,
+    tilt: f64,
+    parked: usize,
+    d0: f64,
+    hopper: Option<Recycler>,
+    repose: Option<SurfaceSpec>,
+    drum: Option<(SurfaceSpec, Vec<f64>)>,
+    spacetime: Option<Spacetime>,
+}
+
+struct Recycler {
+    spec: HopperSpec,
+    sink: f64,
+    rng: Xoshiro256PlusPlus,
+    /// (time, mass) of every grain that left through the outlet.
+    exits: Vec<(f64, f64)>,
+    start: f64,
+}
+
+impl<D: Dim> FlowRun<D> {
+    pub fn begin(loaded: &Loaded, md: &Md<D>) -> Result<Self> {
+        let s = &loaded.scenario;
+        let d0 = s.particles.d0;
+        let p = &md.particles;
+        let mobile: Vec<usize> = (0..p.n_owned()).filter(|&i| !p.frozen[i]).collect();
+        let mean_mass = mobile.iter().map(|&i| p.mass[i]).sum::<f64>() / mobile.len().max(1) as f64;
+        let g = D::norm(md.settings.gravity);
+        let energy_unit = mean_mass * if g > 0.0 { g } else { 1.0 } * d0;
+        let mut events = s.run.events.clone();
+        if let Some(e) = &mut events {
+            if e.remove_wall.as_deref() == Some("") {
+                e.remove_wall = None;
+            }
+            if let Some(w) = &e.remove_wall {
+                if !md.walls.iter().any(|x| &x.name == w) {
+                    return Err(Error::input(format!(
+                        "run.events.remove_wall = \"{w}\": no wall has that name"
+                    )));
+                }
+            }
+        }
+        for (key, m) in [
+            ("repose", &s.measure.repose),
+            ("surface_angle", &s.measure.surface_angle),
+        ] {
+            if let Some(m) = m {
+                if m.x_range.len() != 2 || m.x_range[0] >= m.x_range[1] || m.column <= 0.0 {
+                    return Err(Error::input(format!(
+                        "measure.{key}: x_range must be [x0, x1] with x0 < x1 and column > 0"
+                    )));
+                }
+            }
+        }
+        let hopper = s.hopper.as_ref().map(|h| Recycler {
+            spec: h.clone(),
+            sink: h.sink.unwrap_or(h.floor - 10.0 * d0),
+            rng: Xoshiro256PlusPlus::seed_from_u64(s.seed ^ 0x686f_7070_6572),
+            exits: Vec::new(),
+            start: md.time,
+        });
+        Ok(Self {
+            events,
+            stage: Stage::Settling,
+            g0: md.settings.gravity,
+            energy_unit,
+            tilt: 0.0,
+            parked: 0,
+            d0,
+            hopper,
+            repose: s.measure.repose.clone(),
+            drum: s.measure.surface_angle.clone().map(|m| (m, Vec::new())),
+            spacetime: s
+                .measure
+                .spacetime
+                .as_ref()
+                .map(|m| Spacetime::new(md, m.bin * d0)),
+        })
+    }
+
+    /// Kinetic energy per mobile grain in units of m g d0.
+    fn energy(&self, md: &Md<D>) -> f64 {
+        let n = md.particles.n_mobile().max(1) as f64;
+        md.particles.kinetic_energy() / n / self.energy_unit
+    }
+
+    pub fn after_step(&mut self, md: &mut Md<D>) {
+        if let Some(h) = &mut self.hopper {
+            h.recycle(md);
+        }
+        let Some(e) = self.events.clone() else {
+            return;
+        };
+        if let Some(sink) = e.sink {
+            self.park(md, sink);
+        }
+        // The energy is a sum over grains: look every 50 steps.
+        let look = md.step.is_multiple_of(50);
+        match self.stage {
+            Stage::Settling
+                if look && md.time >= e.settle_min && self.energy(md) < e.settle_energy =>
+            {
+                self.stage = Stage::Settled(md.time);
+                if let Some(name) = &e.remove_wall {
+                    for w in md.walls.iter_mut().filter(|w| &w.name == name) {
+                        w.remove_at = Some(md.time);
+                    }
+                }
+            }
+            Stage::Settled(t0) => {
+                if let Some(rate) = e.tilt_rate {
+                    if look && self.energy(md) > e.fail_energy {
+                        self.stage = Stage::Failed(self.tilt);
+                        return;
+                    }
+                    self.tilt = rate * (md.time - t0);
+                    let a = self.tilt.to_radians();
+                    let g = D::norm(self.g0);
+                    let v = D::vertical();
+                    let mut gv = D::zero();
+                    D::set(&mut gv, 0, g * a.sin());
+                    D::set(&mut gv, v, -g * a.cos());
+                    md.settings.gravity = gv;
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Grains that fell below `sink` are frozen and parked in rows below it,
+    /// out of everyone's way.
+    fn park(&mut self, md: &mut Md<D>, sink: f64) {
+        let v = D::vertical();
+        let p = &mut md.particles;
+        let lo = D::get(md.domain.lo, 0);
+        let width = D::get(md.domain.hi, 0) - lo;
+        let pitch = 2.0 * p.max_radius() * 1.5;
+        let per_row = ((width / pitch).floor() as usize).max(1);
+        for i in 0..p.n_owned() {
+            if p.frozen[i] || D::get(p.pos[i], v) >= sink {
+                continue;
+            }
+            let k = self.parked;
+            self.parked += 1;
+            let mut x = D::zero();
+            D::set(&mut x, 0, lo + (k % per_row) as f64 * pitch + 0.5 * pitch);
+            if D::D == 3 {
+                D::set(&mut x, 1, D::get(md.domain.lo, 1) + 0.5 * pitch);
+            }
+            D::set(
+                &mut x,
+                v,
+                sink - 5.0 * self.d0 - (k / per_row) as f64 * pitch,
+            );
+            place(p, i, x);
+            p.frozen[i] = true;
+        }
+    }
+
+    pub fn sample(&mut self, md: &Md<D>) {
+        if let Some((m, angles)) = &mut self.drum {
+            let fit = surface(
+                md,
+                m.x_range[0],
+                m.x_range[1],
+                m.column * self.d0,
+                m.min_height,
+            );
+            if fit.points.len() >= 3 {
+                angles.push(fit.angle_deg());
+            }
+        }
+        if let Some(s) = &mut self.spacetime {
+            s.sample(md);
+        }
+    }
+
+    pub fn finish(&self, dir: &Path, md: &Md<D>, summary: &mut Map<String, Value>) -> Result<()> {
+        if let Some(e) = &self.events {
+            match self.stage {
+                Stage::Settling => {
+                    summary.insert("settled".into(), json!(0));
+                }
+                Stage::Settled(t) => {
+                    summary.insert("settled".into(), json!(1));
+                    summary.insert("settle_time".into(), json!(t));
+                    if e.tilt_rate.is_some() {
+                        // Never failed: the angle reached is a lower bound.
+                        summary.insert("marginal_angle_lower_bound_deg".into(), json!(self.tilt));
+                    }
+                }
+                Stage::Failed(a) => {
+                    summary.insert("settled".into(), json!(1));
+                    summary.insert("marginal_angle_deg".into(), json!(a));
+                }
+            }
+            if e.sink.is_some() {
+                summary.insert("lost_grains".into(), json!(self.parked));
+            }
+        }
+        if let Some(m) = &self.repose {
+            let fit = surface(
+                md,
+                m.x_range[0],
+                m.x_range[1],
+                m.column * self.d0,
+                m.min_height,
+            );
+            write_surface(dir, &fit)?;
+            summary.insert("repose_angle_deg".into(), json!(fit.angle_deg()));
+            summary.insert("repose_surface_points".into(), json!(fit.points.len()));
+            summary.insert("remaining_grains".into(), json!(md.particles.n_mobile()));
+        }
+        if let Some((_, angles)) = &self.drum {
+            let n = angles.len().max(1) as f64;
+            let mean = angles.iter().sum::<f64>() / n;
+            let sd = (angles.iter().map(|a| (a - mean).powi(2)).sum::<f64>() / n).sqrt();
+            summary.insert("dynamic_angle_deg".into(), json!(mean));
+            summary.insert("dynamic_angle_sd_deg".into(), json!(sd));
+        }
+        if let Some(s) = &self.spacetime {
+            s.write(dir)?;
+            summary.insert("density_contrast".into(), json!(s.contrast()));
+        }
+        if let Some(h) = &self.hopper {
+            h.finish(dir, md.time, summary)?;
+        }
+        Ok(())
+    }
+}
+
+/// Puts grain `i` at `x` at rest, its integrator history cleared.
+fn place<D: Dim>(p: &mut crate::particles::Particles<D>, i: usize, x: D::V) {
+    p.pos[i] = x;
+    p.vel[i] = D::zero();
+    p.omega[i] = D::A::default();
+    for g in p.gear.iter_mut() {
+        g[i] = D::zero();
+    }
+    for g in p.gear_ang.iter_mut() {
+        g[i] = D::A::default();
+    }
+}
+
+fn write_surface(dir: &Path, fit: &SurfaceFit) -> Result<()> {
+    let mut csv = format!(
+        "# height = {} + {} x; angle {} deg\nx,top\n",
+        fit.intercept,
+        fit.slope,
+        fit.angle_deg()
+    );
+    for p in &fit.points {
+        let _ = writeln!(csv, "{},{}", p[0], p[1]);
+    }
+    write_atomic(&dir.join("surface.csv"), csv.as_bytes())
+}
+
+impl Recycler {
+    /// Grains below the sink go back to a random free spot in the refill band.
+    fn recycle<D: Dim>(&mut self, md: &mut Md<D>) {
+        let v = D::vertical();
+        let n = md.particles.n_owned();
+        for i in 0..n {
+            if md.particles.frozen[i] || D::get(md.particles.pos[i], v) >= self.sink {
+                continue;
+            }
+            let r = md.particles.radius[i];
+            for _ in 0..30 {
+                let mut x = D::zero();
+                for a in 0..D::D {
+                    let (lo, hi) = if a == v {
+                        (self.spec.refill[0], self.spec.refill[1])
+                    } else {
+                        (D::get(md.domain.lo, a) + r, D::get(md.domain.hi, a) - r)
+                    };
+                    D::set(&mut x, a, self.rng.gen_range(lo..hi));
+                }
+                let p = &md.particles;
+                let free =
+                    (0..n).all(|j| j == i || D::norm(p.pos[j] - x) > 1.02 * (p.radius[j] + r));
+                if free {
+                    self.exits.push((md.time, p.mass[i]));
+                    place(&mut md.particles, i, x);
+                    break;
+                }
+            }
+        }
+    }
+
+    fn finish(&self, dir: &Path, end: f64, summary: &mut Map<String, Value>) -> Result<()> {
+        let t0 = self.start + self.spec.transient;
+        let window = end - t0;
+        let counted: Vec<&(f64, f64)> = self.exits.iter().filter(|e| e.0 >= t0).collect();
+        let mass: f64 = counted.iter().map(|e| e.1).sum::<f64>() + 0.0;
+        let (rate, grains) = if window > 0.0 {
+            (mass / window, counted.len() as f64 / window)
+        } else {
+            (0.0, 0.0)
+        };
+        // Clogged: nothing left the silo in the last fifth of the window.
+        let tail = end - 0.2 * window.max(0.0);
+        let clogged = window > 0.0 && !self.exits.iter().any(|e| e.0 >= tail);
+        summary.insert("flow_rate".into(), json!(rate));
+        summary.insert("flow_rate_grains".into(), json!(grains));
+        summary.insert("discharged_grains".into(), json!(self.exits.len()));
+        summary.insert("clogged".into(), json!(u8::from(clogged)));
+        summary.insert("outlet".into(), json!(self.spec.outlet));
+        let mut csv = String::from("time,cumulative_mass\n");
+        let mut m = 0.0;
+        for (t, dm) in &self.exits {
+            m += dm;
+            let _ = writeln!(csv, "{t},{m}");
+        }
+        write_atomic(&dir.join("discharge.csv"), csv.as_bytes())
+    }
+}

@@ -1,0 +1,53 @@
+//! Silo discharge in 2D, reduced to fit CI: no steady flow through an
+//! outlet below about 2 d (an arch forms), and the flow rate grows with D.
+
+use grains::runner::{run, RunOptions, Silent};
+use grains::scenario::load_file;
+use serde_json::Value;
+use std::path::PathBuf;
+
+fn discharge(outlet_d0: f64) -> Value {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/hopper-2d.toml");
+    let loaded = load_file(
+        &path,
+        &[
+            format!("hopper.outlet={}", outlet_d0 * 1e-3),
+            "run.duration=0.7".into(),
+            "output.picture=false".into(),
+        ],
+    )
+    .unwrap();
+    let dir = std::env::temp_dir().join(format!(
+        "grains-flow-hopper-{outlet_d0}-{}",
+        std::process::id()
+    ));
+    let s = run(
+        &loaded,
+        &RunOptions {
+            out_dir: dir.clone(),
+            steps: None,
+        },
+        &mut Silent,
+    )
+    .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    s
+}
+
+#[test]
+fn no_flow_below_two_diameters_and_rate_grows_with_outlet() {
+    let small = discharge(1.5);
+    let mid = discharge(4.0);
+    let wide = discharge(7.0);
+    let w = |s: &Value| s["flow_rate"].as_f64().unwrap();
+    eprintln!(
+        "W(D=1.5d) = {}, W(4d) = {}, W(7d) = {} kg/s",
+        w(&small),
+        w(&mid),
+        w(&wide)
+    );
+    assert_eq!(small["clogged"], 1, "D = 1.5 d must clog: {small}");
+    assert!(w(&small) < 0.05 * w(&mid), "no steady flow at D = 1.5 d");
+    assert_eq!(mid["clogged"], 0);
+    assert!(w(&mid) > 0.0 && w(&wide) > 1.5 * w(&mid), "W grows with D");
+}
