@@ -37,11 +37,13 @@ fn discharge(outlet_d0: f64) -> Value {
 #[test]
 fn no_flow_below_two_diameters_and_rate_grows_with_outlet() {
     let small = discharge(1.5);
-    let mid = discharge(4.0);
-    let wide = discharge(7.0);
+    // 2D outlets up to about 5 d still jam now and then (a 4 d outlet clogged
+    // in one of two runs here), so the flowing cases sit above that.
+    let mid = discharge(5.5);
+    let wide = discharge(9.0);
     let w = |s: &Value| s["flow_rate"].as_f64().unwrap();
     eprintln!(
-        "W(D=1.5d) = {}, W(4d) = {}, W(7d) = {} kg/s",
+        "W(D=1.5d) = {}, W(5.5d) = {}, W(9d) = {} kg/s",
         w(&small),
         w(&mid),
         w(&wide)
