@@ -122,6 +122,19 @@ pub fn write(dir: &Path, step: u64, payload: &[u8]) -> Result<PathBuf> {
     Ok(path)
 }
 
+/// Removes temporary files of checkpoint writes that were interrupted (a
+/// killed process leaves them; they are never read).
+pub fn remove_stale_temporaries(dir: &Path) {
+    if let Ok(rd) = std::fs::read_dir(dir) {
+        for e in rd.flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            if name.starts_with(".checkpoint-") && name.contains(".grck.tmp") {
+                let _ = std::fs::remove_file(e.path());
+            }
+        }
+    }
+}
+
 /// Reads and checks one checkpoint file; returns its payload.
 pub fn read(path: &Path) -> Result<Vec<u8>> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;

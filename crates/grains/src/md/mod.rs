@@ -177,7 +177,7 @@ impl<D: Dim> Md<D> {
     /// the integrator's history must match, every array length and index is
     /// checked, and nothing is changed on error.
     pub fn import_state(&mut self, s: MdState<D>) -> Result<()> {
-        let bad = |m: String| Err(Error::input(format!("checkpoint: {m}")));
+        let bad = |m: String| Err(Error::input(format!("checkpoint state: {m}")));
         let n = s.particles.len();
         let p = &s.particles;
         if n != self.particles.len() {
@@ -246,7 +246,7 @@ impl<D: Dim> Md<D> {
         }
         let mut list = self.neighbors.clone();
         list.import_state(s.list, n)
-            .map_err(|e| Error::input(format!("checkpoint: {e}")))?;
+            .map_err(|e| Error::input(format!("checkpoint state: {e}")))?;
         self.neighbors = list;
         self.particles = s.particles;
         self.time = s.time;

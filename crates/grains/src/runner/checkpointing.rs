@@ -359,6 +359,7 @@ pub fn resume(
         opts.checkpoint_every = Some(Every::Steps(found.interval));
     }
     prepare(&opts.out_dir)?;
+    checkpoint::remove_stale_temporaries(&opts.out_dir);
     match found.dim {
         2 => resume_dim::<D2>(found, steps, &opts, progress),
         _ => resume_dim::<D3>(found, steps, &opts, progress),
@@ -380,7 +381,7 @@ fn resume_dim<D: Dim>(
     }
     let (mut md, resolved) = build_md::<D>(loaded)?;
     engine::restore(&mut md, &found.engine)
-        .map_err(|e| Error::input(format!("checkpoint {}: {e}", found.path.display())))?;
+        .map_err(|e| Error::input(format!("{}: {e}", found.path.display())))?;
     if md.step != found.step {
         return Err(Error::input(format!(
             "checkpoint {}: header step {} but engine step {}",
