@@ -7,11 +7,14 @@ mod progress;
 mod sweep;
 
 use clap::{Parser, Subcommand};
+use grains::runner::checkpointing::{self, Every};
 use grains::runner::{self, RunOptions};
 use grains::scenario::{self, Loaded};
 use grains::Error;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 #[derive(Parser)]
 #[command(
@@ -39,6 +42,28 @@ enum Command {
         /// Run this many steps instead of the scenario's length (no relaxation).
         #[arg(long)]
         steps: Option<u64>,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Write a checkpoint every T simulated seconds (e.g. 0.01) or N
+        /// steps (e.g. 500steps); the newest two are kept.
+        #[arg(long, value_name = "T")]
+        checkpoint_every: Option<String>,
+        /// Print nothing but errors.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Continue an interrupted run from its newest valid checkpoint,
+    /// appending to its outputs.
+    Resume {
+        /// The run's output directory (or one checkpoint file in it).
+        run_dir: PathBuf,
+        /// Run this many more steps instead of to the scenario's end.
+        #[arg(long)]
+        steps: Option<u64>,
+        /// Change the checkpoint interval (default: the run's).
+        #[arg(long, value_name = "T")]
+        checkpoint_every: Option<String>,
         /// Worker threads (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
@@ -99,14 +124,83 @@ pub(crate) fn set_threads(threads: Option<usize>) -> grains::Result<()> {
     Ok(())
 }
 
-fn execute(cli: Cli) -> grains::Result<()> {
+/// Asks the run to stop after the current step on SIGINT or SIGTERM; a
+/// second signal ends the process at once.
+fn stop_flag() -> grains::Result<Arc<AtomicBool>> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let flag = Arc::new(AtomicBool::new(false));
+    for sig in [SIGINT, SIGTERM] {
+        signal_hook::flag::register_conditional_shutdown(sig, 130, Arc::clone(&flag))
+            .and_then(|_| signal_hook::flag::register(sig, Arc::clone(&flag)))
+            .map_err(|e| Error::input(format!("cannot install the signal handler: {e}")))?;
+    }
+    Ok(flag)
+}
+
+/// Prints a run's summary, or the interruption message; true when the run
+/// was interrupted.
+fn report(summary: &serde_json::Value, quiet: bool) -> bool {
+    if summary.get("interrupted").and_then(|v| v.as_bool()) == Some(true) {
+        let msg = summary["message"].as_str().unwrap_or("interrupted");
+        eprintln!("grains: {msg}");
+        return true;
+    }
+    if !quiet {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(summary).unwrap_or_default()
+        );
+    }
+    false
+}
+
+fn execute(cli: Cli) -> grains::Result<ExitCode> {
     match cli.command {
+        Command::Resume {
+            run_dir,
+            steps,
+            checkpoint_every,
+            threads,
+            quiet,
+        } => {
+            if steps == Some(0) {
+                return Err(Error::input("--steps must be at least 1"));
+            }
+            let every = checkpoint_every.as_deref().map(Every::parse).transpose()?;
+            let (found, skipped) = checkpointing::find(&run_dir)?;
+            for s in &skipped {
+                eprintln!("grains: skipped {s}");
+            }
+            set_threads(threads)?;
+            if !quiet {
+                eprintln!(
+                    "grains: resuming from {} (step {})",
+                    found.path.display(),
+                    found.step
+                );
+            }
+            let opts = RunOptions {
+                checkpoint_every: every,
+                stop: Some(stop_flag()?),
+                ..RunOptions::default()
+            };
+            let mut progress = progress::for_terminal(quiet);
+            let summary = checkpointing::resume(found, steps, opts, progress.as_mut())?;
+            if report(&summary, quiet) {
+                return Ok(ExitCode::from(130));
+            }
+            if !quiet {
+                eprintln!("grains: wrote {}", run_dir.display());
+            }
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Run {
             scenario,
             out,
             sets,
             steps,
             threads,
+            checkpoint_every,
             quiet,
         } => {
             let loaded = load(scenario.as_deref(), &sets)?;
@@ -117,23 +211,30 @@ fn execute(cli: Cli) -> grains::Result<()> {
             if steps == Some(0) {
                 return Err(Error::input("--steps must be at least 1"));
             }
+            let every = checkpoint_every.as_deref().map(Every::parse).transpose()?;
             let opts = RunOptions {
                 out_dir: out_dir.clone(),
                 steps,
+                checkpoint_every: every,
+                // DSMC runs do not watch the flag: Ctrl-C keeps its default there.
+                stop: if loaded.scenario.method == grains::dsmc::Method::Dsmc {
+                    None
+                } else {
+                    Some(stop_flag()?)
+                },
             };
             let mut progress = progress::for_terminal(quiet);
             if !quiet {
                 eprintln!("grains: running {} -> {}", loaded.origin, out_dir.display());
             }
             let summary = runner::run(&loaded, &opts, progress.as_mut())?;
+            if report(&summary, quiet) {
+                return Ok(ExitCode::from(130));
+            }
             if !quiet {
-                println!(
-                    "{}",
-                    serde_json::to_string_pretty(&summary).unwrap_or_default()
-                );
                 eprintln!("grains: wrote {}", out_dir.display());
             }
-            Ok(())
+            Ok(ExitCode::SUCCESS)
         }
         Command::Check { scenario, sets } => {
             let loaded = scenario::load_file(&scenario, &sets)?;
@@ -142,17 +243,17 @@ fn execute(cli: Cli) -> grains::Result<()> {
                 "{}",
                 serde_json::to_string_pretty(&resolved).unwrap_or_default()
             );
-            Ok(())
+            Ok(ExitCode::SUCCESS)
         }
-        Command::Bench(args) => bench::run(args),
-        Command::Sweep(args) => sweep::run(args),
+        Command::Bench(args) => bench::run(args).map(|_| ExitCode::SUCCESS),
+        Command::Sweep(args) => sweep::run(args).map(|_| ExitCode::SUCCESS),
     }
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match execute(cli) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             eprintln!("grains: error: {e}");
             ExitCode::from(match e {

@@ -146,6 +146,7 @@ pub fn run(args: SweepArgs) -> grains::Result<()> {
                 let opts = RunOptions {
                     out_dir: dir,
                     steps: args.steps,
+                    ..RunOptions::default()
                 };
                 let r = runner::run(&loaded[k], &opts, &mut Silent);
                 match &r {

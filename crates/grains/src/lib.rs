@@ -5,6 +5,7 @@
 //! `ARCHITECTURE.md` at the repository root for how the modules fit.
 
 pub mod boundary;
+pub mod checkpoint;
 pub mod contact;
 pub mod dim;
 pub mod domain;

@@ -26,6 +26,7 @@ fn discharge(outlet_d0: f64) -> Value {
         &RunOptions {
             out_dir: dir.clone(),
             steps: None,
+            ..Default::default()
         },
         &mut Silent,
     )

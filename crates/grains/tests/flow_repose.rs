@@ -21,6 +21,7 @@ fn repose(mu: f64) -> f64 {
         &RunOptions {
             out_dir: dir.clone(),
             steps: None,
+            ..Default::default()
         },
         &mut Silent,
     )

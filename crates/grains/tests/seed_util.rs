@@ -13,6 +13,7 @@ pub fn run_scenario(name: &str, tag: &str, sets: &[&str]) -> serde_json::Value {
     let opts = grains::runner::RunOptions {
         out_dir: out.clone(),
         steps: None,
+        ..Default::default()
     };
     let s = grains::runner::run(&loaded, &opts, &mut grains::runner::Silent).expect("run");
     let _ = std::fs::remove_dir_all(&out);

@@ -17,6 +17,7 @@ mod field_forces;
 mod pair_forces;
 
 use crate::boundary::Wall;
+use crate::checkpoint::MdState;
 use crate::contact::binary::BinaryContact;
 use crate::contact::ContactLaw;
 use crate::dim::Dim;
@@ -144,6 +145,124 @@ impl<D: Dim> Md<D> {
             gear5::initialize(&mut md.particles, md.settings.dt);
         }
         Ok(md)
+    }
+
+    /// The complete dynamic state, for a checkpoint: with the same scenario,
+    /// [`Md::import_state`] on a freshly built engine continues bit for bit.
+    /// Fails when ghosts are present (a single process has none).
+    pub fn export_state(&self) -> Result<MdState<D>> {
+        let p = &self.particles;
+        if p.n_owned() != p.len() {
+            return Err(Error::input(
+                "checkpoint: ghost particles present; checkpoints hold owned grains only",
+            ));
+        }
+        Ok(MdState {
+            time: self.time,
+            step: self.step,
+            particles: p.clone(),
+            list: self.neighbors.export_state(),
+            springs: self.springs.clone(),
+            wall_springs: self.wall_springs.clone(),
+            rebuilds_since_sort: self.rebuilds_since_sort,
+            contacts: self.stats.contacts as u64,
+            max_overlap: self.stats.max_overlap,
+            max_overlap_fraction: self.stats.max_overlap_fraction,
+            worst_pair: self.stats.worst_pair,
+        })
+    }
+
+    /// Replaces the dynamic state by a saved one. The engine must have been
+    /// built from the same scenario: the grains (by id), the wall count and
+    /// the integrator's history must match, every array length and index is
+    /// checked, and nothing is changed on error.
+    pub fn import_state(&mut self, s: MdState<D>) -> Result<()> {
+        let bad = |m: String| Err(Error::input(format!("checkpoint state: {m}")));
+        let n = s.particles.len();
+        let p = &s.particles;
+        if n != self.particles.len() {
+            return bad(format!(
+                "{n} grains, but the scenario builds {}",
+                self.particles.len()
+            ));
+        }
+        let lens = [
+            p.vel.len(),
+            p.force.len(),
+            p.omega.len(),
+            p.torque.len(),
+            p.radius.len(),
+            p.mass.len(),
+            p.inv_mass.len(),
+            p.inv_inertia.len(),
+            p.inertia.len(),
+            p.id.len(),
+            p.kind.len(),
+            p.frozen.len(),
+        ];
+        if p.n_owned() != n
+            || lens.iter().any(|&l| l != n)
+            || p.gear.iter().any(|g| g.len() != n)
+            || p.gear_ang.iter().any(|g| g.len() != n)
+        {
+            return bad("particle arrays of unequal length".into());
+        }
+        let orders = match self.settings.integrator {
+            Integrator::Gear5 => (4, 4),
+            Integrator::Verlet => (self.particles.gear.len(), self.particles.gear_ang.len()),
+        };
+        if (p.gear.len(), p.gear_ang.len()) != orders {
+            return bad(format!(
+                "{} and {} Gear derivative arrays, but the {} integrator keeps {} and {}",
+                p.gear.len(),
+                p.gear_ang.len(),
+                self.settings.integrator.name(),
+                orders.0,
+                orders.1
+            ));
+        }
+        let mut ids = p.id.clone();
+        let mut mine = self.particles.id.clone();
+        ids.sort_unstable();
+        mine.sort_unstable();
+        if ids != mine {
+            return bad("its grain ids differ from the scenario's".into());
+        }
+        if s.springs.len() != s.list.pairs.len() {
+            return bad(format!(
+                "{} tangential springs for {} listed pairs",
+                s.springs.len(),
+                s.list.pairs.len()
+            ));
+        }
+        let nw = self.walls.len().max(1);
+        if s.wall_springs.len() != n * nw {
+            return bad(format!(
+                "{} wall springs, but {n} grains and {} walls need {}",
+                s.wall_springs.len(),
+                self.walls.len(),
+                n * nw
+            ));
+        }
+        let mut list = self.neighbors.clone();
+        list.import_state(s.list, n)
+            .map_err(|e| Error::input(format!("checkpoint state: {e}")))?;
+        self.neighbors = list;
+        self.particles = s.particles;
+        self.time = s.time;
+        self.step = s.step;
+        self.springs = s.springs;
+        self.wall_springs = s.wall_springs;
+        self.rebuilds_since_sort = s.rebuilds_since_sort;
+        self.stats = MdStats {
+            contacts: s.contacts as usize,
+            max_overlap: s.max_overlap,
+            max_overlap_fraction: s.max_overlap_fraction,
+            worst_pair: s.worst_pair,
+        };
+        self.blocks = PairBlocks::build(&self.neighbors.pairs, self.particles.len());
+        self.deferred = Deferred::default();
+        Ok(())
     }
 
     /// Advances one time step.

@@ -5,6 +5,7 @@
 //! rows, frames and measurement samples at every output interval); finish
 //! (the final frame, pictures, measurement files and summary.json).
 
+pub mod checkpointing;
 pub mod flow;
 mod output;
 
@@ -30,6 +31,11 @@ pub struct RunOptions {
     pub out_dir: PathBuf,
     /// Replaces the measured run length (relaxation is then skipped).
     pub steps: Option<u64>,
+    /// Write a checkpoint at this interval (see [`checkpointing`]).
+    pub checkpoint_every: Option<checkpointing::Every>,
+    /// Set (by a signal handler) to stop after the current step with a
+    /// checkpoint; the summary then says `"interrupted"`.
+    pub stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
 }
 
 /// Receives progress reports; the command line draws a bar or log lines.
@@ -71,6 +77,11 @@ pub fn check(loaded: &Loaded) -> Result<Value> {
 /// Runs a scenario; returns the summary that was written to summary.json.
 pub fn run(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) -> Result<Value> {
     if loaded.scenario.method == crate::dsmc::Method::Dsmc {
+        if opts.checkpoint_every.is_some() {
+            return Err(Error::input(
+                "--checkpoint-every: DSMC runs cannot be checkpointed yet (MD only)",
+            ));
+        }
         return crate::dsmc::runner::run(loaded, opts, progress);
     }
     match loaded.scenario.dimension {
@@ -260,33 +271,66 @@ fn run_dim<D: Dim>(
 ) -> Result<Value> {
     prepare(&opts.out_dir)?;
     let loaded = &*flow::expand(loaded)?;
-    let (mut md, resolved) = build_md::<D>(loaded)?;
-    let mut flow = flow::FlowRun::begin(loaded, &md)?;
-    let mut outputs = Outputs::create(&opts.out_dir, &loaded.scenario.output)?;
-    let started = Instant::now();
+    let (md, resolved) = build_md::<D>(loaded)?;
+    let outputs = Outputs::create(&opts.out_dir, &loaded.scenario.output)?;
     let (relax, measure) = match opts.steps {
         Some(n) => (0, n),
         None => (resolved.relax_steps, resolved.measure_steps),
     };
+    run_loop(
+        loaded,
+        opts,
+        md,
+        &resolved,
+        outputs,
+        (relax, measure),
+        progress,
+    )
+}
+
+/// The run loop from wherever `md` stands (step 0, or a restored
+/// checkpoint) to `relax + measure` steps, then the final files.
+fn run_loop<D: Dim>(
+    loaded: &Loaded,
+    opts: &RunOptions,
+    mut md: Md<D>,
+    resolved: &Resolved,
+    mut outputs: Outputs,
+    (relax, measure): (u64, u64),
+    progress: &mut dyn Progress,
+) -> Result<Value> {
+    let started = Instant::now();
+    let first_step = md.step;
+    let mut ckpt = checkpointing::Checkpointer::new(loaded, opts, &md, (relax, measure))?;
+    ckpt.at_start(&md, &outputs)?;
+    let mut flow = flow::FlowRun::begin(loaded, &md)?;
     // Sampling more often than the output keeps the displacement unwrapping
     // safe and the convection average smooth.
     let every = resolved.output_every;
     let sample_every = (every / 10).max(1);
 
-    if relax > 0 {
+    let relax_done = md.step.min(relax);
+    if relax > relax_done {
         progress.phase("relax", relax);
-        for k in 1..=relax {
+        for k in relax_done + 1..=relax {
             md.step()?;
             flow.after_step(&mut md);
             if k % 256 == 0 || k == relax {
                 progress.advance(k, md.time);
             }
+            if let Some(stop) = ckpt.after_step(&md, &outputs)? {
+                progress.finish();
+                return Ok(stop);
+            }
         }
     }
     progress.phase("run", measure);
-    let mut measurements = Measurements::begin(loaded, &md, measure, resolved.dt)?;
-    outputs.record(&md, &frame(&md), granular_temperature(&md.particles))?;
-    for k in 1..=measure {
+    let measure_done = md.step - relax_done;
+    let mut measurements = Measurements::begin(loaded, &md, measure - measure_done, resolved.dt)?;
+    if measure_done == 0 {
+        outputs.record(&md, &frame(&md), granular_temperature(&md.particles))?;
+    }
+    for k in measure_done + 1..=measure {
         md.step()?;
         flow.after_step(&mut md);
         measurements.step(&md);
@@ -300,6 +344,10 @@ fn run_dim<D: Dim>(
         if k % 256 == 0 || k == measure {
             progress.advance(k, md.time);
         }
+        if let Some(stop) = ckpt.after_step(&md, &outputs)? {
+            progress.finish();
+            return Ok(stop);
+        }
     }
     measurements.sample(&md);
     progress.finish();
@@ -309,7 +357,7 @@ fn run_dim<D: Dim>(
     outputs.finish(&last, measurements.displacement.as_ref())?;
     measurements.write(&opts.out_dir, &md, &last)?;
     let steps = relax + measure;
-    let updates = (steps as f64) * md.particles.n_mobile().max(1) as f64;
+    let updates = ((md.step - first_step).max(1) as f64) * md.particles.n_mobile().max(1) as f64;
     let mut summary = Map::new();
     summary.insert("scenario".into(), json!(loaded.scenario.name));
     summary.insert("dimension".into(), json!(D::NAME));

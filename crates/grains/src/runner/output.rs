@@ -1,10 +1,11 @@
 //! The files a run writes in its output directory.
 
 use crate::dim::Dim;
+use crate::error::Error;
 use crate::error::Result;
 use crate::io::{
-    draw_arrows, render_particles, write_atomic, DumpWriter, Frame, PictureOptions, ThermoWriter,
-    VtkSeries,
+    draw_arrows, render_particles, write_atomic, DumpWriter, Frame, Num, PictureOptions,
+    ThermoWriter, VtkSeries,
 };
 use crate::md::Md;
 use crate::measure::draw::{faint, in_box};
@@ -25,9 +26,48 @@ pub const THERMO_COLUMNS: [&str; 7] = [
     "max_overlap",
 ];
 
+/// thermo.csv: a fresh table, or one reopened for appending after a resume.
+enum Thermo {
+    Fresh(ThermoWriter),
+    Appended { path: PathBuf, file: std::fs::File },
+}
+
+impl Thermo {
+    fn write_row(&mut self, values: &[f64]) -> Result<()> {
+        match self {
+            Thermo::Fresh(w) => w.write_row(values),
+            Thermo::Appended { path, file } => {
+                use std::io::Write as _;
+                let mut line = String::new();
+                for (k, v) in values.iter().enumerate() {
+                    if k > 0 {
+                        line.push(',');
+                    }
+                    let _ = write!(line, "{}", Num(*v));
+                }
+                line.push('\n');
+                file.write_all(line.as_bytes())
+                    .map_err(|e| Error::io(path.as_path(), e))
+            }
+        }
+    }
+}
+
+/// Where the output files stood when a checkpoint was taken: resuming cuts
+/// them back to this point, so rows and frames written after the checkpoint
+/// by the interrupted run are not duplicated.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutputState {
+    pub thermo_len: u64,
+    pub dump_len: Option<u64>,
+    /// The frames.pvd entries (time, file).
+    pub frames: Vec<(f64, String)>,
+    pub last_step: Option<u64>,
+}
+
 pub struct Outputs {
     dir: PathBuf,
-    thermo: ThermoWriter,
+    thermo: Thermo,
     frames: Option<VtkSeries>,
     dump: Option<DumpWriter>,
     picture: bool,
@@ -38,7 +78,10 @@ impl Outputs {
     pub fn create(dir: &Path, spec: &OutputSpec) -> Result<Self> {
         Ok(Self {
             dir: dir.to_path_buf(),
-            thermo: ThermoWriter::create(&dir.join("thermo.csv"), &THERMO_COLUMNS)?,
+            thermo: Thermo::Fresh(ThermoWriter::create(
+                &dir.join("thermo.csv"),
+                &THERMO_COLUMNS,
+            )?),
             frames: if spec.frames {
                 Some(VtkSeries::new(dir)?)
             } else {
@@ -51,6 +94,81 @@ impl Outputs {
             },
             picture: spec.picture,
             last_step: None,
+        })
+    }
+
+    /// Where the files stand now (every row and frame is flushed when written).
+    pub fn state(&self) -> Result<OutputState> {
+        let len = |p: &Path| {
+            std::fs::metadata(p)
+                .map(|m| m.len())
+                .map_err(|e| Error::io(p, e))
+        };
+        Ok(OutputState {
+            thermo_len: len(&self.dir.join("thermo.csv"))?,
+            dump_len: match &self.dump {
+                Some(d) => Some(len(d.path())?),
+                None => None,
+            },
+            frames: self
+                .frames
+                .as_ref()
+                .map(|f| f.collection.entries.clone())
+                .unwrap_or_default(),
+            last_step: self.last_step,
+        })
+    }
+
+    /// Reopens the files of an interrupted run, cut back to `state`.
+    pub fn resume(dir: &Path, spec: &OutputSpec, state: &OutputState) -> Result<Self> {
+        let cut = |p: &Path, len: u64| -> Result<std::fs::File> {
+            let f = std::fs::OpenOptions::new()
+                .write(true)
+                .open(p)
+                .map_err(|e| Error::io(p, e))?;
+            let have = f.metadata().map_err(|e| Error::io(p, e))?.len();
+            if have < len {
+                return Err(Error::input(format!(
+                    "{}: {have} bytes, shorter than the {len} bytes the checkpoint saw; \
+                     the run directory was changed after the checkpoint",
+                    p.display()
+                )));
+            }
+            f.set_len(len).map_err(|e| Error::io(p, e))?;
+            Ok(f)
+        };
+        let thermo_path = dir.join("thermo.csv");
+        cut(&thermo_path, state.thermo_len)?;
+        let file = std::fs::OpenOptions::new()
+            .append(true)
+            .open(&thermo_path)
+            .map_err(|e| Error::io(&thermo_path, e))?;
+        let dump = match (spec.dump, state.dump_len) {
+            (true, Some(len)) => {
+                let p = dir.join("dump.lammpstrj");
+                cut(&p, len)?;
+                Some(DumpWriter::append(&p)?)
+            }
+            _ => None,
+        };
+        let frames = if spec.frames {
+            let mut series = VtkSeries::new(dir)?;
+            series.collection.entries = state.frames.clone();
+            series.collection.write()?;
+            Some(series)
+        } else {
+            None
+        };
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            thermo: Thermo::Appended {
+                path: thermo_path,
+                file,
+            },
+            frames,
+            dump,
+            picture: spec.picture,
+            last_step: state.last_step,
         })
     }
 

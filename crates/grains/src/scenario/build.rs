@@ -110,6 +110,13 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Vec<ParticleRecord
     if matches!(ps.placement, Placement::Lattice | Placement::Random) {
         check_memory(ps.count)?;
     }
+    // 2v must be finite too: velocities are drawn from [-v, v).
+    if !((2.0 * ps.random_velocity).is_finite() && ps.random_velocity >= 0.0) {
+        return Err(Error::input(format!(
+            "particles.random_velocity = {}: must be a finite speed >= 0 (m/s)",
+            ps.random_velocity
+        )));
+    }
     let band = SizeBand {
         d0: ps.d0,
         width: ps.width,

@@ -1,0 +1,394 @@
+//! `grains run --checkpoint-every` and `grains resume`: a run killed with
+//! SIGKILL at random moments (also during checkpoint writes) and resumed
+//! ends with the same files, byte for byte, as a run never interrupted;
+//! SIGINT stops with a checkpoint and a resume hint; damaged, truncated,
+//! wrong-version and wrong-scenario checkpoints exit 2 with a message.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// 40 disks on a vibrating floor with frictional springs; about 1 s of CPU.
+const SCENARIO: &str = r#"name = "resume"
+dimension = "2d"
+gravity = [0.0, -9.81]
+
+[domain]
+lo = [0.0, -0.002]
+hi = [0.01, 0.02]
+periodic = [true, false]
+
+[particles]
+placement = "lattice"
+count = 40
+d0 = 1.0e-3
+width = 0.2
+random_velocity = 0.05
+region = { lo = [0.0, 0.0005], hi = [0.01, 0.02] }
+
+[contact]
+preset = "lammps-hooke-history"
+kn = 2.0e3
+
+[[walls]]
+name = "floor"
+shape = { type = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }
+motion = { type = "vibrate", amplitude = 3.0e-4, frequency = 50.0 }
+
+[run]
+dt = 2.0e-6
+duration = 0.03
+
+[output]
+every = 0.001
+dump = true
+picture = false
+"#;
+
+struct Sandbox(PathBuf);
+
+impl Sandbox {
+    fn new(name: &str) -> Self {
+        let d = std::env::temp_dir().join(format!("grains-resume-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        Sandbox(d)
+    }
+    fn path(&self, n: &str) -> PathBuf {
+        self.0.join(n)
+    }
+}
+
+impl Drop for Sandbox {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn grains() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_grains"));
+    c.stdin(Stdio::null());
+    c
+}
+
+fn run(args: &[&str]) -> Output {
+    let out = grains().args(args).output().expect("start grains");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "panic:\n{err}");
+    out
+}
+
+fn code(o: &Output) -> Option<i32> {
+    o.status.code()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Every output file that must match between runs (not summary.json, whose
+/// wall-clock figures differ).
+fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut v = Vec::new();
+    for name in ["thermo.csv", "dump.lammpstrj", "frames.pvd"] {
+        v.push((name.to_string(), std::fs::read(dir.join(name)).unwrap()));
+    }
+    let mut frames: Vec<_> = std::fs::read_dir(dir.join("frames"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "vtp"))
+        .collect();
+    frames.sort();
+    for f in frames {
+        v.push((
+            f.file_name().unwrap().to_string_lossy().into_owned(),
+            std::fs::read(&f).unwrap(),
+        ));
+    }
+    v
+}
+
+fn summary_state(dir: &Path) -> String {
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let keys = [
+        "steps",
+        "time",
+        "kinetic_energy",
+        "rotational_energy",
+        "neighbor_builds",
+    ];
+    keys.iter().map(|k| format!("{k}={} ", s[*k])).collect()
+}
+
+/// A small deterministic pseudo-random sequence (no extra dependency).
+struct Lcg(u64);
+impl Lcg {
+    fn below(&mut self, n: u64) -> u64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 33) % n
+    }
+}
+
+#[test]
+fn sigkill_at_random_moments_then_resume_matches_straight_run() {
+    let sb = Sandbox::new("kill");
+    let scen = sb.path("s.toml");
+    std::fs::write(&scen, SCENARIO).unwrap();
+    let straight = sb.path("straight");
+    let o = run(&[
+        "run",
+        scen.to_str().unwrap(),
+        "--out",
+        straight.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+
+    let t0 = Instant::now();
+    let o = run(&[
+        "run",
+        scen.to_str().unwrap(),
+        "--out",
+        sb.path("timing").to_str().unwrap(),
+        "--quiet",
+        "--checkpoint-every",
+        "50steps",
+    ]);
+    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+    let full = t0.elapsed().as_millis().max(50) as u64;
+
+    let dir = sb.path("killed");
+    let d = dir.to_str().unwrap();
+    let seed = std::env::var("GRAINS_KILL_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0x5eed_u64 ^ std::process::id() as u64);
+    let mut rng = Lcg(seed);
+    let mut kills = 0;
+    let mut started = false;
+    loop {
+        let has_ckpt = dir.exists()
+            && std::fs::read_dir(&dir)
+                .unwrap()
+                .any(|e| e.unwrap().file_name().to_string_lossy().ends_with(".grck"));
+        let mut cmd = grains();
+        if !started || !has_ckpt {
+            let _ = std::fs::remove_dir_all(&dir);
+            cmd.args(["run", scen.to_str().unwrap(), "--out", d, "--quiet"])
+                .args(["--checkpoint-every", "50steps"]);
+            started = true;
+        } else {
+            cmd.args(["resume", d, "--quiet"]);
+        }
+        let mut child = cmd
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        if kills < 4 {
+            let wait = Duration::from_millis(rng.below(full * 2 / 3) + 5);
+            let until = Instant::now() + wait;
+            while Instant::now() < until {
+                if child.try_wait().unwrap().is_some() {
+                    break;
+                }
+                std::thread::sleep(Duration::from_millis(2));
+            }
+            if child.try_wait().unwrap().is_none() {
+                child.kill().unwrap(); // SIGKILL
+                let _ = child.wait();
+                kills += 1;
+                continue;
+            }
+        }
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"), "{err}");
+        assert_eq!(out.status.code(), Some(0), "seed {seed}: {err}");
+        break;
+    }
+    assert!(kills > 0, "seed {seed}: the run was never killed");
+    let (a, b) = (files(&straight), files(&dir));
+    assert_eq!(a.len(), b.len(), "seed {seed}: frame counts differ");
+    for ((na, fa), (nb, fb)) in a.iter().zip(&b) {
+        assert_eq!(na, nb);
+        assert!(fa == fb, "seed {seed}: {na} differs after {kills} kills");
+    }
+    assert_eq!(summary_state(&straight), summary_state(&dir));
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".grck"))
+        .collect();
+    assert!(left.len() <= 2, "more than two checkpoints kept: {left:?}");
+}
+
+#[test]
+fn sigint_writes_a_checkpoint_and_says_how_to_resume() {
+    let sb = Sandbox::new("int");
+    let scen = sb.path("s.toml");
+    std::fs::write(
+        &scen,
+        SCENARIO.replace("duration = 0.03", "duration = 10.0"),
+    )
+    .unwrap();
+    let dir = sb.path("run");
+    let child = grains()
+        .args([
+            "run",
+            scen.to_str().unwrap(),
+            "--out",
+            dir.to_str().unwrap(),
+            "--quiet",
+        ])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(700));
+    let pid = child.id().to_string();
+    assert!(Command::new("kill")
+        .args(["-INT", &pid])
+        .status()
+        .unwrap()
+        .success());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("grains resume") && err.contains("checkpoint"),
+        "{err}"
+    );
+    let o = run(&["resume", dir.to_str().unwrap(), "--steps", "20", "--quiet"]);
+    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+}
+
+/// Runs 200 steps with checkpoints, returns the newest checkpoint's bytes.
+fn one_checkpoint(sb: &Sandbox) -> (PathBuf, Vec<u8>) {
+    let scen = sb.path("s.toml");
+    std::fs::write(&scen, SCENARIO).unwrap();
+    let dir = sb.path("run");
+    let o = run(&[
+        "run",
+        scen.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+        "--steps",
+        "200",
+        "--checkpoint-every",
+        "100steps",
+        "--quiet",
+    ]);
+    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+    let p = dir.join("checkpoint-000000000200.grck");
+    let bytes = std::fs::read(&p).unwrap();
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let e = e.unwrap();
+        if e.file_name().to_string_lossy().ends_with(".grck") {
+            std::fs::remove_file(e.path()).unwrap();
+        }
+    }
+    (dir, bytes)
+}
+
+fn reseal(payload: &[u8]) -> Vec<u8> {
+    grains::checkpoint::seal(payload)
+}
+
+#[test]
+fn damaged_checkpoints_are_refused_with_exit_2() {
+    let sb = Sandbox::new("bad");
+    let (dir, good) = one_checkpoint(&sb);
+    let target = dir.join("checkpoint-000000000200.grck");
+    let payload = good[24..].to_vec();
+    let mut wrong_version = good.clone();
+    wrong_version[8] = 99;
+    let mut flipped = good.clone();
+    let mid = good.len() / 2;
+    flipped[mid] ^= 0x10;
+    // A scenario with one more grain, re-sealed with a valid checksum.
+    let len = u64::from_le_bytes(payload[..8].try_into().unwrap()) as usize;
+    let text = String::from_utf8(payload[8..8 + len].to_vec()).unwrap();
+    let other = text.replace("count = 40", "count = 41");
+    assert_ne!(text, other);
+    let mut p2 = (other.len() as u64).to_le_bytes().to_vec();
+    p2.extend_from_slice(other.as_bytes());
+    p2.extend_from_slice(&payload[8 + len..]);
+    let cases: Vec<(&str, Vec<u8>, &str)> = vec![
+        ("truncated", good[..good.len() - 7].to_vec(), "truncated"),
+        ("empty", Vec::new(), "truncated"),
+        ("corrupted", flipped, "checksum"),
+        ("wrong version", wrong_version, "version 99"),
+        (
+            "not a checkpoint",
+            b"hello, world, this is text".to_vec(),
+            "not a grains checkpoint",
+        ),
+        ("wrong scenario", reseal(&p2), "the scenario builds 41"),
+    ];
+    for (what, bytes, needle) in cases {
+        std::fs::write(&target, &bytes).unwrap();
+        let o = run(&["resume", dir.to_str().unwrap(), "--quiet"]);
+        let err = stderr(&o);
+        assert_eq!(code(&o), Some(2), "{what}: {err}");
+        assert!(
+            err.contains(needle) && err.contains("checkpoint-000000000200"),
+            "{what}: {err}"
+        );
+    }
+    // The good one resumes.
+    std::fs::write(&target, &good).unwrap();
+    let o = run(&["resume", dir.to_str().unwrap(), "--steps", "10", "--quiet"]);
+    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+}
+
+#[test]
+fn unusable_directories_and_options_exit_2() {
+    let sb = Sandbox::new("dirs");
+    let scen = sb.path("s.toml");
+    std::fs::write(&scen, SCENARIO).unwrap();
+    let file = sb.path("a-file");
+    std::fs::write(&file, "x").unwrap();
+    let under = file.join("out");
+    let o = run(&[
+        "run",
+        scen.to_str().unwrap(),
+        "--out",
+        under.to_str().unwrap(),
+        "--steps",
+        "5",
+    ]);
+    assert_eq!(code(&o), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(under.to_str().unwrap()),
+        "{}",
+        stderr(&o)
+    );
+    let o = run(&["resume", sb.path("nothing-here").to_str().unwrap()]);
+    assert_eq!(code(&o), Some(2), "{}", stderr(&o));
+    let o = run(&["resume", sb.0.to_str().unwrap()]);
+    assert_eq!(code(&o), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("no checkpoint"), "{}", stderr(&o));
+    let o = run(&[
+        "run",
+        scen.to_str().unwrap(),
+        "--checkpoint-every",
+        "0steps",
+    ]);
+    assert_eq!(code(&o), Some(2), "{}", stderr(&o));
+    let with_measure = format!("{SCENARIO}\n[measure]\ndisplacement = true\n");
+    std::fs::write(&scen, with_measure).unwrap();
+    let o = run(&[
+        "run",
+        scen.to_str().unwrap(),
+        "--out",
+        sb.path("m").to_str().unwrap(),
+        "--checkpoint-every",
+        "10steps",
+    ]);
+    assert_eq!(code(&o), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("measure"), "{}", stderr(&o));
+}

@@ -1,0 +1,97 @@
+//! An MD engine to and from checkpoint bytes: a fingerprint of the settings
+//! the state depends on (checked on restore, so a checkpoint never starts a
+//! different scenario silently), then the [`MdState`].
+
+use super::codec::{Dec, Enc};
+use super::state::{decode_md, encode_md};
+use crate::dim::Dim;
+use crate::error::{Error, Result};
+use crate::md::Md;
+
+/// What must be equal between the engine that wrote a checkpoint and the
+/// one rebuilt from the scenario to restore it, as comparable text.
+fn fingerprint<D: Dim>(md: &Md<D>) -> Vec<(&'static str, String)> {
+    let s = &md.settings;
+    let bits = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:?}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let lo = D::to_xyz(md.domain.lo);
+    let hi = D::to_xyz(md.domain.hi);
+    vec![
+        ("dimension", D::NAME.to_string()),
+        ("integrator", s.integrator.name().to_string()),
+        ("dt", bits(&[s.dt])),
+        ("neighbour skin", bits(&[s.skin])),
+        ("sort interval", s.sort_every.to_string()),
+        ("gravity", bits(&D::to_xyz(s.gravity))),
+        ("contact law", format!("{:?}", s.contact)),
+        (
+            "domain",
+            format!("{} {} {:?}", bits(&lo), bits(&hi), md.domain.periodic),
+        ),
+        (
+            "walls",
+            md.walls
+                .iter()
+                .map(|w| format!("{w:?}"))
+                .collect::<Vec<_>>()
+                .join("; "),
+        ),
+    ]
+}
+
+/// The engine's fingerprint and full state.
+pub fn encode<D: Dim>(md: &Md<D>) -> Result<Vec<u8>> {
+    let mut e = Enc::default();
+    let fp = fingerprint(md);
+    e.len(fp.len());
+    for (k, v) in &fp {
+        e.str(k);
+        e.str(v);
+    }
+    encode_md(&mut e, &md.export_state()?);
+    Ok(e.buf)
+}
+
+/// Restores `md` (freshly built from the checkpoint's scenario) from bytes
+/// written by [`encode`]. Refuses a state whose fingerprint differs.
+pub fn restore<D: Dim>(md: &mut Md<D>, bytes: &[u8]) -> Result<()> {
+    let mut d = Dec::new(bytes);
+    let mut read = || -> std::result::Result<_, String> {
+        let n = d.len(16, "fingerprint")?;
+        let mut fp = Vec::with_capacity(n);
+        for _ in 0..n {
+            fp.push((d.str("fingerprint key")?, d.str("fingerprint value")?));
+        }
+        let state = decode_md::<D>(&mut d)?;
+        if d.remaining() != 0 {
+            return Err(format!(
+                "{} unexpected bytes after the state",
+                d.remaining()
+            ));
+        }
+        Ok((fp, state))
+    };
+    let (fp, state) = read().map_err(|e| Error::input(format!("checkpoint engine state: {e}")))?;
+    let mine = fingerprint(md);
+    for (k, v) in &mine {
+        match fp.iter().find(|(fk, _)| fk == k) {
+            Some((_, fv)) if fv == v => {}
+            Some((_, fv)) => {
+                return Err(Error::input(format!(
+                    "checkpoint was written for a different scenario: {k} differs \
+                     (checkpoint: {fv}; scenario: {v})"
+                )))
+            }
+            None => {
+                return Err(Error::input(format!(
+                    "checkpoint lacks the {k} of its scenario"
+                )))
+            }
+        }
+    }
+    md.import_state(state)
+}

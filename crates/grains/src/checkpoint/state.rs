@@ -1,0 +1,195 @@
+//! The engine state a checkpoint carries, and its binary encoding.
+
+use super::codec::{Dec, DecResult, Enc};
+use crate::dim::Dim;
+use crate::particles::{ParticleRecord, Particles};
+
+/// Everything a neighbour list carries from one step to the next (its cell
+/// grid is scratch). Restoring it brings back the exact pair order, image
+/// codes and skin reference positions, so forces are summed in the same
+/// order as in an uninterrupted run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ListState<D: Dim> {
+    pub pairs: Vec<[u32; 2]>,
+    pub image: Vec<u8>,
+    /// The 27 image shifts of the last build.
+    pub shifts: Vec<D::V>,
+    pub ref_pos: Vec<D::V>,
+    pub builds: u64,
+    pub built: bool,
+}
+
+/// The complete dynamic state of an [`crate::md::Md`]: with the same scenario
+/// (settings, walls, domain) it continues bit for bit like the run it came
+/// from. Walls need no state of their own: their motion, phase and removal
+/// are functions of `time`.
+#[derive(Clone, Debug)]
+pub struct MdState<D: Dim> {
+    pub time: f64,
+    pub step: u64,
+    /// Owned particles in store order, forces and Gear history included.
+    pub particles: Particles<D>,
+    pub list: ListState<D>,
+    /// Tangential springs aligned with `list.pairs`.
+    pub springs: Vec<D::V>,
+    /// Grain–wall springs, `walls.max(1)` per grain in store order.
+    pub wall_springs: Vec<D::V>,
+    pub rebuilds_since_sort: u32,
+    /// Statistics of the last force evaluation (reported in thermo rows).
+    pub contacts: u64,
+    pub max_overlap: f64,
+    pub max_overlap_fraction: f64,
+    pub worst_pair: (u64, Option<u64>),
+}
+
+/// Largest number of Gear derivative arrays a file may declare.
+const MAX_GEAR: usize = 8;
+
+pub fn encode_particles<D: Dim>(e: &mut Enc, p: &Particles<D>) {
+    let n = p.len();
+    e.len(n);
+    e.len(p.gear.len());
+    e.len(p.gear_ang.len());
+    for i in 0..n {
+        e.u64(p.id[i]);
+        e.u32(p.kind[i]);
+        e.bool(p.frozen[i]);
+        for x in [
+            p.radius[i],
+            p.mass[i],
+            p.inertia[i],
+            p.inv_mass[i],
+            p.inv_inertia[i],
+        ] {
+            e.f64(x);
+        }
+        e.vec::<D>(p.pos[i]);
+        e.vec::<D>(p.vel[i]);
+        e.vec::<D>(p.force[i]);
+        e.ang::<D>(p.omega[i]);
+        e.ang::<D>(p.torque[i]);
+        p.gear.iter().for_each(|g| e.vec::<D>(g[i]));
+        p.gear_ang.iter().for_each(|g| e.ang::<D>(g[i]));
+    }
+}
+
+/// Reads the particle block written by [`encode_particles`].
+pub fn decode_particles<D: Dim>(d: &mut Dec) -> DecResult<Particles<D>> {
+    let per = 8 + 4 + 1 + 5 * 8 + 3 * 8 * D::D + 2 * 24;
+    let n = d.len(per, "particle count")?;
+    let ng = d.u64("gear orders")? as usize;
+    let na = d.u64("angular gear orders")? as usize;
+    if ng > MAX_GEAR || na > MAX_GEAR {
+        return Err(format!(
+            "{ng} and {na} Gear derivative arrays (at most {MAX_GEAR})"
+        ));
+    }
+    let mut p = Particles::<D>::new();
+    p.ensure_gear_history(ng, na);
+    let (mut force, mut torque, mut inv_m, mut inv_i) = (
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+    );
+    for _ in 0..n {
+        let id = d.u64("particle id")?;
+        let kind = d.u32("particle type")?;
+        let frozen = d.bool("frozen flag")?;
+        let radius = d.f64("radius")?;
+        let mass = d.f64("mass")?;
+        let inertia = d.f64("inertia")?;
+        inv_m.push(d.f64("inverse mass")?);
+        inv_i.push(d.f64("inverse inertia")?);
+        let mut r = ParticleRecord::<D>::new(id, d.vec::<D>("position")?, radius, mass, inertia);
+        r.kind = kind;
+        r.frozen = frozen;
+        r.vel = d.vec::<D>("velocity")?;
+        force.push(d.vec::<D>("force")?);
+        r.omega = d.ang::<D>("angular velocity")?;
+        torque.push(d.ang::<D>("torque")?);
+        for _ in 0..ng {
+            r.gear.push(d.vec::<D>("Gear history")?);
+        }
+        for _ in 0..na {
+            r.gear_ang.push(d.ang::<D>("angular Gear history")?);
+        }
+        p.push_record(r);
+    }
+    p.force = force;
+    p.torque = torque;
+    p.inv_mass = inv_m;
+    p.inv_inertia = inv_i;
+    Ok(p)
+}
+
+pub fn encode_md<D: Dim>(e: &mut Enc, s: &MdState<D>) {
+    e.f64(s.time);
+    e.u64(s.step);
+    encode_particles(e, &s.particles);
+    let l = &s.list;
+    e.len(l.pairs.len());
+    for (p, &c) in l.pairs.iter().zip(&l.image) {
+        e.u32(p[0]);
+        e.u32(p[1]);
+        e.u8(c);
+    }
+    e.vecs::<D>(&l.shifts);
+    e.vecs::<D>(&l.ref_pos);
+    e.u64(l.builds);
+    e.bool(l.built);
+    e.vecs::<D>(&s.springs);
+    e.vecs::<D>(&s.wall_springs);
+    e.u32(s.rebuilds_since_sort);
+    e.u64(s.contacts);
+    e.f64(s.max_overlap);
+    e.f64(s.max_overlap_fraction);
+    e.u64(s.worst_pair.0);
+    match s.worst_pair.1 {
+        Some(b) => {
+            e.bool(true);
+            e.u64(b);
+        }
+        None => e.bool(false),
+    }
+}
+
+pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
+    let time = d.f64("time")?;
+    let step = d.u64("step")?;
+    let particles = decode_particles::<D>(d)?;
+    let np = d.len(9, "pair count")?;
+    let (mut pairs, mut image) = (Vec::with_capacity(np), Vec::with_capacity(np));
+    for _ in 0..np {
+        pairs.push([d.u32("pair")?, d.u32("pair")?]);
+        image.push(d.u8("image code")?);
+    }
+    let list = ListState {
+        pairs,
+        image,
+        shifts: d.vecs::<D>("image shifts")?,
+        ref_pos: d.vecs::<D>("skin reference positions")?,
+        builds: d.u64("list builds")?,
+        built: d.bool("list built flag")?,
+    };
+    Ok(MdState {
+        time,
+        step,
+        particles,
+        list,
+        springs: d.vecs::<D>("tangential springs")?,
+        wall_springs: d.vecs::<D>("wall springs")?,
+        rebuilds_since_sort: d.u32("rebuild counter")?,
+        contacts: d.u64("contacts")?,
+        max_overlap: d.f64("max overlap")?,
+        max_overlap_fraction: d.f64("max overlap fraction")?,
+        worst_pair: (
+            d.u64("worst pair")?,
+            if d.bool("worst pair partner flag")? {
+                Some(d.u64("worst pair partner")?)
+            } else {
+                None
+            },
+        ),
+    })
+}

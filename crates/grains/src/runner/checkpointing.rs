@@ -1,0 +1,455 @@
+//! Checkpoints of a scenario run, and resuming one.
+//!
+//! A run with `checkpoint_every` writes `checkpoint-<step>.grck` files into
+//! its output directory (at step 0, then at every interval, and when asked
+//! to stop); [`find`] + [`resume`] continue from the newest valid one,
+//! cutting thermo.csv, the dump and frames.pvd back to where they stood at
+//! the checkpoint, so no row or frame is written twice.
+//!
+//! Payload (inside the sealed file of [`crate::checkpoint`]): the scenario
+//! as TOML with its origin and base directory, the dimension, the run plan
+//! (relaxation and measured steps), the checkpoint interval, the output
+//! state, then the engine (fingerprint + state).
+
+use super::output::{OutputState, Outputs};
+use super::{prepare, run_loop, Progress, RunOptions};
+use crate::checkpoint::codec::{Dec, Enc};
+use crate::checkpoint::{self, engine};
+use crate::dim::{Dim, D2, D3};
+use crate::error::{Error, Result};
+use crate::md::Md;
+use crate::scenario::schema::{Dimension, MeasureSpec, Scenario};
+use crate::scenario::{build_md, Loaded};
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
+
+/// A checkpoint interval: simulated seconds or a number of steps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Every {
+    Seconds(f64),
+    Steps(u64),
+}
+
+impl Every {
+    /// Parses `0.01` (seconds) or `500steps` / `500 steps`.
+    pub fn parse(text: &str) -> Result<Self> {
+        let t = text.trim();
+        let bad = || {
+            Error::input(format!(
+                "--checkpoint-every '{text}': give simulated seconds (e.g. 0.01) \
+                 or a step count (e.g. 500steps)"
+            ))
+        };
+        if let Some(n) = t.strip_suffix("steps").or_else(|| t.strip_suffix("step")) {
+            let n: u64 = n.trim().parse().map_err(|_| bad())?;
+            if n == 0 {
+                return Err(bad());
+            }
+            return Ok(Every::Steps(n));
+        }
+        let s = t.strip_suffix('s').unwrap_or(t).trim();
+        let v: f64 = s.parse().map_err(|_| bad())?;
+        if !(v.is_finite() && v > 0.0) {
+            return Err(bad());
+        }
+        Ok(Every::Seconds(v))
+    }
+
+    /// The interval in steps of `dt` (at least one).
+    pub fn steps(self, dt: f64) -> u64 {
+        match self {
+            Every::Steps(n) => n.max(1),
+            Every::Seconds(t) => {
+                let n = (t / dt).round();
+                if n >= 1.0 && n < u64::MAX as f64 {
+                    n as u64
+                } else {
+                    1
+                }
+            }
+        }
+    }
+}
+
+/// Why a scenario's state cannot be checkpointed yet, if it cannot: the
+/// measurement accumulators and the flow events (settling, recycling) are
+/// not part of a checkpoint.
+fn blocker(scenario: &Scenario) -> Option<String> {
+    if scenario.hopper.is_some() || scenario.run.events.is_some() {
+        return Some(
+            "checkpoints do not carry the state of [hopper] recycling or run.events yet; \
+             run this scenario without --checkpoint-every"
+                .to_string(),
+        );
+    }
+    if scenario.measure == MeasureSpec::default() {
+        return None;
+    }
+    Some(
+        "checkpoints do not carry measurement accumulators yet, and this scenario \
+         sets [measure]; remove the [measure] section (or --set its keys off) to \
+         checkpoint this run"
+            .to_string(),
+    )
+}
+
+/// Writes the checkpoints of one run.
+pub(super) struct Checkpointer {
+    dir: PathBuf,
+    interval: Option<u64>,
+    blocked: Option<String>,
+    stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
+    scenario: String,
+    origin: String,
+    base_dir: String,
+    plan: (u64, u64),
+}
+
+impl Checkpointer {
+    pub(super) fn new<D: Dim>(
+        loaded: &Loaded,
+        opts: &RunOptions,
+        md: &Md<D>,
+        plan: (u64, u64),
+    ) -> Result<Self> {
+        let blocked = blocker(&loaded.scenario);
+        if let (Some(_), Some(why)) = (opts.checkpoint_every, &blocked) {
+            return Err(Error::input(format!("--checkpoint-every: {why}")));
+        }
+        let scenario = scenario_text(&loaded.scenario)?;
+        Ok(Self {
+            dir: opts.out_dir.clone(),
+            interval: opts.checkpoint_every.map(|e| e.steps(md.settings.dt)),
+            blocked,
+            stop: opts.stop.clone(),
+            scenario,
+            origin: loaded.origin.clone(),
+            base_dir: loaded.base_dir.to_string_lossy().into_owned(),
+            plan,
+        })
+    }
+
+    /// A fresh run's checkpoint at step 0 (so a run killed early resumes).
+    pub(super) fn at_start<D: Dim>(&mut self, md: &Md<D>, out: &Outputs) -> Result<()> {
+        if self.interval.is_some() && md.step == 0 {
+            self.write(md, out)?;
+        }
+        Ok(())
+    }
+
+    /// After each step: a checkpoint at the interval; when a stop was asked
+    /// for, a checkpoint and the summary of the interruption.
+    pub(super) fn after_step<D: Dim>(
+        &mut self,
+        md: &Md<D>,
+        out: &Outputs,
+    ) -> Result<Option<Value>> {
+        if self.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst)) {
+            let dir = self.dir.display().to_string();
+            if let Some(why) = &self.blocked {
+                return Ok(Some(json!({
+                    "interrupted": true,
+                    "step": md.step,
+                    "time": md.time,
+                    "checkpoint": Value::Null,
+                    "message": format!("stopped at step {} without a checkpoint: {why}", md.step),
+                })));
+            }
+            let path = self.write(md, out)?;
+            return Ok(Some(json!({
+                "interrupted": true,
+                "step": md.step,
+                "time": md.time,
+                "checkpoint": path.display().to_string(),
+                "message": format!(
+                    "stopped at step {} (t = {:.6e} s); checkpoint {}; continue with: grains resume {dir}",
+                    md.step, md.time, path.display()
+                ),
+            })));
+        }
+        if let Some(n) = self.interval {
+            if md.step.is_multiple_of(n) {
+                self.write(md, out)?;
+            }
+        }
+        Ok(None)
+    }
+
+    fn write<D: Dim>(&self, md: &Md<D>, out: &Outputs) -> Result<PathBuf> {
+        let mut e = Enc::default();
+        e.str(&self.scenario);
+        e.str(&self.origin);
+        e.str(&self.base_dir);
+        e.u8(D::D as u8);
+        e.u64(self.plan.0);
+        e.u64(self.plan.1);
+        e.u64(self.interval.unwrap_or(0));
+        encode_outputs(&mut e, &out.state()?);
+        e.u64(md.step);
+        let eng = engine::encode(md)?;
+        e.len(eng.len());
+        e.buf.extend_from_slice(&eng);
+        checkpoint::write(&self.dir, md.step, &e.buf)
+    }
+}
+
+/// The scenario as TOML text that reads back to an equal scenario.
+fn scenario_text(s: &Scenario) -> Result<String> {
+    let text = toml::to_string(s)
+        .map_err(|e| Error::input(format!("checkpoint: cannot write the scenario: {e}")))?;
+    match toml::from_str::<Scenario>(&text) {
+        Ok(back) if back == *s => Ok(text),
+        _ => Err(Error::input(
+            "checkpoint: the scenario does not survive a TOML round trip; cannot checkpoint it",
+        )),
+    }
+}
+
+fn encode_outputs(e: &mut Enc, o: &OutputState) {
+    e.u64(o.thermo_len);
+    opt(e, o.dump_len);
+    e.len(o.frames.len());
+    for (t, f) in &o.frames {
+        e.f64(*t);
+        e.str(f);
+    }
+    opt(e, o.last_step);
+}
+
+fn opt(e: &mut Enc, v: Option<u64>) {
+    e.bool(v.is_some());
+    e.u64(v.unwrap_or(0));
+}
+
+fn read_opt(d: &mut Dec, what: &str) -> std::result::Result<Option<u64>, String> {
+    let some = d.bool(what)?;
+    let v = d.u64(what)?;
+    Ok(some.then_some(v))
+}
+
+/// A checkpoint read and checked, ready to resume.
+pub struct Found {
+    pub path: PathBuf,
+    pub step: u64,
+    loaded: Loaded,
+    dim: usize,
+    plan: (u64, u64),
+    interval: u64,
+    outputs: OutputState,
+    engine: Vec<u8>,
+}
+
+/// Decodes a checkpoint payload (from `path`, for messages).
+pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
+    let mut d = Dec::new(payload);
+    let mut go = || -> std::result::Result<_, String> {
+        let scenario = d.str("scenario")?;
+        let origin = d.str("scenario origin")?;
+        let base_dir = d.str("scenario directory")?;
+        let dim = d.u8("dimension")? as usize;
+        let plan = (d.u64("relax steps")?, d.u64("measured steps")?);
+        let interval = d.u64("checkpoint interval")?;
+        let outputs = OutputState {
+            thermo_len: d.u64("thermo length")?,
+            dump_len: read_opt(&mut d, "dump length")?,
+            frames: {
+                let n = d.len(16, "frame count")?;
+                let mut v = Vec::with_capacity(n);
+                for _ in 0..n {
+                    v.push((d.f64("frame time")?, d.str("frame file")?));
+                }
+                v
+            },
+            last_step: read_opt(&mut d, "last output step")?,
+        };
+        let step = d.u64("step")?;
+        let n = d.len(1, "engine state")?;
+        let engine = d.take(n, "engine state")?.to_vec();
+        if d.remaining() != 0 {
+            return Err(format!("{} unexpected bytes at the end", d.remaining()));
+        }
+        Ok((
+            scenario, origin, base_dir, dim, plan, interval, outputs, step, engine,
+        ))
+    };
+    let (scenario, origin, base_dir, dim, plan, interval, outputs, step, engine) =
+        go().map_err(|e| Error::input(format!("checkpoint {}: {e}", path.display())))?;
+    let scenario: Scenario = toml::from_str(&scenario).map_err(|e| {
+        Error::input(format!(
+            "checkpoint {}: its scenario does not parse: {e}",
+            path.display()
+        ))
+    })?;
+    let want = match scenario.dimension {
+        Dimension::Two => 2,
+        Dimension::Three => 3,
+    };
+    if dim != want {
+        return Err(Error::input(format!(
+            "checkpoint {}: state of dimension {dim} for a {want}d scenario",
+            path.display()
+        )));
+    }
+    if plan.0.checked_add(plan.1).is_none() {
+        return Err(Error::input(format!(
+            "checkpoint {}: run length out of range",
+            path.display()
+        )));
+    }
+    Ok(Found {
+        path: path.to_path_buf(),
+        step,
+        loaded: Loaded {
+            scenario,
+            origin,
+            base_dir: PathBuf::from(base_dir),
+        },
+        dim,
+        plan,
+        interval,
+        outputs,
+        engine,
+    })
+}
+
+/// The checkpoint to resume from `path`: that file, or the newest valid
+/// checkpoint of that run directory. Also returns why newer files were
+/// skipped. Fails (input error) when none is usable, saying why for each.
+pub fn find(path: &Path) -> Result<(Found, Vec<String>)> {
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if meta.is_file() {
+        let payload = checkpoint::read(path)?;
+        return Ok((decode(&payload, path)?, Vec::new()));
+    }
+    let files = checkpoint::list(path)?;
+    if files.is_empty() {
+        return Err(Error::input(format!(
+            "{}: no checkpoint-*.grck file; checkpoints are written by \
+             `grains run --checkpoint-every T` or when a run is interrupted",
+            path.display()
+        )));
+    }
+    let mut skipped = Vec::new();
+    for f in files {
+        match checkpoint::read(&f).and_then(|p| decode(&p, &f)) {
+            Ok(found) => return Ok((found, skipped)),
+            Err(e) => skipped.push(e.to_string()),
+        }
+    }
+    Err(Error::input(format!(
+        "{}: no valid checkpoint:\n  {}",
+        path.display(),
+        skipped.join("\n  ")
+    )))
+}
+
+/// Continues a run from a checkpoint: to the end of its scenario, or for
+/// `steps` more steps. Outputs go to the checkpoint's directory.
+pub fn resume(
+    found: Found,
+    steps: Option<u64>,
+    mut opts: RunOptions,
+    progress: &mut dyn Progress,
+) -> Result<Value> {
+    let dir = found
+        .path
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_default();
+    let dir = if dir.as_os_str().is_empty() {
+        PathBuf::from(".")
+    } else {
+        dir
+    };
+    opts.out_dir = dir;
+    if opts.checkpoint_every.is_none() && found.interval > 0 {
+        opts.checkpoint_every = Some(Every::Steps(found.interval));
+    }
+    prepare(&opts.out_dir)?;
+    checkpoint::remove_stale_temporaries(&opts.out_dir);
+    match found.dim {
+        2 => resume_dim::<D2>(found, steps, &opts, progress),
+        _ => resume_dim::<D3>(found, steps, &opts, progress),
+    }
+}
+
+fn resume_dim<D: Dim>(
+    found: Found,
+    steps: Option<u64>,
+    opts: &RunOptions,
+    progress: &mut dyn Progress,
+) -> Result<Value> {
+    let loaded = &found.loaded;
+    if loaded.scenario.method == crate::dsmc::Method::Dsmc {
+        return Err(Error::input(format!(
+            "checkpoint {}: DSMC runs cannot be resumed yet",
+            found.path.display()
+        )));
+    }
+    let (mut md, resolved) = build_md::<D>(loaded)?;
+    engine::restore(&mut md, &found.engine)
+        .map_err(|e| Error::input(format!("{}: {e}", found.path.display())))?;
+    if md.step != found.step {
+        return Err(Error::input(format!(
+            "checkpoint {}: header step {} but engine step {}",
+            found.path.display(),
+            found.step,
+            md.step
+        )));
+    }
+    let (mut relax, mut measure) = found.plan;
+    if let Some(n) = steps {
+        let end = md
+            .step
+            .checked_add(n)
+            .ok_or_else(|| Error::input("--steps too large"))?;
+        if end <= relax {
+            (relax, measure) = (end, 0);
+        } else {
+            measure = end - relax;
+        }
+    } else if md.step > relax + measure {
+        return Err(Error::input(format!(
+            "checkpoint {}: step {} lies beyond the run's end",
+            found.path.display(),
+            md.step
+        )));
+    }
+    let outputs = Outputs::resume(&opts.out_dir, &loaded.scenario.output, &found.outputs)?;
+    run_loop(
+        loaded,
+        opts,
+        md,
+        &resolved,
+        outputs,
+        (relax, measure),
+        progress,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn intervals_parse() {
+        assert_eq!(Every::parse("0.01").unwrap(), Every::Seconds(0.01));
+        assert_eq!(Every::parse("500steps").unwrap(), Every::Steps(500));
+        assert_eq!(Every::parse("20 steps").unwrap(), Every::Steps(20));
+        assert_eq!(Every::Seconds(0.01).steps(1e-4), 100);
+        for bad in ["", "0", "-1", "nan", "0steps", "xsteps", "inf"] {
+            assert!(Every::parse(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn shipped_scenarios_survive_toml_round_trip() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+        for f in std::fs::read_dir(dir).unwrap() {
+            let p = f.unwrap().path();
+            let l = crate::scenario::load_file(&p, &[]).unwrap();
+            scenario_text(&l.scenario).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        }
+    }
+}
