@@ -276,12 +276,15 @@ impl<D: Dim> Md<D> {
         self.check_stability()
     }
 
-    /// Advances `n` steps.
+    /// Advances `n` steps (on a worker of rayon's pool, see
+    /// [`crate::runner::on_pool`]).
     pub fn run(&mut self, n: u64) -> Result<()> {
-        for _ in 0..n {
-            self.step()?;
-        }
-        Ok(())
+        crate::runner::on_pool(|| {
+            for _ in 0..n {
+                self.step()?;
+            }
+            Ok(())
+        })
     }
 
     /// The integrator's part before the forces.

@@ -349,6 +349,15 @@ pub fn find(path: &Path) -> Result<(Found, Vec<String>)> {
 pub fn resume(
     found: Found,
     steps: Option<u64>,
+    opts: RunOptions,
+    progress: &mut dyn Progress,
+) -> Result<Value> {
+    super::on_pool(move || resume_on_pool(found, steps, opts, progress))
+}
+
+fn resume_on_pool(
+    found: Found,
+    steps: Option<u64>,
     mut opts: RunOptions,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
