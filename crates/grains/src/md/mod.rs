@@ -386,8 +386,10 @@ impl<D: Dim> Md<D> {
     /// read but not stretched.
     pub fn compute_forces(&mut self, update_history: bool) {
         let p = &mut self.particles;
-        p.force.par_iter_mut().for_each(|f| *f = D::zero());
-        p.torque.par_iter_mut().for_each(|t| *t = D::A::default());
+        p.force.par_chunks_mut(8192).for_each(|f| f.fill(D::zero()));
+        p.torque
+            .par_chunks_mut(8192)
+            .for_each(|t| t.fill(D::A::default()));
         self.stats.contacts = 0;
         self.stats.max_overlap = 0.0;
         self.stats.max_overlap_fraction = 0.0;

@@ -19,6 +19,9 @@ use crate::neighbors::NeighborList;
 use crate::particles::Particles;
 use rayon::prelude::*;
 
+/// Fewest blocks handed to one parallel job.
+const MIN_BLOCKS_PER_JOB: usize = 4;
+
 /// Grains per block: large enough that few contacts cross blocks, small
 /// enough that two to a few dozen cores find work.
 pub fn block_size(n: usize) -> usize {
@@ -223,8 +226,11 @@ pub fn pair_forces<D: Dim>(
     let mass = &p.mass;
     let frozen = &p.frozen;
     let ids = &p.id;
+    // At least MIN_BLOCKS_PER_JOB blocks per job: a small system runs on one
+    // thread instead of paying to wake others every step.
     let block_stats: Vec<BlockStats> = tasks
         .par_iter_mut()
+        .with_min_len(MIN_BLOCKS_PER_JOB)
         .map(|t| {
             let grains = Grains {
                 pos,
@@ -251,6 +257,7 @@ pub fn pair_forces<D: Dim>(
     p.force
         .par_chunks_mut(block)
         .zip(p.torque.par_chunks_mut(block))
+        .with_min_len(MIN_BLOCKS_PER_JOB)
         .enumerate()
         .for_each(|(b, (force, torque))| {
             for (k, (f, t)) in force.iter_mut().zip(torque.iter_mut()).enumerate() {
