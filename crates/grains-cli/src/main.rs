@@ -266,6 +266,7 @@ fn main() -> ExitCode {
                         std::io::ErrorKind::NotFound
                             | std::io::ErrorKind::PermissionDenied
                             | std::io::ErrorKind::InvalidData
+                            | std::io::ErrorKind::AlreadyExists
                             | std::io::ErrorKind::IsADirectory
                             | std::io::ErrorKind::NotADirectory
                     ) =>
