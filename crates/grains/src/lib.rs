@@ -16,6 +16,7 @@ pub mod io;
 pub mod md;
 pub mod measure;
 pub mod neighbors;
+pub mod parallel;
 pub mod particles;
 pub mod runner;
 pub mod scenario;

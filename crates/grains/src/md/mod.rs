@@ -24,6 +24,7 @@ use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
 use crate::integrate::{gear5, velocity_verlet, Integrator};
+use crate::io::Frame;
 use crate::neighbors::{spatial_sort_order, NeighborList};
 use crate::particles::Particles;
 use field_forces::{field_forces, FieldInput};
@@ -277,9 +278,9 @@ impl<D: Dim> Md<D> {
     }
 
     /// Advances `n` steps (on a worker of rayon's pool, see
-    /// [`crate::runner::on_pool`]).
+    /// [`crate::parallel::on_pool`]).
     pub fn run(&mut self, n: u64) -> Result<()> {
-        crate::runner::on_pool(|| {
+        crate::parallel::on_pool(|| {
             for _ in 0..n {
                 self.step()?;
             }
@@ -465,6 +466,34 @@ impl<D: Dim> Md<D> {
     pub fn worst_overlap(&self) -> (f64, u64, Option<u64>) {
         let s = &self.stats;
         (s.max_overlap_fraction, s.worst_pair.0, s.worst_pair.1)
+    }
+
+    /// A neutral snapshot of the grains for the writers (2D boxes get a unit
+    /// z extent, as LAMMPS writes them).
+    pub fn frame(&self) -> Frame {
+        let p = &self.particles;
+        let n = p.n_owned();
+        let mut periodic = [false; 3];
+        periodic[..D::D].copy_from_slice(&self.domain.periodic[..D::D]);
+        let (mut lo, mut hi) = (D::to_xyz(self.domain.lo), D::to_xyz(self.domain.hi));
+        if D::D == 2 {
+            lo[2] = -0.5;
+            hi[2] = 0.5;
+        }
+        Frame {
+            step: self.step,
+            time: self.time,
+            dim: D::D,
+            box_lo: lo,
+            box_hi: hi,
+            periodic,
+            id: p.id[..n].to_vec(),
+            kind: p.kind[..n].to_vec(),
+            pos: p.pos[..n].iter().map(|&x| D::to_xyz(x)).collect(),
+            vel: p.vel[..n].iter().map(|&x| D::to_xyz(x)).collect(),
+            omega: p.omega[..n].iter().map(|&x| D::ang_to_xyz(x)).collect(),
+            radius: p.radius[..n].to_vec(),
+        }
     }
 
     /// Contact time of two typical grains, for advice on dt.

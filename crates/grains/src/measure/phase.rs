@@ -86,17 +86,17 @@ impl PhaseSnapshots {
         for (k, &target) in self.targets.iter().enumerate() {
             let s = target / TAU;
             if self.taken[k].is_none() && (c - s).floor() > (self.prev - s).floor() {
-                self.taken[k] = Some(crate::runner::frame(md));
+                self.taken[k] = Some(md.frame());
             }
         }
         if let Some(after) = self.after {
             if self.disp_from.is_none() && c.floor() > self.prev.floor() {
-                let f = crate::runner::frame(md);
+                let f = md.frame();
                 let map = f.id.iter().copied().zip(f.pos.iter().copied()).collect();
                 self.disp_from = Some((md.time, map));
             } else if let Some((t0, from)) = &self.disp_from {
                 if self.disp.is_none() && md.time >= t0 + after {
-                    let f = crate::runner::frame(md);
+                    let f = md.frame();
                     let rows =
                         f.id.iter()
                             .zip(&f.pos)

@@ -352,7 +352,7 @@ pub fn resume(
     opts: RunOptions,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
-    super::on_pool(move || resume_on_pool(found, steps, opts, progress))
+    crate::parallel::on_pool(move || resume_on_pool(found, steps, opts, progress))
 }
 
 fn resume_on_pool(

@@ -76,15 +76,7 @@ pub fn check(loaded: &Loaded) -> Result<Value> {
 
 /// Runs a scenario; returns the summary that was written to summary.json.
 pub fn run(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) -> Result<Value> {
-    on_pool(|| run_on_pool(loaded, opts, progress))
-}
-
-/// Runs `f` on a worker of rayon's pool. The engines' parallel loops then
-/// start from a pool thread; called from any other thread, each loop would
-/// hand its work over and wait, a context switch per loop per step (which
-/// cost a small system like vib2d three quarters of its time).
-pub fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
-    rayon::scope(|_| f())
+    crate::parallel::on_pool(|| run_on_pool(loaded, opts, progress))
 }
 
 fn run_on_pool(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) -> Result<Value> {
@@ -136,33 +128,6 @@ fn resolved_json<D: Dim>(loaded: &Loaded, md: &Md<D>, r: &Resolved) -> Value {
         "output_every_steps": r.output_every,
         "skin": md.settings.skin,
     })
-}
-
-/// A neutral snapshot of the engine for the writers.
-pub fn frame<D: Dim>(md: &Md<D>) -> Frame {
-    let p = &md.particles;
-    let n = p.n_owned();
-    let mut periodic = [false; 3];
-    periodic[..D::D].copy_from_slice(&md.domain.periodic[..D::D]);
-    let (mut lo, mut hi) = (D::to_xyz(md.domain.lo), D::to_xyz(md.domain.hi));
-    if D::D == 2 {
-        lo[2] = -0.5;
-        hi[2] = 0.5;
-    }
-    Frame {
-        step: md.step,
-        time: md.time,
-        dim: D::D,
-        box_lo: lo,
-        box_hi: hi,
-        periodic,
-        id: p.id[..n].to_vec(),
-        kind: p.kind[..n].to_vec(),
-        pos: p.pos[..n].iter().map(|&x| D::to_xyz(x)).collect(),
-        vel: p.vel[..n].iter().map(|&x| D::to_xyz(x)).collect(),
-        omega: p.omega[..n].iter().map(|&x| D::ang_to_xyz(x)).collect(),
-        radius: p.radius[..n].to_vec(),
-    }
 }
 
 /// Measurements the scenario asked for.
@@ -340,7 +305,7 @@ fn run_loop<D: Dim>(
     let measure_done = md.step - relax_done;
     let mut measurements = Measurements::begin(loaded, &md, measure - measure_done, resolved.dt)?;
     if measure_done == 0 {
-        outputs.record(&md, &frame(&md), granular_temperature(&md.particles))?;
+        outputs.record(&md, &md.frame(), granular_temperature(&md.particles))?;
     }
     for k in measure_done + 1..=measure {
         md.step()?;
@@ -351,7 +316,7 @@ fn run_loop<D: Dim>(
             flow.sample(&md);
         }
         if k % every == 0 || k == measure {
-            outputs.record(&md, &frame(&md), granular_temperature(&md.particles))?;
+            outputs.record(&md, &md.frame(), granular_temperature(&md.particles))?;
         }
         if k % 256 == 0 || k == measure {
             progress.advance(k, md.time);
@@ -365,7 +330,7 @@ fn run_loop<D: Dim>(
     progress.finish();
     let wall_seconds = started.elapsed().as_secs_f64();
 
-    let last = frame(&md);
+    let last = md.frame();
     outputs.finish(&last, measurements.displacement.as_ref())?;
     measurements.write(&opts.out_dir, &md, &last)?;
     let steps = relax + measure;
