@@ -8,7 +8,6 @@ pub mod dense;
 pub mod diagnostics;
 pub mod engine;
 pub mod rng;
-pub mod runner;
 pub mod sort;
 pub mod spec;
 pub mod store;

@@ -6,6 +6,7 @@
 //! (the final frame, pictures, measurement files and summary.json).
 
 pub mod checkpointing;
+mod dsmc;
 pub mod flow;
 mod output;
 
@@ -60,7 +61,7 @@ impl Progress for Silent {
 /// `grains check` prints.
 pub fn check(loaded: &Loaded) -> Result<Value> {
     if loaded.scenario.method == crate::dsmc::Method::Dsmc {
-        return crate::dsmc::runner::check(loaded);
+        return dsmc::check(loaded);
     }
     fn go<D: Dim>(loaded: &Loaded) -> Result<Value> {
         let loaded = &*flow::expand(loaded)?;
@@ -86,7 +87,7 @@ fn run_on_pool(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) 
                 "--checkpoint-every: DSMC runs cannot be checkpointed yet (MD only)",
             ));
         }
-        return crate::dsmc::runner::run(loaded, opts, progress);
+        return dsmc::run(loaded, opts, progress);
     }
     match loaded.scenario.dimension {
         Dimension::Two => run_dim::<D2>(loaded, opts, progress),

@@ -1,17 +1,17 @@
 //! Runs a `method = "dsmc"` scenario: build, relax, measure, write
 //! thermo.csv, frames, profiles.csv and summary.json.
 
-use super::collide::GasDim;
-use super::diagnostics::Validity;
-use super::engine::{haff_time, maxwellian, Dsmc, DsmcSettings, PlaneWall};
-use super::rng::Stream;
-use super::spec::DsmcSpec;
-use super::store::{particle_volume, Particle, Store};
+use super::{prepare, Progress, RunOptions};
 use crate::dim::{Dim, D2, D3};
 use crate::domain::Domain;
+use crate::dsmc::collide::GasDim;
+use crate::dsmc::diagnostics::Validity;
+use crate::dsmc::engine::{haff_time, maxwellian, Dsmc, DsmcSettings, PlaneWall};
+use crate::dsmc::rng::Stream;
+use crate::dsmc::spec::DsmcSpec;
+use crate::dsmc::store::{particle_volume, Particle, Store};
 use crate::error::{Error, Result};
 use crate::io::{render_particles, Frame, PictureOptions, ThermoWriter, VtkSeries};
-use crate::runner::{prepare, Progress, RunOptions};
 use crate::scenario::build::vector;
 use crate::scenario::resolve::cycle_frequency;
 use crate::scenario::schema::{Dimension, MotionSpec, Placement, ShapeSpec, TimeStep};
@@ -174,7 +174,7 @@ pub fn build<D: GasDim>(loaded: &Loaded) -> Result<(Dsmc<D>, Plan)> {
         restitution: ds.restitution,
         wall_restitution: ds.wall_restitution.unwrap_or(ds.restitution),
         dense: ds.dense,
-        rcp: ds.rcp.unwrap_or(super::dense::default_rcp(D::D)),
+        rcp: ds.rcp.unwrap_or(crate::dsmc::dense::default_rcp(D::D)),
         seed: s.seed,
         cell,
         vmax_floor: 2.0 * wall_speed + (gravity_norm::<D>(gravity) * ps.d0).sqrt(),
@@ -186,7 +186,7 @@ pub fn build<D: GasDim>(loaded: &Loaded) -> Result<(Dsmc<D>, Plan)> {
         }
         TimeStep::Auto => {
             // A tenth of the mean collision time at the start.
-            let omega = super::engine::collision_frequency(
+            let omega = crate::dsmc::engine::collision_frequency(
                 D::D,
                 n,
                 ps.d0,
@@ -255,7 +255,7 @@ fn describe<D: GasDim>(loaded: &Loaded, sim: &Dsmc<D>, plan: &Plan) -> Value {
         "dense": format!("{:?}", sim.settings.dense),
         "initial_temperature": t,
         "kinetic_collision_frequency": omega,
-        "kinetic_mean_free_path": 1.0 / (std::f64::consts::SQRT_2 * n * super::store::cross_section(D::D, sim.store.diameter) * sim.selection().correction.mean_factor(nu)),
+        "kinetic_mean_free_path": 1.0 / (std::f64::consts::SQRT_2 * n * crate::dsmc::store::cross_section(D::D, sim.store.diameter) * sim.selection().correction.mean_factor(nu)),
         "relax_steps": plan.relax_steps,
         "measure_steps": plan.measure_steps,
         "output_every_steps": plan.output_every,
