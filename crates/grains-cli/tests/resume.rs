@@ -379,7 +379,7 @@ fn unusable_directories_and_options_exit_2() {
         "0steps",
     ]);
     assert_eq!(code(&o), Some(2), "{}", stderr(&o));
-    let with_measure = format!("{SCENARIO}\n[measure]\ndisplacement = true\n");
+    let with_measure = format!("{SCENARIO}\n[measure]\nspacetime = {{ bin = 1.0 }}\n");
     std::fs::write(&scen, with_measure).unwrap();
     let o = run(&[
         "run",
@@ -390,5 +390,135 @@ fn unusable_directories_and_options_exit_2() {
         "10steps",
     ]);
     assert_eq!(code(&o), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("measure"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("measure.spacetime"), "{}", stderr(&o));
+}
+
+/// Every plain file of a run directory (measurement CSVs and pictures
+/// included) but summary.json and the checkpoints, by name.
+fn all_files(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut v: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_file())
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .filter(|n| n != "summary.json" && !n.ends_with(".grck"))
+        .map(|n| {
+            let b = std::fs::read(dir.join(&n)).unwrap();
+            (n, b)
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+fn summary_measurements(dir: &Path) -> String {
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let keys = [
+        "convection_center_vz",
+        "convection_edge_vz",
+        "convection_strength",
+        "tracer_rms",
+        "transport_velocity",
+    ];
+    keys.iter()
+        .map(|k| {
+            assert!(!s[*k].is_null(), "summary.json lacks {k}");
+            format!("{k}={} ", s[*k])
+        })
+        .collect()
+}
+
+#[test]
+fn measurements_survive_sigint_and_resume_bit_for_bit() {
+    let sb = Sandbox::new("measure");
+    let scen = sb.path("s.toml");
+    let text = SCENARIO.replace("duration = 0.03", "duration = 0.03\nrelax = 0.004")
+        + r#"
+[measure]
+displacement = true
+convection = { band = 0.3 }
+tracer = { id = 7 }
+profiles = { bin = 1.0 }
+phases = { phases = [0.0, 1.5], displacement_after = 0.004 }
+trajectories = { every = 40, cycles = 0.5 }
+"#;
+    std::fs::write(&scen, text).unwrap();
+    let straight = sb.path("straight");
+    let t0 = Instant::now();
+    let o = run(&[
+        "run",
+        scen.to_str().unwrap(),
+        "--out",
+        straight.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+    let full = t0.elapsed().as_millis().max(60) as u64;
+
+    let dir = sb.path("stopped");
+    let d = dir.to_str().unwrap();
+    let seed = std::env::var("GRAINS_KILL_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0xc0ffee_u64 ^ std::process::id() as u64);
+    let mut rng = Lcg(seed);
+    let (mut stops, mut started) = (0, false);
+    loop {
+        let has_ckpt = dir.exists()
+            && std::fs::read_dir(&dir)
+                .unwrap()
+                .any(|e| e.unwrap().file_name().to_string_lossy().ends_with(".grck"));
+        let mut cmd = grains();
+        if !started || !has_ckpt {
+            let _ = std::fs::remove_dir_all(&dir);
+            cmd.args(["run", scen.to_str().unwrap(), "--out", d, "--quiet"])
+                .args(["--checkpoint-every", "700steps"]);
+            started = true;
+        } else {
+            cmd.args(["resume", d, "--quiet"]);
+        }
+        let child = cmd
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        if stops < 4 {
+            let wait = Duration::from_millis(rng.below(full / 2) + 30);
+            std::thread::sleep(wait);
+            let _ = Command::new("kill")
+                .args(["-INT", &child.id().to_string()])
+                .status();
+        }
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"), "seed {seed}: {err}");
+        match out.status.code() {
+            Some(0) => break,
+            // Stopped with a checkpoint, or killed before the handler was set.
+            Some(130) | None => stops += 1,
+            c => panic!("seed {seed}: exit {c:?}: {err}"),
+        }
+    }
+    assert!(stops > 0, "seed {seed}: the run was never stopped");
+    let (a, b) = (all_files(&straight), all_files(&dir));
+    let names = |v: &[(String, Vec<u8>)]| v.iter().map(|f| f.0.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&a), names(&b), "seed {seed}");
+    for name in [
+        "displacement.csv",
+        "tracer.csv",
+        "profiles.csv",
+        "phase_0.csv",
+        "phase_1.csv",
+        "phase_displacement.csv",
+        "trajectories.csv",
+    ] {
+        assert!(names(&a).iter().any(|n| n == name), "no {name}");
+    }
+    for ((na, fa), (_, fb)) in a.iter().zip(&b) {
+        assert!(fa == fb, "seed {seed}: {na} differs after {stops} stops");
+    }
+    assert_eq!(files(&straight), files(&dir), "seed {seed}");
+    assert_eq!(summary_state(&straight), summary_state(&dir));
+    assert_eq!(summary_measurements(&straight), summary_measurements(&dir));
 }

@@ -3,6 +3,7 @@
 //! over samples. Upward flow in the centre and downward at the edges is the
 //! two-roll pattern of Fig. 2; walls (Fig. 3) reverse or keep it.
 
+use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::md::Md;
 
@@ -67,5 +68,26 @@ impl Convection {
         } else {
             self.edge_sum / self.edge_n as f64
         }
+    }
+}
+
+/// Checkpoint state (see `runner::checkpointing`).
+impl Convection {
+    pub fn save(&self, e: &mut Enc) {
+        e.f64(self.band);
+        e.f64(self.center_sum);
+        e.u64(self.center_n);
+        e.f64(self.edge_sum);
+        e.u64(self.edge_n);
+    }
+
+    pub fn load(d: &mut Dec) -> DecResult<Self> {
+        Ok(Self {
+            band: d.f64("convection band")?,
+            center_sum: d.f64("convection sum")?,
+            center_n: d.u64("convection count")?,
+            edge_sum: d.f64("convection sum")?,
+            edge_n: d.u64("convection count")?,
+        })
     }
 }

@@ -4,6 +4,7 @@
 //! samples must be taken often enough that no grain moves half a box between
 //! two of them.
 
+use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::md::Md;
 use std::collections::HashMap;
@@ -70,5 +71,36 @@ impl DisplacementField {
                 }
             })
             .collect()
+    }
+}
+
+/// Checkpoint state (see `runner::checkpointing`).
+impl DisplacementField {
+    pub fn save(&self, e: &mut Enc) {
+        e.len(self.order.len());
+        for id in &self.order {
+            e.u64(*id);
+            let (a, b, c) = &self.tracks[id];
+            for x in a.iter().chain(b).chain(c) {
+                e.f64(*x);
+            }
+        }
+    }
+
+    pub fn load(d: &mut Dec) -> DecResult<Self> {
+        let n = d.len(8 + 9 * 8, "displacement tracks")?;
+        let mut f = Self::default();
+        for _ in 0..n {
+            let id = d.u64("displacement id")?;
+            let mut x = [[0.0; 3]; 3];
+            for v in x.iter_mut().flatten() {
+                *v = d.f64("displacement track")?;
+            }
+            if f.tracks.insert(id, (x[0], x[1], x[2])).is_some() {
+                return Err(format!("displacement: grain {id} twice"));
+            }
+            f.order.push(id);
+        }
+        Ok(f)
     }
 }

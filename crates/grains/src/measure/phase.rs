@@ -5,7 +5,9 @@
 //! positions a fixed time (15 ms in the seed) later.
 
 use super::draw::{draw_walls, faint, hv3, in_box};
+use super::tracer::xyz;
 use crate::boundary::{Motion, Wall};
+use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::picture::draw_arrows;
@@ -167,5 +169,167 @@ impl PhaseSnapshots {
             }
         }
         Ok(())
+    }
+}
+
+fn save_xyz(e: &mut Enc, x: &[f64; 3]) {
+    x.iter().for_each(|v| e.f64(*v));
+}
+
+fn save_opt_f64(e: &mut Enc, v: Option<f64>) {
+    e.bool(v.is_some());
+    e.f64(v.unwrap_or(0.0));
+}
+
+fn load_opt_f64(d: &mut Dec, what: &str) -> DecResult<Option<f64>> {
+    let some = d.bool(what)?;
+    let v = d.f64(what)?;
+    Ok(some.then_some(v))
+}
+
+/// A snapshot frame, every field exact.
+fn save_frame(e: &mut Enc, f: &Frame) {
+    e.u64(f.step);
+    e.f64(f.time);
+    e.len(f.dim);
+    save_xyz(e, &f.box_lo);
+    save_xyz(e, &f.box_hi);
+    f.periodic.iter().for_each(|p| e.bool(*p));
+    e.len(f.id.len());
+    for i in 0..f.id.len() {
+        e.u64(f.id[i]);
+        e.u32(f.kind[i]);
+        save_xyz(e, &f.pos[i]);
+        save_xyz(e, &f.vel[i]);
+        save_xyz(e, &f.omega[i]);
+        e.f64(f.radius[i]);
+    }
+}
+
+fn load_frame(d: &mut Dec) -> DecResult<Frame> {
+    let step = d.u64("snapshot step")?;
+    let time = d.f64("snapshot time")?;
+    let dim = d.u64("snapshot dimension")? as usize;
+    let box_lo = xyz(d, "snapshot box")?;
+    let box_hi = xyz(d, "snapshot box")?;
+    let periodic = [
+        d.bool("snapshot periodicity")?,
+        d.bool("snapshot periodicity")?,
+        d.bool("snapshot periodicity")?,
+    ];
+    let n = d.len(8 + 4 + 10 * 8, "snapshot grains")?;
+    let mut f = Frame {
+        step,
+        time,
+        dim,
+        box_lo,
+        box_hi,
+        periodic,
+        id: Vec::with_capacity(n),
+        kind: Vec::with_capacity(n),
+        pos: Vec::with_capacity(n),
+        vel: Vec::with_capacity(n),
+        omega: Vec::with_capacity(n),
+        radius: Vec::with_capacity(n),
+    };
+    for _ in 0..n {
+        f.id.push(d.u64("snapshot id")?);
+        f.kind.push(d.u32("snapshot type")?);
+        f.pos.push(xyz(d, "snapshot position")?);
+        f.vel.push(xyz(d, "snapshot velocity")?);
+        f.omega.push(xyz(d, "snapshot angular velocity")?);
+        f.radius.push(d.f64("snapshot radius")?);
+    }
+    Ok(f)
+}
+
+/// Checkpoint state (see `runner::checkpointing`).
+impl PhaseSnapshots {
+    pub fn save(&self, e: &mut Enc) {
+        e.f64(self.freq);
+        e.f64(self.phase0);
+        e.f64s(&self.targets);
+        for t in &self.taken {
+            e.bool(t.is_some());
+            if let Some(f) = t {
+                save_frame(e, f);
+            }
+        }
+        e.f64(self.segment_time);
+        save_opt_f64(e, self.after);
+        e.bool(self.disp_from.is_some());
+        if let Some((t0, from)) = &self.disp_from {
+            e.f64(*t0);
+            let mut ids: Vec<_> = from.keys().copied().collect();
+            ids.sort_unstable();
+            e.len(ids.len());
+            for id in ids {
+                e.u64(id);
+                save_xyz(e, &from[&id]);
+            }
+        }
+        e.bool(self.disp.is_some());
+        if let Some(rows) = &self.disp {
+            e.len(rows.len());
+            for (id, a, b) in rows {
+                e.u64(*id);
+                save_xyz(e, a);
+                save_xyz(e, b);
+            }
+        }
+        e.f64(self.t_start);
+        e.f64(self.prev);
+    }
+
+    pub fn load(d: &mut Dec) -> DecResult<Self> {
+        let freq = d.f64("phase frequency")?;
+        let phase0 = d.f64("phase offset")?;
+        let targets = d.f64s("phase targets")?;
+        let mut taken = Vec::with_capacity(targets.len());
+        for _ in 0..targets.len() {
+            taken.push(if d.bool("snapshot flag")? {
+                Some(load_frame(d)?)
+            } else {
+                None
+            });
+        }
+        let segment_time = d.f64("segment time")?;
+        let after = load_opt_f64(d, "displacement interval")?;
+        let disp_from = if d.bool("displacement reference flag")? {
+            let t0 = d.f64("displacement reference time")?;
+            let n = d.len(32, "displacement reference grains")?;
+            let mut map = HashMap::with_capacity(n);
+            for _ in 0..n {
+                let id = d.u64("displacement reference id")?;
+                map.insert(id, xyz(d, "displacement reference position")?);
+            }
+            Some((t0, map))
+        } else {
+            None
+        };
+        let disp = if d.bool("phase displacement flag")? {
+            let n = d.len(56, "phase displacement rows")?;
+            let mut rows = Vec::with_capacity(n);
+            for _ in 0..n {
+                let id = d.u64("phase displacement id")?;
+                let a = xyz(d, "phase displacement start")?;
+                rows.push((id, a, xyz(d, "phase displacement end")?));
+            }
+            Some(rows)
+        } else {
+            None
+        };
+        Ok(Self {
+            freq,
+            phase0,
+            targets,
+            taken,
+            segment_time,
+            after,
+            disp_from,
+            disp,
+            t_start: d.f64("measurement start")?,
+            prev: d.f64("phase cycles")?,
+        })
     }
 }

@@ -5,6 +5,7 @@
 //! velocity of the mobile grains, averaged over the samples.
 
 use super::plot::{save_plot, Series, PALETTE};
+use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::write_atomic;
@@ -148,5 +149,38 @@ impl Profiles {
             lines: true,
         };
         save_plot(&dir.join("profile_velocity.png"), &[vel], false)
+    }
+}
+
+/// Checkpoint state (see `runner::checkpointing`).
+impl Profiles {
+    pub fn save(&self, e: &mut Enc) {
+        e.f64(self.bin);
+        e.f64(self.base);
+        e.f64(self.across);
+        e.len(self.dim);
+        e.f64s(&self.count);
+        e.f64s(&self.volume);
+        e.f64s(&self.vx);
+        e.u64(self.samples);
+        e.f64(self.transport_sum);
+    }
+
+    pub fn load(d: &mut Dec) -> DecResult<Self> {
+        let p = Self {
+            bin: d.f64("profile bin")?,
+            base: d.f64("profile base")?,
+            across: d.f64("profile area")?,
+            dim: d.u64("profile dimension")? as usize,
+            count: d.f64s("profile counts")?,
+            volume: d.f64s("profile volumes")?,
+            vx: d.f64s("profile velocities")?,
+            samples: d.u64("profile samples")?,
+            transport_sum: d.f64("transport sum")?,
+        };
+        if p.count.len() != p.volume.len() || p.count.len() != p.vx.len() {
+            return Err("profiles: bins of different lengths".into());
+        }
+        Ok(p)
     }
 }

@@ -3,6 +3,7 @@
 //! to a small region in the solid-like state, exploring the box when fluid.
 
 use super::draw::{faint, hv3};
+use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::{write_atomic, Frame};
@@ -91,4 +92,40 @@ impl Tracer {
         }
         img.save_png(&dir.join("tracer.png"))
     }
+}
+
+/// Checkpoint state (see `runner::checkpointing`).
+impl Tracer {
+    pub fn save(&self, e: &mut Enc) {
+        e.u64(self.id);
+        e.len(self.rows.len());
+        for (t, x) in &self.rows {
+            e.f64(*t);
+            x.iter().for_each(|v| e.f64(*v));
+        }
+        e.bool(self.last.is_some());
+        self.last.unwrap_or_default().iter().for_each(|v| e.f64(*v));
+    }
+
+    pub fn load(d: &mut Dec) -> DecResult<Self> {
+        let id = d.u64("tracer id")?;
+        let n = d.len(32, "tracer rows")?;
+        let mut rows = Vec::with_capacity(n);
+        for _ in 0..n {
+            let t = d.f64("tracer time")?;
+            rows.push((t, xyz(d, "tracer position")?));
+        }
+        let some = d.bool("tracer last flag")?;
+        let last = xyz(d, "tracer last position")?;
+        Ok(Self {
+            id,
+            rows,
+            last: some.then_some(last),
+        })
+    }
+}
+
+/// Three f64 (a position as xyz).
+pub(crate) fn xyz(d: &mut Dec, what: &str) -> DecResult<[f64; 3]> {
+    Ok([d.f64(what)?, d.f64(what)?, d.f64(what)?])
 }

@@ -4,6 +4,7 @@
 
 use super::draw::{draw_walls, faint, hv3, id_colour};
 use crate::boundary::Wall;
+use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::{write_atomic, Frame};
@@ -66,5 +67,41 @@ impl Trajectories {
         }
         draw_walls(&mut img, walls, last.time, [30, 30, 30], 2.0);
         img.save_png(&dir.join("trajectories.png"))
+    }
+}
+
+/// Checkpoint state (see `runner::checkpointing`).
+impl Trajectories {
+    pub fn save(&self, e: &mut Enc) {
+        e.u64(self.every);
+        e.u64(self.start);
+        e.u64(self.end);
+        e.len(self.rows.len());
+        for (id, s, t, x) in &self.rows {
+            e.u64(*id);
+            e.u64(*s);
+            e.f64(*t);
+            x.iter().for_each(|v| e.f64(*v));
+        }
+    }
+
+    pub fn load(d: &mut Dec) -> DecResult<Self> {
+        let every = d.u64("trajectory interval")?;
+        let start = d.u64("trajectory start")?;
+        let end = d.u64("trajectory end")?;
+        let n = d.len(48, "trajectory rows")?;
+        let mut rows = Vec::with_capacity(n);
+        for _ in 0..n {
+            let id = d.u64("trajectory id")?;
+            let s = d.u64("trajectory step")?;
+            let t = d.f64("trajectory time")?;
+            rows.push((id, s, t, super::tracer::xyz(d, "trajectory position")?));
+        }
+        Ok(Self {
+            every: every.max(1),
+            start,
+            end,
+            rows,
+        })
     }
 }

@@ -9,16 +9,18 @@
 //! Payload (inside the sealed file of [`crate::checkpoint`]): the scenario
 //! as TOML with its origin and base directory, the dimension, the run plan
 //! (relaxation and measured steps), the checkpoint interval, the output
-//! state, then the engine (fingerprint + state).
+//! state, then the engine (fingerprint + state), then the measurement
+//! accumulators (a flag, and when set their length-prefixed bytes: absent
+//! in a checkpoint taken before the measurement began).
 
 use super::output::{OutputState, Outputs};
-use super::{prepare, run_loop, Progress, RunOptions};
+use super::{prepare, run_loop, Measurements, Progress, RunOptions};
 use crate::checkpoint::codec::{Dec, Enc};
 use crate::checkpoint::{self, engine};
 use crate::dim::{Dim, D2, D3};
 use crate::error::{Error, Result};
 use crate::md::Md;
-use crate::scenario::schema::{Dimension, MeasureSpec, Scenario};
+use crate::scenario::schema::{Dimension, Scenario};
 use crate::scenario::{build_md, Loaded};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -73,8 +75,8 @@ impl Every {
 }
 
 /// Why a scenario's state cannot be checkpointed yet, if it cannot: the
-/// measurement accumulators and the flow events (settling, recycling) are
-/// not part of a checkpoint.
+/// flow events (settling, recycling) and the measurements the flow run keeps
+/// (repose, surface_angle, spacetime) are not part of a checkpoint.
 fn blocker(scenario: &Scenario) -> Option<String> {
     if scenario.hopper.is_some() || scenario.run.events.is_some() {
         return Some(
@@ -83,15 +85,24 @@ fn blocker(scenario: &Scenario) -> Option<String> {
                 .to_string(),
         );
     }
-    if scenario.measure == MeasureSpec::default() {
+    let m = &scenario.measure;
+    let flow: Vec<&str> = [
+        ("measure.repose", m.repose.is_some()),
+        ("measure.surface_angle", m.surface_angle.is_some()),
+        ("measure.spacetime", m.spacetime.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(k, on)| on.then_some(k))
+    .collect();
+    if flow.is_empty() {
         return None;
     }
-    Some(
-        "checkpoints do not carry measurement accumulators yet, and this scenario \
-         sets [measure]; remove the [measure] section (or --set its keys off) to \
-         checkpoint this run"
-            .to_string(),
-    )
+    Some(format!(
+        "checkpoints do not carry the state of {} yet; remove {} (or --set it off) \
+         to checkpoint this run",
+        flow.join(", "),
+        if flow.len() == 1 { "it" } else { "them" }
+    ))
 }
 
 /// Writes the checkpoints of one run.
@@ -133,17 +144,19 @@ impl Checkpointer {
     /// A fresh run's checkpoint at step 0 (so a run killed early resumes).
     pub(super) fn at_start<D: Dim>(&mut self, md: &Md<D>, out: &Outputs) -> Result<()> {
         if self.interval.is_some() && md.step == 0 {
-            self.write(md, out)?;
+            self.write(md, out, None)?;
         }
         Ok(())
     }
 
     /// After each step: a checkpoint at the interval; when a stop was asked
-    /// for, a checkpoint and the summary of the interruption.
+    /// for, a checkpoint and the summary of the interruption. `meas`: the
+    /// measurement accumulators once the measurement has begun.
     pub(super) fn after_step<D: Dim>(
         &mut self,
         md: &Md<D>,
         out: &Outputs,
+        meas: Option<&Measurements>,
     ) -> Result<Option<Value>> {
         if self.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst)) {
             let dir = self.dir.display().to_string();
@@ -156,7 +169,7 @@ impl Checkpointer {
                     "message": format!("stopped at step {} without a checkpoint: {why}", md.step),
                 })));
             }
-            let path = self.write(md, out)?;
+            let path = self.write(md, out, meas)?;
             return Ok(Some(json!({
                 "interrupted": true,
                 "step": md.step,
@@ -170,13 +183,18 @@ impl Checkpointer {
         }
         if let Some(n) = self.interval {
             if md.step.is_multiple_of(n) {
-                self.write(md, out)?;
+                self.write(md, out, meas)?;
             }
         }
         Ok(None)
     }
 
-    fn write<D: Dim>(&self, md: &Md<D>, out: &Outputs) -> Result<PathBuf> {
+    fn write<D: Dim>(
+        &self,
+        md: &Md<D>,
+        out: &Outputs,
+        meas: Option<&Measurements>,
+    ) -> Result<PathBuf> {
         let mut e = Enc::default();
         e.str(&self.scenario);
         e.str(&self.origin);
@@ -190,6 +208,7 @@ impl Checkpointer {
         let eng = engine::encode(md)?;
         e.len(eng.len());
         e.buf.extend_from_slice(&eng);
+        encode_measurements(&mut e, meas);
         checkpoint::write(&self.dir, md.step, &e.buf)
     }
 }
@@ -204,6 +223,24 @@ fn scenario_text(s: &Scenario) -> Result<String> {
             "checkpoint: the scenario does not survive a TOML round trip; cannot checkpoint it",
         )),
     }
+}
+
+/// The measurement section: a flag, then the accumulators' bytes.
+fn encode_measurements(e: &mut Enc, meas: Option<&Measurements>) {
+    e.bool(meas.is_some());
+    if let Some(m) = meas {
+        let bytes = m.save();
+        e.len(bytes.len());
+        e.buf.extend_from_slice(&bytes);
+    }
+}
+
+fn decode_measurements(d: &mut Dec) -> std::result::Result<Option<Vec<u8>>, String> {
+    if !d.bool("measurement flag")? {
+        return Ok(None);
+    }
+    let n = d.len(1, "measurement state")?;
+    Ok(Some(d.take(n, "measurement state")?.to_vec()))
 }
 
 fn encode_outputs(e: &mut Enc, o: &OutputState) {
@@ -238,6 +275,7 @@ pub struct Found {
     interval: u64,
     outputs: OutputState,
     engine: Vec<u8>,
+    measurements: Option<Vec<u8>>,
 }
 
 /// Decodes a checkpoint payload (from `path`, for messages).
@@ -266,14 +304,24 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
         let step = d.u64("step")?;
         let n = d.len(1, "engine state")?;
         let engine = d.take(n, "engine state")?.to_vec();
+        let measurements = decode_measurements(&mut d)?;
         if d.remaining() != 0 {
             return Err(format!("{} unexpected bytes at the end", d.remaining()));
         }
         Ok((
-            scenario, origin, base_dir, dim, plan, interval, outputs, step, engine,
+            scenario,
+            origin,
+            base_dir,
+            dim,
+            plan,
+            interval,
+            outputs,
+            step,
+            engine,
+            measurements,
         ))
     };
-    let (scenario, origin, base_dir, dim, plan, interval, outputs, step, engine) =
+    let (scenario, origin, base_dir, dim, plan, interval, outputs, step, engine, measurements) =
         go().map_err(|e| Error::input(format!("checkpoint {}: {e}", path.display())))?;
     let scenario: Scenario = toml::from_str(&scenario).map_err(|e| {
         Error::input(format!(
@@ -310,6 +358,7 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
         interval,
         outputs,
         engine,
+        measurements,
     })
 }
 
@@ -425,6 +474,27 @@ fn resume_dim<D: Dim>(
             md.step
         )));
     }
+    let restored = match &found.measurements {
+        Some(bytes) if md.step > relax => Some(
+            Measurements::load(loaded, bytes)
+                .map_err(|e| Error::input(format!("checkpoint {}: {e}", found.path.display())))?,
+        ),
+        Some(_) => {
+            return Err(Error::input(format!(
+                "checkpoint {}: measurement state at step {}, before the measurement begins",
+                found.path.display(),
+                md.step
+            )))
+        }
+        None if md.step > relax => {
+            return Err(Error::input(format!(
+                "checkpoint {}: step {} lies in the measurement but carries no measurement state",
+                found.path.display(),
+                md.step
+            )))
+        }
+        None => None,
+    };
     let outputs = Outputs::resume(&opts.out_dir, &loaded.scenario.output, &found.outputs)?;
     run_loop(
         loaded,
@@ -433,6 +503,7 @@ fn resume_dim<D: Dim>(
         &resolved,
         outputs,
         (relax, measure),
+        restored,
         progress,
     )
 }

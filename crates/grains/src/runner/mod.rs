@@ -10,6 +10,7 @@ mod dsmc;
 pub mod flow;
 mod output;
 
+use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use crate::dim::{Dim, D2, D3};
 use crate::error::{Error, Result};
 use crate::io::Frame;
@@ -132,7 +133,7 @@ fn resolved_json<D: Dim>(loaded: &Loaded, md: &Md<D>, r: &Resolved) -> Value {
 }
 
 /// Measurements the scenario asked for.
-struct Measurements {
+pub(crate) struct Measurements {
     displacement: Option<DisplacementField>,
     convection: Option<Convection>,
     phases: Option<PhaseSnapshots>,
@@ -181,6 +182,78 @@ impl Measurements {
             profiles: m.profiles.as_ref().map(|p| Profiles::new(md, p.bin * d0)),
             trajectories,
         })
+    }
+
+    /// The accumulators as checkpoint bytes: for each measurement in a
+    /// fixed order a presence flag, then its state.
+    fn save(&self) -> Vec<u8> {
+        let mut e = Enc::default();
+        fn one<T>(e: &mut Enc, m: &Option<T>, save: impl Fn(&T, &mut Enc)) {
+            e.bool(m.is_some());
+            if let Some(m) = m {
+                save(m, e);
+            }
+        }
+        one(&mut e, &self.displacement, DisplacementField::save);
+        one(&mut e, &self.convection, Convection::save);
+        one(&mut e, &self.phases, PhaseSnapshots::save);
+        one(&mut e, &self.tracer, Tracer::save);
+        one(&mut e, &self.profiles, Profiles::save);
+        one(&mut e, &self.trajectories, Trajectories::save);
+        e.buf
+    }
+
+    /// The accumulators saved by [`Measurements::save`]; each must be present
+    /// exactly when the scenario asks for it.
+    fn load(loaded: &Loaded, bytes: &[u8]) -> std::result::Result<Self, String> {
+        let m = &loaded.scenario.measure;
+        let mut d = Dec::new(bytes);
+        fn one<T>(
+            d: &mut Dec,
+            name: &str,
+            want: bool,
+            load: impl Fn(&mut Dec) -> DecResult<T>,
+        ) -> DecResult<Option<T>> {
+            let has = d.bool(name)?;
+            if has != want {
+                return Err(format!(
+                    "measurement {name}: {} in the checkpoint but {} in the scenario",
+                    if has { "present" } else { "absent" },
+                    if want { "asked for" } else { "not asked for" }
+                ));
+            }
+            has.then(|| load(d)).transpose()
+        }
+        let out = Self {
+            displacement: one(
+                &mut d,
+                "displacement",
+                m.displacement,
+                DisplacementField::load,
+            )?,
+            convection: one(
+                &mut d,
+                "convection",
+                m.convection.is_some(),
+                Convection::load,
+            )?,
+            phases: one(&mut d, "phases", m.phases.is_some(), PhaseSnapshots::load)?,
+            tracer: one(&mut d, "tracer", m.tracer.is_some(), Tracer::load)?,
+            profiles: one(&mut d, "profiles", m.profiles.is_some(), Profiles::load)?,
+            trajectories: one(
+                &mut d,
+                "trajectories",
+                m.trajectories.is_some(),
+                Trajectories::load,
+            )?,
+        };
+        if d.remaining() != 0 {
+            return Err(format!(
+                "{} unexpected bytes after the measurements",
+                d.remaining()
+            ));
+        }
+        Ok(out)
     }
 
     /// After every step (phase- and step-exact measurements).
@@ -262,12 +335,14 @@ fn run_dim<D: Dim>(
         &resolved,
         outputs,
         (relax, measure),
+        None,
         progress,
     )
 }
 
 /// The run loop from wherever `md` stands (step 0, or a restored
 /// checkpoint) to `relax + measure` steps, then the final files.
+#[allow(clippy::too_many_arguments)] // the loop's whole context, shared by run and resume
 fn run_loop<D: Dim>(
     loaded: &Loaded,
     opts: &RunOptions,
@@ -275,6 +350,7 @@ fn run_loop<D: Dim>(
     resolved: &Resolved,
     mut outputs: Outputs,
     (relax, measure): (u64, u64),
+    restored: Option<Measurements>,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
     let started = Instant::now();
@@ -296,15 +372,23 @@ fn run_loop<D: Dim>(
             if k % 256 == 0 || k == relax {
                 progress.advance(k, md.time);
             }
-            if let Some(stop) = ckpt.after_step(&md, &outputs)? {
+            if let Some(stop) = ckpt.after_step(&md, &outputs, None)? {
                 progress.finish();
                 return Ok(stop);
             }
         }
     }
     progress.phase("run", measure);
-    let measure_done = md.step - relax_done;
-    let mut measurements = Measurements::begin(loaded, &md, measure - measure_done, resolved.dt)?;
+    // Measured steps already done: none in a straight run after relaxing
+    // (md.step == relax here), some when resumed inside the measurement.
+    let measure_done = md.step - md.step.min(relax);
+    // A checkpoint taken during the measurement carries its accumulators;
+    // one taken before it (relaxation, step 0) does not, and they begin here
+    // as in a straight run.
+    let mut measurements = match restored {
+        Some(m) => m,
+        None => Measurements::begin(loaded, &md, measure - measure_done, resolved.dt)?,
+    };
     if measure_done == 0 {
         outputs.record(&md, &md.frame(), granular_temperature(&md.particles))?;
     }
@@ -322,7 +406,7 @@ fn run_loop<D: Dim>(
         if k % 256 == 0 || k == measure {
             progress.advance(k, md.time);
         }
-        if let Some(stop) = ckpt.after_step(&md, &outputs)? {
+        if let Some(stop) = ckpt.after_step(&md, &outputs, Some(&measurements))? {
             progress.finish();
             return Ok(stop);
         }
