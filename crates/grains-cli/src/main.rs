@@ -216,12 +216,7 @@ fn execute(cli: Cli) -> grains::Result<ExitCode> {
                 out_dir: out_dir.clone(),
                 steps,
                 checkpoint_every: every,
-                // DSMC runs do not watch the flag: Ctrl-C keeps its default there.
-                stop: if loaded.scenario.method == grains::dsmc::Method::Dsmc {
-                    None
-                } else {
-                    Some(stop_flag()?)
-                },
+                stop: Some(stop_flag()?),
             };
             let mut progress = progress::for_terminal(quiet);
             if !quiet {

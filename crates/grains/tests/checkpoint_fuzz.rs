@@ -319,6 +319,10 @@ fn good_checkpoint() -> &'static (PathBuf, Vec<u8>) {
 /// Reads a checkpoint from `bytes`; when it decodes, resumes it for two
 /// steps. Returns how far it got: 0 refused, 1 decoded, 2 resumed.
 fn read_and_resume(dir: &Path, bytes: &[u8]) -> usize {
+    // Tests run in parallel and share `dir` (its checkpoint and the outputs
+    // a resume appends to): one case at a time.
+    static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let p = dir.join("fuzz-case.grck");
     std::fs::write(&p, bytes).unwrap();
     match checkpointing::find(&p) {

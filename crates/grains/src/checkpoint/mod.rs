@@ -16,6 +16,7 @@
 //! See `docs/checkpoints.md`.
 
 pub mod codec;
+pub mod dsmc;
 pub mod engine;
 pub mod state;
 

@@ -7,6 +7,7 @@
 
 use super::collide::GasDim;
 use super::engine::Dsmc;
+use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use serde_json::{json, Value};
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -165,6 +166,59 @@ impl Validity {
         }
         self.total_time += dt_window;
         new
+    }
+
+    /// The accumulated state, for a checkpoint (the region layout is
+    /// rebuilt from the engine by [`Validity::new`]).
+    pub fn encode(&self, e: &mut Enc) {
+        e.len(self.total.len());
+        for a in &self.total {
+            e.f64(a.particle_samples);
+            e.u64(a.samples);
+            e.f64(a.speed_sum);
+            e.u64(a.collisions);
+            e.f64(a.time);
+        }
+        e.f64(self.total_time);
+        e.f64(self.last_time);
+        for w in &self.warned {
+            w.iter().for_each(|&b| e.bool(b));
+        }
+        e.len(self.warnings.len());
+        self.warnings.iter().for_each(|w| e.str(w));
+    }
+
+    /// Reads back what [`Validity::encode`] wrote into a `Validity` built
+    /// by [`Validity::new`] for the same engine and region count.
+    pub fn decode(&mut self, d: &mut Dec) -> DecResult<()> {
+        let n = d.len(40, "validity regions")?;
+        if n != self.regions {
+            return Err(format!(
+                "validity: {n} regions, the scenario has {}",
+                self.regions
+            ));
+        }
+        for a in &mut self.total {
+            *a = Acc {
+                particle_samples: d.f64("validity")?,
+                samples: d.u64("validity")?,
+                speed_sum: d.f64("validity")?,
+                collisions: d.u64("validity")?,
+                time: d.f64("validity")?,
+            };
+        }
+        self.total_time = d.f64("validity time")?;
+        self.last_time = d.f64("validity time")?;
+        for w in &mut self.warned {
+            for b in w.iter_mut() {
+                *b = d.bool("validity warned")?;
+            }
+        }
+        let n = d.len(8, "validity warnings")?;
+        self.warnings = (0..n)
+            .map(|_| d.str("validity warning"))
+            .collect::<DecResult<_>>()?;
+        Ok(())
     }
 
     /// Figures over the whole run, per region and overall.

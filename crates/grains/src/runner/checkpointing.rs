@@ -214,7 +214,7 @@ impl Checkpointer {
 }
 
 /// The scenario as TOML text that reads back to an equal scenario.
-fn scenario_text(s: &Scenario) -> Result<String> {
+pub(super) fn scenario_text(s: &Scenario) -> Result<String> {
     let text = toml::to_string(s)
         .map_err(|e| Error::input(format!("checkpoint: cannot write the scenario: {e}")))?;
     match toml::from_str::<Scenario>(&text) {
@@ -243,7 +243,7 @@ fn decode_measurements(d: &mut Dec) -> std::result::Result<Option<Vec<u8>>, Stri
     Ok(Some(d.take(n, "measurement state")?.to_vec()))
 }
 
-fn encode_outputs(e: &mut Enc, o: &OutputState) {
+pub(super) fn encode_outputs(e: &mut Enc, o: &OutputState) {
     e.u64(o.thermo_len);
     opt(e, o.dump_len);
     e.len(o.frames.len());
@@ -426,6 +426,12 @@ fn resume_on_pool(
     }
     prepare(&opts.out_dir)?;
     checkpoint::remove_stale_temporaries(&opts.out_dir);
+    if found.loaded.scenario.method == crate::dsmc::Method::Dsmc {
+        let f = &found;
+        return super::dsmc::resume(
+            &f.loaded, &f.path, f.step, f.plan, &f.outputs, &f.engine, steps, &opts, progress,
+        );
+    }
     match found.dim {
         2 => resume_dim::<D2>(found, steps, &opts, progress),
         _ => resume_dim::<D3>(found, steps, &opts, progress),
@@ -439,9 +445,10 @@ fn resume_dim<D: Dim>(
     progress: &mut dyn Progress,
 ) -> Result<Value> {
     let loaded = &found.loaded;
-    if loaded.scenario.method == crate::dsmc::Method::Dsmc {
+    if checkpoint::dsmc::is_dsmc(&found.engine) {
         return Err(Error::input(format!(
-            "checkpoint {}: DSMC runs cannot be resumed yet",
+            "checkpoint {}: holds a DSMC engine state, but its scenario is an MD run \
+             (method = \"dsmc\" is not set); the file cannot be resumed as MD",
             found.path.display()
         )));
     }

@@ -1,23 +1,29 @@
 //! Runs a `method = "dsmc"` scenario: build, relax, measure, write
 //! thermo.csv, frames, profiles.csv and summary.json.
 
+use super::checkpointing::{encode_outputs, scenario_text};
+use super::output::OutputState;
 use super::{prepare, Progress, RunOptions};
+use crate::checkpoint::codec::{Dec, DecResult, Enc};
+use crate::checkpoint::{self, dsmc as ckdsmc};
 use crate::dim::{Dim, D2, D3};
 use crate::domain::Domain;
-use crate::dsmc::collide::GasDim;
+use crate::dsmc::collide::{GasDim, Tally};
 use crate::dsmc::diagnostics::Validity;
 use crate::dsmc::engine::{haff_time, maxwellian, Dsmc, DsmcSettings, PlaneWall};
 use crate::dsmc::rng::Stream;
 use crate::dsmc::spec::DsmcSpec;
 use crate::dsmc::store::{particle_volume, Particle, Store};
 use crate::error::{Error, Result};
-use crate::io::{render_particles, Frame, PictureOptions, ThermoWriter, VtkSeries};
+use crate::io::{render_particles, Frame, Num, PictureOptions, ThermoWriter, VtkSeries};
 use crate::scenario::build::vector;
 use crate::scenario::resolve::cycle_frequency;
 use crate::scenario::schema::{Dimension, MotionSpec, Placement, ShapeSpec, TimeStep};
 use crate::scenario::Loaded;
 use serde_json::{json, Map, Value};
 use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 /// Columns of a DSMC thermo.csv.
@@ -347,6 +353,29 @@ impl Profiles {
         }
         self.samples += 1;
     }
+    fn encode(&self, e: &mut Enc) {
+        e.f64s(&self.count);
+        e.len(self.vsum.len());
+        self.vsum.iter().flatten().for_each(|&x| e.f64(x));
+        e.f64s(&self.v2);
+        e.u64(self.samples);
+    }
+    fn decode(&mut self, d: &mut Dec) -> DecResult<()> {
+        let bins = self.count.len();
+        let count = d.f64s("profile counts")?;
+        let n = d.len(24, "profile velocities")?;
+        let mut vsum = Vec::with_capacity(n);
+        for _ in 0..n {
+            vsum.push([d.f64("profile")?, d.f64("profile")?, d.f64("profile")?]);
+        }
+        let v2 = d.f64s("profile speeds")?;
+        if count.len() != bins || vsum.len() != bins || v2.len() != bins {
+            return Err(format!("profiles: the scenario has {bins} bins"));
+        }
+        (self.count, self.vsum, self.v2) = (count, vsum, v2);
+        self.samples = d.u64("profile samples")?;
+        Ok(())
+    }
     fn csv<D: GasDim>(&self, sim: &Dsmc<D>) -> String {
         let mut out = String::from("height,number_density,packing_fraction,granular_temperature\n");
         let slab = sim.domain.volume() / sim.domain.length(D::vertical()) * self.width;
@@ -372,80 +401,449 @@ impl Profiles {
     }
 }
 
+/// thermo.csv and the frames of a DSMC run: fresh, or reopened after a
+/// resume (cut back to where they stood at the checkpoint).
+struct Outputs {
+    dir: PathBuf,
+    thermo: Thermo,
+    frames: Option<VtkSeries>,
+}
+
+enum Thermo {
+    Fresh(ThermoWriter),
+    Appended { path: PathBuf, file: std::fs::File },
+}
+
+impl Outputs {
+    fn create(dir: &Path, frames: bool) -> Result<Self> {
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            thermo: Thermo::Fresh(ThermoWriter::create(
+                &dir.join("thermo.csv"),
+                &THERMO_COLUMNS,
+            )?),
+            frames: if frames {
+                Some(VtkSeries::new(dir)?)
+            } else {
+                None
+            },
+        })
+    }
+
+    fn resume(dir: &Path, frames: bool, state: &OutputState) -> Result<Self> {
+        let path = dir.join("thermo.csv");
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(&path)
+            .map_err(|e| Error::io(&path, e))?;
+        let have = file.metadata().map_err(|e| Error::io(&path, e))?.len();
+        if have < state.thermo_len {
+            return Err(Error::input(format!(
+                "{}: {have} bytes, shorter than the {} bytes the checkpoint saw; \
+                 the run directory was changed after the checkpoint",
+                path.display(),
+                state.thermo_len
+            )));
+        }
+        file.set_len(state.thermo_len)
+            .map_err(|e| Error::io(&path, e))?;
+        drop(file);
+        let file = std::fs::OpenOptions::new()
+            .append(true)
+            .open(&path)
+            .map_err(|e| Error::io(&path, e))?;
+        let frames = if frames {
+            let mut series = VtkSeries::new(dir)?;
+            series.collection.entries = state.frames.clone();
+            series.collection.write()?;
+            Some(series)
+        } else {
+            None
+        };
+        Ok(Self {
+            dir: dir.to_path_buf(),
+            thermo: Thermo::Appended { path, file },
+            frames,
+        })
+    }
+
+    fn state(&self) -> Result<OutputState> {
+        let p = self.dir.join("thermo.csv");
+        Ok(OutputState {
+            thermo_len: std::fs::metadata(&p).map_err(|e| Error::io(&p, e))?.len(),
+            dump_len: None,
+            frames: self
+                .frames
+                .as_ref()
+                .map(|f| f.collection.entries.clone())
+                .unwrap_or_default(),
+            last_step: None,
+        })
+    }
+
+    fn write_row(&mut self, values: &[f64]) -> Result<()> {
+        match &mut self.thermo {
+            Thermo::Fresh(w) => w.write_row(values),
+            Thermo::Appended { path, file } => {
+                use std::io::Write as _;
+                let mut line = String::new();
+                for (k, v) in values.iter().enumerate() {
+                    if k > 0 {
+                        line.push(',');
+                    }
+                    let _ = write!(line, "{}", Num(*v));
+                }
+                line.push('\n');
+                file.write_all(line.as_bytes())
+                    .map_err(|e| Error::io(path.as_path(), e))
+            }
+        }
+    }
+}
+
+/// What the measured part of a run accumulates (absent before it starts).
+struct Measure {
+    t_start: f64,
+    temp0: f64,
+    c0: Tally,
+    validity: Validity,
+    profiles: Option<Profiles>,
+}
+
+impl Measure {
+    fn new<D: GasDim>(sim: &Dsmc<D>, ds: &DsmcSpec) -> Self {
+        Self {
+            t_start: sim.time,
+            temp0: sim.store.granular_temperature(),
+            c0: sim.totals,
+            validity: Validity::new(sim, ds.regions),
+            profiles: (ds.profile_bins > 0).then(|| Profiles::new(sim, ds.profile_bins)),
+        }
+    }
+
+    fn encode(&self, e: &mut Enc) {
+        e.f64(self.t_start);
+        e.f64(self.temp0);
+        e.u64(self.c0.candidates);
+        e.u64(self.c0.collisions);
+        self.validity.encode(e);
+        e.bool(self.profiles.is_some());
+        if let Some(p) = &self.profiles {
+            p.encode(e);
+        }
+    }
+
+    fn decode<D: GasDim>(sim: &Dsmc<D>, ds: &DsmcSpec, d: &mut Dec) -> DecResult<Self> {
+        let mut m = Self::new(sim, ds);
+        m.t_start = d.f64("measure start")?;
+        m.temp0 = d.f64("initial temperature")?;
+        m.c0 = Tally {
+            candidates: d.u64("initial candidates")?,
+            collisions: d.u64("initial collisions")?,
+        };
+        m.validity.decode(d)?;
+        let has = d.bool("profiles")?;
+        match (&mut m.profiles, has) {
+            (Some(p), true) => p.decode(d)?,
+            (None, false) => {}
+            _ => return Err("profiles: presence differs from the scenario".into()),
+        }
+        Ok(m)
+    }
+
+    fn row<D: GasDim>(&self, sim: &Dsmc<D>) -> [f64; 6] {
+        let n = sim.store.len() as f64;
+        [
+            sim.step as f64,
+            sim.time - self.t_start,
+            sim.store.kinetic_energy(),
+            sim.store.granular_temperature(),
+            2.0 * (sim.totals.collisions - self.c0.collisions) as f64 / n,
+            (sim.totals.candidates - self.c0.candidates) as f64 / n,
+        ]
+    }
+}
+
+/// Writes the checkpoints of a DSMC run. The payload has the layout of the
+/// MD runner's (see `checkpointing`), so [`super::checkpointing::find`]
+/// reads both; the engine field is a DSMC state
+/// ([`crate::checkpoint::dsmc`], tagged) followed by the [`Measure`] state.
+struct Checkpoints {
+    dir: PathBuf,
+    interval: Option<u64>,
+    stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
+    scenario: String,
+    origin: String,
+    base_dir: String,
+    plan: (u64, u64),
+}
+
+impl Checkpoints {
+    fn new(loaded: &Loaded, opts: &RunOptions, dt: f64, plan: (u64, u64)) -> Result<Self> {
+        Ok(Self {
+            dir: opts.out_dir.clone(),
+            interval: opts.checkpoint_every.map(|e| e.steps(dt)),
+            stop: opts.stop.clone(),
+            scenario: scenario_text(&loaded.scenario)?,
+            origin: loaded.origin.clone(),
+            base_dir: loaded.base_dir.to_string_lossy().into_owned(),
+            plan,
+        })
+    }
+
+    fn write<D: GasDim>(
+        &self,
+        sim: &Dsmc<D>,
+        out: &Outputs,
+        m: Option<&Measure>,
+    ) -> Result<PathBuf> {
+        let mut e = Enc::default();
+        e.str(&self.scenario);
+        e.str(&self.origin);
+        e.str(&self.base_dir);
+        e.u8(D::D as u8);
+        e.u64(self.plan.0);
+        e.u64(self.plan.1);
+        e.u64(self.interval.unwrap_or(0));
+        encode_outputs(&mut e, &out.state()?);
+        e.u64(sim.step);
+        let mut eng = Enc {
+            buf: ckdsmc::encode(sim),
+        };
+        eng.bool(m.is_some());
+        if let Some(m) = m {
+            m.encode(&mut eng);
+        }
+        e.len(eng.buf.len());
+        e.buf.extend_from_slice(&eng.buf);
+        // The MD measurement section, always empty here: DSMC keeps its
+        // measurement state inside its engine field.
+        e.bool(false);
+        checkpoint::write(&self.dir, sim.step, &e.buf)
+    }
+
+    /// After each step: a checkpoint at the interval; when a stop was asked
+    /// for, a checkpoint and the summary of the interruption.
+    fn after_step<D: GasDim>(
+        &self,
+        sim: &Dsmc<D>,
+        out: &Outputs,
+        m: Option<&Measure>,
+    ) -> Result<Option<Value>> {
+        if self.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst)) {
+            let path = self.write(sim, out, m)?;
+            return Ok(Some(json!({
+                "interrupted": true,
+                "step": sim.step,
+                "time": sim.time,
+                "checkpoint": path.display().to_string(),
+                "message": format!(
+                    "stopped at step {} (t = {:.6e} s); checkpoint {}; continue with: grains resume {}",
+                    sim.step, sim.time, path.display(), self.dir.display()
+                ),
+            })));
+        }
+        if let Some(n) = self.interval {
+            if sim.step.is_multiple_of(n) {
+                self.write(sim, out, m)?;
+            }
+        }
+        Ok(None)
+    }
+}
+
 fn run_dim<D: GasDim>(
     loaded: &Loaded,
     opts: &RunOptions,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
     prepare(&opts.out_dir)?;
-    let ds = spec(loaded);
-    let (mut sim, plan) = build::<D>(loaded)?;
-    let mut summary = match describe(loaded, &sim, &plan) {
+    let (sim, plan) = build::<D>(loaded)?;
+    let summary = match describe(loaded, &sim, &plan) {
         Value::Object(m) => m,
         _ => Map::new(),
     };
-    let dir = &opts.out_dir;
-    let mut thermo = ThermoWriter::create(&dir.join("thermo.csv"), &THERMO_COLUMNS)?;
-    let mut frames = if loaded.scenario.output.frames {
-        Some(VtkSeries::new(dir)?)
-    } else {
-        None
-    };
-    let (relax, measure) = match opts.steps {
+    let outputs = Outputs::create(&opts.out_dir, loaded.scenario.output.frames)?;
+    let steps = match opts.steps {
         Some(n) => (0, n),
         None => (plan.relax_steps, plan.measure_steps),
     };
+    run_loop(
+        loaded, opts, sim, &plan, steps, outputs, None, summary, progress,
+    )
+}
+
+/// Continues a DSMC run from a checkpoint read by
+/// [`super::checkpointing::find`].
+#[allow(clippy::too_many_arguments)]
+pub(super) fn resume(
+    loaded: &Loaded,
+    path: &Path,
+    step: u64,
+    plan: (u64, u64),
+    outputs: &OutputState,
+    engine: &[u8],
+    steps: Option<u64>,
+    opts: &RunOptions,
+    progress: &mut dyn Progress,
+) -> Result<Value> {
+    let args = (path, step, plan, outputs, engine, steps);
+    match loaded.scenario.dimension {
+        Dimension::Two => resume_dim::<D2>(loaded, args, opts, progress),
+        Dimension::Three => resume_dim::<D3>(loaded, args, opts, progress),
+    }
+}
+
+type ResumeArgs<'a> = (
+    &'a Path,
+    u64,
+    (u64, u64),
+    &'a OutputState,
+    &'a [u8],
+    Option<u64>,
+);
+
+fn resume_dim<D: GasDim>(
+    loaded: &Loaded,
+    (path, step, (mut relax, mut measure), outputs, engine, steps): ResumeArgs,
+    opts: &RunOptions,
+    progress: &mut dyn Progress,
+) -> Result<Value> {
+    let origin = path.display().to_string();
+    let (mut sim, plan) = build::<D>(loaded)?;
+    // The description of the run as it started (before the restore).
+    let summary = match describe(loaded, &sim, &plan) {
+        Value::Object(m) => m,
+        _ => Map::new(),
+    };
+    let rest = ckdsmc::restore(&mut sim, engine, &origin)?;
+    if sim.step != step {
+        return Err(Error::input(format!(
+            "checkpoint {origin}: header step {step} but engine step {}",
+            sim.step
+        )));
+    }
+    let ds = spec(loaded);
+    let mut d = Dec::new(rest);
+    let mut read = || -> DecResult<Option<Measure>> {
+        let m = if d.bool("measure state")? {
+            Some(Measure::decode(&sim, &ds, &mut d)?)
+        } else {
+            None
+        };
+        if d.remaining() != 0 {
+            return Err(format!("{} unexpected bytes at the end", d.remaining()));
+        }
+        Ok(m)
+    };
+    let m = read().map_err(|e| Error::input(format!("checkpoint {origin}: {e}")))?;
+    if let Some(n) = steps {
+        let end = sim
+            .step
+            .checked_add(n)
+            .ok_or_else(|| Error::input("--steps too large"))?;
+        if end <= relax {
+            (relax, measure) = (end, 0);
+        } else {
+            measure = end - relax;
+        }
+    } else if sim.step > relax + measure {
+        return Err(Error::input(format!(
+            "checkpoint {origin}: step {} lies beyond the run's end",
+            sim.step
+        )));
+    }
+    let outputs = Outputs::resume(&opts.out_dir, loaded.scenario.output.frames, outputs)?;
+    run_loop(
+        loaded,
+        opts,
+        sim,
+        &plan,
+        (relax, measure),
+        outputs,
+        m,
+        summary,
+        progress,
+    )
+}
+
+/// The run from wherever `sim` stands (step 0, or a restored checkpoint
+/// with its measurement state `m`) to `relax + measure` steps, then the
+/// final files.
+#[allow(clippy::too_many_arguments)]
+fn run_loop<D: GasDim>(
+    loaded: &Loaded,
+    opts: &RunOptions,
+    mut sim: Dsmc<D>,
+    plan: &Plan,
+    (relax, measure): (u64, u64),
+    mut outputs: Outputs,
+    m: Option<Measure>,
+    mut summary: Map<String, Value>,
+    progress: &mut dyn Progress,
+) -> Result<Value> {
+    let ds = spec(loaded);
+    let dir = &opts.out_dir;
     let every = plan.output_every;
     let started = Instant::now();
-    if relax > 0 {
+    let first_step = sim.step;
+    let ck = Checkpoints::new(loaded, opts, sim.settings.dt, (relax, measure))?;
+    if ck.interval.is_some() && sim.step == 0 {
+        ck.write(&sim, &outputs, m.as_ref())?;
+    }
+    let relax_done = sim.step.min(relax);
+    if relax > relax_done {
         progress.phase("relax", relax);
-        for k in 1..=relax {
+        for k in relax_done + 1..=relax {
             sim.step();
             if k % 256 == 0 || k == relax {
                 progress.advance(k, sim.time);
             }
+            if let Some(stop) = ck.after_step(&sim, &outputs, None)? {
+                progress.finish();
+                return Ok(stop);
+            }
         }
     }
-    let t_start = sim.time;
-    let temp0 = sim.store.granular_temperature();
-    let c0 = sim.totals;
-    let n = sim.store.len() as f64;
-    let mut validity = Validity::new(&sim, ds.regions);
-    let mut profiles = (ds.profile_bins > 0).then(|| Profiles::new(&sim, ds.profile_bins));
-    let profile_every = (every / 10).max(1);
-    let mut write = |sim: &Dsmc<D>, frames: &mut Option<VtkSeries>| -> Result<()> {
-        thermo.write_row(&[
-            sim.step as f64,
-            sim.time - t_start,
-            sim.store.kinetic_energy(),
-            sim.store.granular_temperature(),
-            2.0 * (sim.totals.collisions - c0.collisions) as f64 / n,
-            (sim.totals.candidates - c0.candidates) as f64 / n,
-        ])?;
-        if let Some(f) = frames {
+    let write = |sim: &Dsmc<D>, m: &Measure, outputs: &mut Outputs| -> Result<()> {
+        outputs.write_row(&m.row(sim))?;
+        if let Some(f) = &mut outputs.frames {
             f.write(&frame(sim))?;
         }
         Ok(())
     };
     progress.phase("run", measure);
-    // Discard the relaxation's collisions from the validity window.
-    validity.sample(&mut sim);
-    write(&sim, &mut frames)?;
-    for k in 1..=measure {
+    let mut m = match m {
+        Some(m) => m,
+        None => {
+            let mut m = Measure::new(&sim, &ds);
+            // Discard the relaxation's collisions from the validity window.
+            m.validity.sample(&mut sim);
+            write(&sim, &m, &mut outputs)?;
+            m
+        }
+    };
+    let profile_every = (every / 10).max(1);
+    let measure_done = sim.step - relax;
+    for k in measure_done + 1..=measure {
         sim.step();
-        if let Some(p) = &mut profiles {
+        if let Some(p) = &mut m.profiles {
             if k % profile_every == 0 {
                 p.sample(&sim);
             }
         }
         if k % every == 0 || k == measure {
-            write(&sim, &mut frames)?;
-            for w in validity.sample(&mut sim) {
+            write(&sim, &m, &mut outputs)?;
+            for w in m.validity.sample(&mut sim) {
                 eprintln!("warning: {w}");
             }
         }
         if k % 256 == 0 || k == measure {
             progress.advance(k, sim.time);
+        }
+        if let Some(stop) = ck.after_step(&sim, &outputs, Some(&m))? {
+            progress.finish();
+            return Ok(stop);
         }
     }
     progress.finish();
@@ -454,9 +852,10 @@ fn run_dim<D: GasDim>(
         render_particles(&frame(&sim), &PictureOptions::default())
             .save_png(&dir.join("final.png"))?;
     }
-    if let Some(p) = &profiles {
+    if let Some(p) = &m.profiles {
         crate::io::write_atomic(&dir.join("profiles.csv"), p.csv(&sim).as_bytes())?;
     }
+    let n = sim.store.len() as f64;
     let steps = relax + measure;
     summary.remove("source");
     summary.insert("steps".into(), json!(steps));
@@ -464,7 +863,7 @@ fn run_dim<D: GasDim>(
     summary.insert("wall_seconds".into(), json!(wall));
     summary.insert(
         "ns_per_particle_step".into(),
-        json!(1e9 * wall / (steps.max(1) as f64 * n)),
+        json!(1e9 * wall / ((sim.step - first_step).max(1) as f64 * n)),
     );
     summary.insert("kinetic_energy".into(), json!(sim.store.kinetic_energy()));
     summary.insert(
@@ -473,18 +872,18 @@ fn run_dim<D: GasDim>(
     );
     summary.insert(
         "collisions".into(),
-        json!(sim.totals.collisions - c0.collisions),
+        json!(sim.totals.collisions - m.c0.collisions),
     );
     if sim.settings.restitution < 1.0 {
         let omega0 =
-            sim.kinetic_collision_frequency(sim.number_density(), sim.packing_fraction(), temp0);
+            sim.kinetic_collision_frequency(sim.number_density(), sim.packing_fraction(), m.temp0);
         summary.insert(
             "haff_tau0".into(),
             json!(haff_time(D::D, sim.settings.restitution, omega0)),
         );
-        summary.insert("haff_initial_temperature".into(), json!(temp0));
+        summary.insert("haff_initial_temperature".into(), json!(m.temp0));
     }
-    summary.insert("validity".into(), validity.summary(&sim));
+    summary.insert("validity".into(), m.validity.summary(&sim));
     let summary = Value::Object(summary);
     let text = serde_json::to_string_pretty(&summary).expect("JSON values always serialize");
     crate::io::write_atomic(&dir.join("summary.json"), text.as_bytes())?;

@@ -83,11 +83,6 @@ pub fn run(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) -> R
 
 fn run_on_pool(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) -> Result<Value> {
     if loaded.scenario.method == crate::dsmc::Method::Dsmc {
-        if opts.checkpoint_every.is_some() {
-            return Err(Error::input(
-                "--checkpoint-every: DSMC runs cannot be checkpointed yet (MD only)",
-            ));
-        }
         return dsmc::run(loaded, opts, progress);
     }
     match loaded.scenario.dimension {
