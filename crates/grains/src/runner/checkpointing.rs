@@ -195,22 +195,61 @@ impl Checkpointer {
         out: &Outputs,
         meas: Option<&Measurements>,
     ) -> Result<PathBuf> {
-        let mut e = Enc::default();
-        e.str(&self.scenario);
-        e.str(&self.origin);
-        e.str(&self.base_dir);
-        e.u8(D::D as u8);
-        e.u64(self.plan.0);
-        e.u64(self.plan.1);
-        e.u64(self.interval.unwrap_or(0));
-        encode_outputs(&mut e, &out.state()?);
-        e.u64(md.step);
-        let eng = engine::encode(md)?;
-        e.len(eng.len());
-        e.buf.extend_from_slice(&eng);
-        encode_measurements(&mut e, meas);
-        checkpoint::write(&self.dir, md.step, &e.buf)
+        let run = RunHeader {
+            scenario: &self.scenario,
+            origin: &self.origin,
+            base_dir: &self.base_dir,
+            dim: D::D,
+            plan: self.plan,
+            interval: self.interval,
+        };
+        let measurements = meas.map(Measurements::save);
+        write_payload(
+            &self.dir,
+            &run,
+            &out.state()?,
+            md.step,
+            &engine::encode(md)?,
+            measurements.as_deref(),
+        )
     }
+}
+
+/// What every checkpoint payload, MD or DSMC, says about its run.
+pub(super) struct RunHeader<'a> {
+    pub scenario: &'a str,
+    pub origin: &'a str,
+    pub base_dir: &'a str,
+    pub dim: usize,
+    pub plan: (u64, u64),
+    pub interval: Option<u64>,
+}
+
+/// Writes one checkpoint: the run header, where the outputs stood, the
+/// step, the engine's bytes and the (MD) measurement section. [`decode`]
+/// reads exactly this layout, for both engines.
+pub(super) fn write_payload(
+    dir: &Path,
+    run: &RunHeader,
+    outputs: &OutputState,
+    step: u64,
+    engine: &[u8],
+    measurements: Option<&[u8]>,
+) -> Result<PathBuf> {
+    let mut e = Enc::default();
+    e.str(run.scenario);
+    e.str(run.origin);
+    e.str(run.base_dir);
+    e.u8(run.dim as u8);
+    e.u64(run.plan.0);
+    e.u64(run.plan.1);
+    e.u64(run.interval.unwrap_or(0));
+    encode_outputs(&mut e, outputs);
+    e.u64(step);
+    e.len(engine.len());
+    e.buf.extend_from_slice(engine);
+    encode_measurements(&mut e, measurements);
+    checkpoint::write(dir, step, &e.buf)
 }
 
 /// The scenario as TOML text that reads back to an equal scenario.
@@ -226,12 +265,11 @@ pub(super) fn scenario_text(s: &Scenario) -> Result<String> {
 }
 
 /// The measurement section: a flag, then the accumulators' bytes.
-fn encode_measurements(e: &mut Enc, meas: Option<&Measurements>) {
-    e.bool(meas.is_some());
-    if let Some(m) = meas {
-        let bytes = m.save();
-        e.len(bytes.len());
-        e.buf.extend_from_slice(&bytes);
+fn encode_measurements(e: &mut Enc, bytes: Option<&[u8]>) {
+    e.bool(bytes.is_some());
+    if let Some(b) = bytes {
+        e.len(b.len());
+        e.buf.extend_from_slice(b);
     }
 }
 
@@ -243,7 +281,7 @@ fn decode_measurements(d: &mut Dec) -> std::result::Result<Option<Vec<u8>>, Stri
     Ok(Some(d.take(n, "measurement state")?.to_vec()))
 }
 
-pub(super) fn encode_outputs(e: &mut Enc, o: &OutputState) {
+fn encode_outputs(e: &mut Enc, o: &OutputState) {
     e.u64(o.thermo_len);
     opt(e, o.dump_len);
     e.len(o.frames.len());

@@ -1,11 +1,11 @@
 //! Runs a `method = "dsmc"` scenario: build, relax, measure, write
 //! thermo.csv, frames, profiles.csv and summary.json.
 
-use super::checkpointing::{encode_outputs, scenario_text};
+use super::checkpointing::{scenario_text, write_payload, RunHeader};
 use super::output::OutputState;
 use super::{prepare, Progress, RunOptions};
 use crate::checkpoint::codec::{Dec, DecResult, Enc};
-use crate::checkpoint::{self, dsmc as ckdsmc};
+use crate::checkpoint::dsmc as ckdsmc;
 use crate::dim::{Dim, D2, D3};
 use crate::domain::Domain;
 use crate::dsmc::collide::{GasDim, Tally};
@@ -597,16 +597,6 @@ impl Checkpoints {
         out: &Outputs,
         m: Option<&Measure>,
     ) -> Result<PathBuf> {
-        let mut e = Enc::default();
-        e.str(&self.scenario);
-        e.str(&self.origin);
-        e.str(&self.base_dir);
-        e.u8(D::D as u8);
-        e.u64(self.plan.0);
-        e.u64(self.plan.1);
-        e.u64(self.interval.unwrap_or(0));
-        encode_outputs(&mut e, &out.state()?);
-        e.u64(sim.step);
         let mut eng = Enc {
             buf: ckdsmc::encode(sim),
         };
@@ -614,12 +604,17 @@ impl Checkpoints {
         if let Some(m) = m {
             m.encode(&mut eng);
         }
-        e.len(eng.buf.len());
-        e.buf.extend_from_slice(&eng.buf);
-        // The MD measurement section, always empty here: DSMC keeps its
-        // measurement state inside its engine field.
-        e.bool(false);
-        checkpoint::write(&self.dir, sim.step, &e.buf)
+        let run = RunHeader {
+            scenario: &self.scenario,
+            origin: &self.origin,
+            base_dir: &self.base_dir,
+            dim: D::D,
+            plan: self.plan,
+            interval: self.interval,
+        };
+        // DSMC keeps its measurement state inside its engine field; the MD
+        // measurement section stays empty.
+        write_payload(&self.dir, &run, &out.state()?, sim.step, &eng.buf, None)
     }
 
     /// After each step: a checkpoint at the interval; when a stop was asked
