@@ -252,6 +252,33 @@ pub(super) fn write_payload(
     checkpoint::write(dir, step, &e.buf)
 }
 
+/// The (relax, measured) step plan of a resumed run: the checkpoint's own,
+/// or, with `--steps n`, one that ends n steps after `step`. `origin` names
+/// the checkpoint in messages.
+pub(super) fn resume_plan(
+    (relax, measure): (u64, u64),
+    step: u64,
+    steps: Option<u64>,
+    origin: &str,
+) -> Result<(u64, u64)> {
+    match steps {
+        Some(n) => {
+            let end = step
+                .checked_add(n)
+                .ok_or_else(|| Error::input("--steps too large"))?;
+            Ok(if end <= relax {
+                (end, 0)
+            } else {
+                (relax, end - relax)
+            })
+        }
+        None if step > relax + measure => Err(Error::input(format!(
+            "checkpoint {origin}: step {step} lies beyond the run's end"
+        ))),
+        None => Ok((relax, measure)),
+    }
+}
+
 /// The scenario as TOML text that reads back to an equal scenario.
 pub(super) fn scenario_text(s: &Scenario) -> Result<String> {
     let text = toml::to_string(s)
@@ -501,24 +528,12 @@ fn resume_dim<D: Dim>(
             md.step
         )));
     }
-    let (mut relax, mut measure) = found.plan;
-    if let Some(n) = steps {
-        let end = md
-            .step
-            .checked_add(n)
-            .ok_or_else(|| Error::input("--steps too large"))?;
-        if end <= relax {
-            (relax, measure) = (end, 0);
-        } else {
-            measure = end - relax;
-        }
-    } else if md.step > relax + measure {
-        return Err(Error::input(format!(
-            "checkpoint {}: step {} lies beyond the run's end",
-            found.path.display(),
-            md.step
-        )));
-    }
+    let (relax, measure) = resume_plan(
+        found.plan,
+        md.step,
+        steps,
+        &found.path.display().to_string(),
+    )?;
     let restored = match &found.measurements {
         Some(bytes) if md.step > relax => Some(
             Measurements::load(loaded, bytes)

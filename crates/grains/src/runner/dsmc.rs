@@ -1,8 +1,9 @@
 //! Runs a `method = "dsmc"` scenario: build, relax, measure, write
 //! thermo.csv, frames, profiles.csv and summary.json.
 
-use super::checkpointing::{scenario_text, write_payload, RunHeader};
+use super::checkpointing::{resume_plan, scenario_text, write_payload, RunHeader};
 use super::output::OutputState;
+use super::output::Thermo;
 use super::{prepare, Progress, RunOptions};
 use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use crate::checkpoint::dsmc as ckdsmc;
@@ -15,7 +16,7 @@ use crate::dsmc::rng::Stream;
 use crate::dsmc::spec::DsmcSpec;
 use crate::dsmc::store::{particle_volume, Particle, Store};
 use crate::error::{Error, Result};
-use crate::io::{render_particles, Frame, Num, PictureOptions, ThermoWriter, VtkSeries};
+use crate::io::{render_particles, Frame, PictureOptions, ThermoWriter, VtkSeries};
 use crate::scenario::build::vector;
 use crate::scenario::resolve::cycle_frequency;
 use crate::scenario::schema::{Dimension, MotionSpec, Placement, ShapeSpec, TimeStep};
@@ -409,11 +410,6 @@ struct Outputs {
     frames: Option<VtkSeries>,
 }
 
-enum Thermo {
-    Fresh(ThermoWriter),
-    Appended { path: PathBuf, file: std::fs::File },
-}
-
 impl Outputs {
     fn create(dir: &Path, frames: bool) -> Result<Self> {
         Ok(Self {
@@ -482,22 +478,7 @@ impl Outputs {
     }
 
     fn write_row(&mut self, values: &[f64]) -> Result<()> {
-        match &mut self.thermo {
-            Thermo::Fresh(w) => w.write_row(values),
-            Thermo::Appended { path, file } => {
-                use std::io::Write as _;
-                let mut line = String::new();
-                for (k, v) in values.iter().enumerate() {
-                    if k > 0 {
-                        line.push(',');
-                    }
-                    let _ = write!(line, "{}", Num(*v));
-                }
-                line.push('\n');
-                file.write_all(line.as_bytes())
-                    .map_err(|e| Error::io(path.as_path(), e))
-            }
-        }
+        self.thermo.write_row(values)
     }
 }
 
@@ -700,7 +681,7 @@ type ResumeArgs<'a> = (
 
 fn resume_dim<D: GasDim>(
     loaded: &Loaded,
-    (path, step, (mut relax, mut measure), outputs, engine, steps): ResumeArgs,
+    (path, step, saved_plan, outputs, engine, steps): ResumeArgs,
     opts: &RunOptions,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
@@ -732,22 +713,7 @@ fn resume_dim<D: GasDim>(
         Ok(m)
     };
     let m = read().map_err(|e| Error::input(format!("checkpoint {origin}: {e}")))?;
-    if let Some(n) = steps {
-        let end = sim
-            .step
-            .checked_add(n)
-            .ok_or_else(|| Error::input("--steps too large"))?;
-        if end <= relax {
-            (relax, measure) = (end, 0);
-        } else {
-            measure = end - relax;
-        }
-    } else if sim.step > relax + measure {
-        return Err(Error::input(format!(
-            "checkpoint {origin}: step {} lies beyond the run's end",
-            sim.step
-        )));
-    }
+    let (relax, measure) = resume_plan(saved_plan, sim.step, steps, &origin.to_string())?;
     let outputs = Outputs::resume(&opts.out_dir, loaded.scenario.output.frames, outputs)?;
     run_loop(
         loaded,

@@ -27,13 +27,14 @@ pub const THERMO_COLUMNS: [&str; 7] = [
 ];
 
 /// thermo.csv: a fresh table, or one reopened for appending after a resume.
-enum Thermo {
+/// thermo.csv: a fresh file, or one reopened for appending on resume.
+pub(super) enum Thermo {
     Fresh(ThermoWriter),
     Appended { path: PathBuf, file: std::fs::File },
 }
 
 impl Thermo {
-    fn write_row(&mut self, values: &[f64]) -> Result<()> {
+    pub(super) fn write_row(&mut self, values: &[f64]) -> Result<()> {
         match self {
             Thermo::Fresh(w) => w.write_row(values),
             Thermo::Appended { path, file } => {
