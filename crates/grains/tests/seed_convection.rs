@@ -25,35 +25,50 @@ fn modulated_plate_flows_up_in_the_centre() {
     assert!(c > 0.0 && e < 0.0, "center {c}, edge {e}");
 }
 
-// Measured (shipped length, seed 1): strength 0.215 m/s at gamma_s = 400,
-// 0.042 m/s at gamma_s = 0 (still up in the centre, but 5x weaker). The
-// seed finds the convection "quite insensitive to gamma_s, even if 0".
+/// Convection strength (centre minus edge vertical velocity, m/s) averaged
+/// over the seeds 1..=n of the random placement: single runs at the damped
+/// setting scatter by ±0.04 m/s (seed 002 averages over up to 200 cycles).
+fn mean_strength(tag: &str, extra: &[&str], n: u64) -> f64 {
+    let total: f64 = (1..=n)
+        .map(|seed| {
+            let set = format!("seed={seed}");
+            let mut sets = extra.to_vec();
+            sets.push(&set);
+            let (c, e) = modulated(&format!("{tag}-{seed}"), &sets);
+            c - e
+        })
+        .sum();
+    total / n as f64
+}
+
+// Measured (shipped length, curved plate): strength 0.19, 0.17, 0.19, 0.17
+// m/s at gamma_s = 400 (seeds 1-4) but 0.005, -0.024, -0.040 at gamma_s = 0
+// (seeds 1, 3, 5; seed 2 overlaps 90.6% and stops). Without shear friction
+// the rolls vanish; the seed finds the convection "quite insensitive to
+// gamma_s, even if 0".
 #[test]
-#[ignore = "not reproduced: strength 0.215 m/s at gamma_s = 400 but 0.042 at 0; see comment"]
+#[ignore = "not reproduced: strength 0.18 m/s at gamma_s = 400 but about 0 at gamma_s = 0; see comment"]
 fn modulated_plate_convection_is_insensitive_to_shear_friction() {
-    let (c, e) = modulated("gs400", &[]);
-    let (c0, e0) = modulated("gs0", &["contact.gamma_t=0"]);
-    let (s, s0) = (c - e, c0 - e0);
-    assert!(s0 > 0.0, "gamma_s = 0: center {c0}, edge {e0}");
+    let s = mean_strength("gs400", &[], 3);
+    let s0 = mean_strength("gs0", &["contact.gamma_t=0"], 3);
     assert!(
         s0 / s > 0.5 && s0 / s < 2.0,
         "strength {s} vs {s0} at gamma_s = 0"
     );
 }
 
-// Measured (shipped length, seed 1): strength 0.215 m/s at gamma_n = 200,
-// 0.072 m/s at 2000: a factor 2.98, and at 10 + 5 cycles 0.127 vs 0.069
-// (1.9). The convection weakens but is not "completely suppressed"; the
-// other reading (2000 -> 20000 s^-1) is overdamped and unstable at t_c/50.
+// Measured (shipped length, curved plate, seeds 1-4): strength 0.190,
+// 0.172, 0.186, 0.170 m/s at gamma_n = 200 and 0.023, 0.021, 0.104, 0.029
+// at 2000: 4.1x weaker on average, with one seed (3) keeping half a roll.
+// "Completely suppressed" is read as: at least 3x weaker on the average.
+// The other reading (2000 -> 20000 s^-1) is overdamped and unstable at t_c/50.
 #[test]
-#[ignore = "gamma_n x10 weakens the convection by ~3x (0.215 -> 0.072 m/s), not clearly more; see comment"]
 fn ten_times_the_dissipation_suppresses_the_convection() {
-    let (c, e) = modulated("g200", &[]);
-    let (c10, e10) = modulated("g2000", &["contact.gamma_n=2000"]);
-    let (s, s10) = (c - e, c10 - e10);
+    let s = mean_strength("g200", &[], 4);
+    let s10 = mean_strength("g2000", &["contact.gamma_n=2000"], 4);
     assert!(
         s > 3.0 * s10,
-        "strength {s} at gamma_n = 200, {s10} at 2000"
+        "mean strength {s} at gamma_n = 200, {s10} at 2000"
     );
 }
 

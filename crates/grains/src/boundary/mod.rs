@@ -75,6 +75,18 @@ impl<D: Dim> Wall<D> {
         motion
             .validate()
             .map_err(|e| Error::input(format!("wall '{name}' ({} motion): {e}", motion.kind())))?;
+        if motion.modulation_slope(0.0, 0.0).is_some() {
+            let flat_across_x =
+                matches!(&shape, Shape::Plane { normal, .. } if D::get(*normal, 0).abs() < 1e-12);
+            if !flat_across_x {
+                return Err(Error::input(format!(
+                    "wall '{name}': a modulated vibration (modulation ≠ 0) needs a plane wall \
+                     whose normal is perpendicular to x (a bottom plate); this one is a {} {}",
+                    D::NAME,
+                    shape.kind()
+                )));
+            }
+        }
         Ok(Self {
             name,
             shape,
@@ -110,13 +122,37 @@ impl<D: Dim> Wall<D> {
         if !self.is_active(t) {
             return None;
         }
-        let pose = self.motion.pose(t, D::get(p, 0));
+        let x = D::get(p, 0);
+        if let Some(slope) = self.motion.modulation_slope(x, t) {
+            return self.modulated_contact(p, r, t, slope);
+        }
+        let pose = self.motion.pose(t, x);
         let p3 = to3::<D>(p);
         let touch = self.shape.touch(pose.invert(p3), r)?;
         let point = from3::<D>(pose.apply(touch.point));
         Some(WallContact {
             overlap: touch.overlap,
             normal: from3::<D>(pose.turn(touch.normal)),
+            point,
+            velocity: self.motion.velocity_at(point, t),
+        })
+    }
+
+    /// Contact with a plate under a modulated vibration: the lifted, tilted
+    /// plane of [`flat::lifted_plane`]. `new` admits modulation on planes
+    /// whose normal is perpendicular to x only.
+    fn modulated_contact(&self, p: D::V, r: f64, t: f64, slope: f64) -> Option<WallContact<D>> {
+        let Shape::Plane { point, normal } = &self.shape else {
+            return None;
+        };
+        let n = to3::<D>(*normal);
+        let along = D::dot(self.motion.vibration_direction()?, *normal);
+        let lift = self.motion.pose(t, D::get(p, 0)).shift.dot(n);
+        let touch = flat::lifted_plane(to3::<D>(p), to3::<D>(*point), n, lift, slope * along, r)?;
+        let point = from3::<D>(touch.point);
+        Some(WallContact {
+            overlap: touch.overlap,
+            normal: from3::<D>(touch.normal),
             point,
             velocity: self.motion.velocity_at(point, t),
         })

@@ -27,10 +27,11 @@ pub enum Motion<D: Dim> {
     /// A0 = `amplitude`, B = `modulation`, L = `wavelength`, f = `frequency`.
     /// B = 0 is a rigid plate.
     ///
-    /// With B ≠ 0 the contact uses the reference shape shifted rigidly by the
-    /// displacement at the particle's x (exact for a horizontal plate, whose
-    /// contact point has the particle's x); the normal is that of the
-    /// unmodulated shape, and the velocity is taken at the contact point's x.
+    /// With B ≠ 0 the wall must be a plane whose normal is perpendicular to
+    /// x: its surface is then the curve (3D: the ridged sheet) z0(x, t), whose
+    /// normal tilts by the local slope ∂z0/∂x (up to 13° in seed 002 Fig. 2),
+    /// so the plate also pushes sideways. See `modulated_plate` in
+    /// `boundary/flat.rs`. The velocity is taken at the contact point's x.
     Vibrate {
         direction: D::V,
         amplitude: f64,
@@ -60,7 +61,7 @@ pub enum Motion<D: Dim> {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Pose {
     rot: Option<(DQuat, DVec3)>,
-    shift: DVec3,
+    pub(super) shift: DVec3,
 }
 
 impl Pose {
@@ -196,6 +197,35 @@ impl<D: Dim> Motion<D> {
             Some((*direction, a, TAU * frequency, TAU * frequency * t + phase))
         } else {
             None
+        }
+    }
+
+    /// Slope along x of the displacement of a modulated vibration,
+    /// d/dx [A(x) sin(2π f t + phase)] (a length per length, times the unit
+    /// `direction`); `None` for any other motion or B = 0.
+    pub(crate) fn modulation_slope(&self, x: f64, t: f64) -> Option<f64> {
+        match self {
+            Motion::Vibrate {
+                amplitude,
+                modulation,
+                wavelength,
+                frequency,
+                phase,
+                ..
+            } if *modulation != 0.0 => {
+                let k = TAU / wavelength;
+                let da_dx = amplitude * modulation * k * (k * x).sin();
+                Some(da_dx * (TAU * frequency * t + phase).sin())
+            }
+            _ => None,
+        }
+    }
+
+    /// Unit direction of a vibration (`None` for other motions).
+    pub(crate) fn vibration_direction(&self) -> Option<D::V> {
+        match self {
+            Motion::Vibrate { direction, .. } => Some(*direction),
+            _ => None,
         }
     }
 

@@ -313,10 +313,89 @@ fn modulated_plate_factors() {
         ));
     }
     // At x = L/4 the modulation vanishes: the plain amplitude.
+    // (the contact point lies a hair off L/4: the plate is tilted there).
     let c = w.contact(DVec2::new(l / 4.0, 0.3), 0.5, t).unwrap();
-    assert!(near(c.velocity.y, TAU * f * a * co));
+    let factor = 1.0 - b * (TAU * c.point.x / l).cos();
+    assert!(factor != 1.0 && (factor - 1.0).abs() < 1e-4);
+    assert!(near(c.velocity.y, TAU * f * a * factor * co));
     // The reference point is at x = 0: displacement with factor 1 − B.
     assert!(near2(w.displacement(t), DVec2::new(0.0, a * (1.0 - b) * s)));
+}
+
+#[test]
+fn modulated_plate_tilts_its_normal_with_the_surface_slope() {
+    // A deep modulation (slope up to A0 B 2π/L = 0.236, 13°) so that the
+    // tilt is large; at x = L/4 the surface has no curvature, so the tangent
+    // is exact and the overlap must equal r minus the true distance to the
+    // curve z0(x) = A0 (1 − B cos 2πx/L) (at sin 2πft = 1), found by sampling.
+    let (a0, b, l, f) = (1.5, 0.5, 20.0, 20.0);
+    let w = Wall::<D2>::new(
+        "bottom",
+        Shape::Plane {
+            point: DVec2::ZERO,
+            normal: DVec2::Y,
+        },
+        Motion::Vibrate {
+            direction: DVec2::Y,
+            amplitude: a0,
+            modulation: b,
+            wavelength: l,
+            frequency: f,
+            phase: 0.0,
+        },
+    )
+    .unwrap();
+    let t = 0.25 / f;
+    let z0 = |x: f64| a0 * (1.0 - b * (TAU * x / l).cos());
+    let p = DVec2::new(l / 4.0, z0(l / 4.0) + 0.4);
+    let r = 0.5;
+    let c = w.contact(p, r, t).unwrap();
+    let dist = (0..=200_000)
+        .map(|i| {
+            let x = l / 4.0 - 1.0 + 2.0 * i as f64 / 200_000.0;
+            (p - DVec2::new(x, z0(x))).length()
+        })
+        .fold(f64::INFINITY, f64::min);
+    // The contact point sits δx ≈ slope·0.4 = 0.09 from x = L/4, where the
+    // curve leaves its tangent by A0 B k³ δx³/6 ≈ 3e-6.
+    assert!(
+        (c.overlap - (r - dist)).abs() < 1e-5,
+        "{} vs {}",
+        c.overlap,
+        r - dist
+    );
+    let slope = a0 * b * TAU / l;
+    assert!(near2(c.normal, DVec2::new(-slope, 1.0).normalize()));
+    // The plate material moves vertically, with the local amplitude.
+    assert_eq!(c.velocity.x, 0.0);
+    // The normal leans away from the crest (x = L/2): on the rising plate
+    // the grain is pushed toward the trough at x = 0.
+    assert!(c.normal.x < 0.0);
+}
+
+#[test]
+fn modulation_needs_a_plate_across_x() {
+    let err = Wall::<D2>::new(
+        "side",
+        Shape::Plane {
+            point: DVec2::ZERO,
+            normal: DVec2::X,
+        },
+        Motion::Vibrate {
+            direction: DVec2::X,
+            amplitude: 1.0,
+            modulation: 0.5,
+            wavelength: 20.0,
+            frequency: 20.0,
+            phase: 0.0,
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("'side'") && err.contains("perpendicular to x"),
+        "{err}"
+    );
 }
 
 #[test]
