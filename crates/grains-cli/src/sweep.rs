@@ -32,7 +32,7 @@ pub struct SweepArgs {
     /// Run this many steps per variant instead of the scenario's length.
     #[arg(long)]
     steps: Option<u64>,
-    /// summary.json scalar to plot against the first varied key.
+    /// summary.json scalar to plot against the first varied key (a varied `seed` is averaged over, with error bars).
     #[arg(long)]
     plot: Option<String>,
 }
@@ -205,47 +205,7 @@ pub fn run(args: SweepArgs) -> grains::Result<()> {
     print!("{csv}");
 
     if let Some(m) = &args.plot {
-        // One line per combination of the other keys, against the first.
-        let mut groups: Vec<(Vec<String>, Vec<[f64; 2]>)> = Vec::new();
-        for (vals, r) in variants.iter().zip(&results) {
-            let Some(Ok(v)) = r else { continue };
-            let x: f64 = vals[0].parse().map_err(|_| {
-                Error::input(format!(
-                    "--plot needs numeric values of {}, got {}",
-                    axes[0].0, vals[0]
-                ))
-            })?;
-            let Some(y) = v.get(m).and_then(Value::as_f64) else {
-                return Err(Error::input(format!(
-                    "--plot {m}: not a number in summary.json (have: {})",
-                    keys.iter().cloned().collect::<Vec<_>>().join(", ")
-                )));
-            };
-            let rest = vals[1..].to_vec();
-            match groups.iter_mut().find(|g| g.0 == rest) {
-                Some(g) => g.1.push([x, y]),
-                None => groups.push((rest, vec![[x, y]])),
-            }
-        }
-        let series: Vec<Series> = groups
-            .into_iter()
-            .enumerate()
-            .map(|(i, (_, mut pts))| {
-                pts.sort_by(|a, b| a[0].total_cmp(&b[0]));
-                Series {
-                    points: pts,
-                    colour: PALETTE[i % PALETTE.len()],
-                    lines: true,
-                }
-            })
-            .collect();
-        let path = out.join(format!("sweep_{m}.png"));
-        save_plot(&path, &series, true)?;
-        eprintln!(
-            "grains: plotted {m} against {} -> {}",
-            axes[0].0,
-            path.display()
-        );
+        plot_against_first_key(&out, m, &axes, &variants, &results, &keys)?;
     }
     if failed > 0 {
         return Err(Error::input(format!(
@@ -254,6 +214,126 @@ pub fn run(args: SweepArgs) -> grains::Result<()> {
         )));
     }
     Ok(())
+}
+
+/// Plots measurement `m` against the first varied key: one line per
+/// combination of the other keys. A varied `seed` is averaged over instead:
+/// the line is the mean over seeds with standard-error bars, and the means
+/// go to `sweep_mean.csv` (granular measurements from one seed are noisy).
+fn plot_against_first_key(
+    out: &Path,
+    m: &str,
+    axes: &[(String, Vec<String>)],
+    variants: &[Vec<String>],
+    results: &[Option<grains::Result<Value>>],
+    keys: &BTreeSet<String>,
+) -> grains::Result<()> {
+    let seed_axis = axes
+        .iter()
+        .skip(1)
+        .position(|a| a.0 == "seed")
+        .map(|i| i + 1);
+    // (other keys' values, x) -> samples of m
+    let mut groups: Vec<(Vec<String>, Vec<(f64, Vec<f64>)>)> = Vec::new();
+    for (vals, r) in variants.iter().zip(results) {
+        let Some(Ok(v)) = r else { continue };
+        let x: f64 = vals[0].parse().map_err(|_| {
+            Error::input(format!(
+                "--plot needs numeric values of {}, got {}",
+                axes[0].0, vals[0]
+            ))
+        })?;
+        let Some(y) = v.get(m).and_then(Value::as_f64) else {
+            return Err(Error::input(format!(
+                "--plot {m}: not a number in summary.json (have: {})",
+                keys.iter().cloned().collect::<Vec<_>>().join(", ")
+            )));
+        };
+        let rest: Vec<String> = (1..vals.len())
+            .filter(|&k| Some(k) != seed_axis)
+            .map(|k| vals[k].clone())
+            .collect();
+        let g = match groups.iter().position(|g| g.0 == rest) {
+            Some(i) => &mut groups[i].1,
+            None => {
+                groups.push((rest, Vec::new()));
+                &mut groups.last_mut().expect("just pushed").1
+            }
+        };
+        match g.iter_mut().find(|(gx, _)| *gx == x) {
+            Some((_, ys)) => ys.push(y),
+            None => g.push((x, vec![y])),
+        }
+    }
+    let mut means = String::new();
+    let mut series = Vec::new();
+    for (i, (rest, mut pts)) in groups.into_iter().enumerate() {
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let stats: Vec<(f64, f64, f64, usize)> = pts
+            .iter()
+            .map(|(x, ys)| {
+                let (mean, err) = mean_and_standard_error(ys);
+                (*x, mean, err, ys.len())
+            })
+            .collect();
+        for (x, mean, err, n) in &stats {
+            let mut row = rest.iter().map(|s| csv_field(s)).collect::<Vec<_>>();
+            row.extend([
+                x.to_string(),
+                mean.to_string(),
+                err.to_string(),
+                n.to_string(),
+            ]);
+            means.push_str(&row.join(","));
+            means.push('\n');
+        }
+        series.push(Series {
+            points: stats.iter().map(|s| [s.0, s.1]).collect(),
+            colour: PALETTE[i % PALETTE.len()],
+            lines: true,
+            errors: seed_axis.map(|_| stats.iter().map(|s| s.2).collect()),
+        });
+    }
+    if seed_axis.is_some() {
+        let mut header: Vec<String> = axes
+            .iter()
+            .skip(1)
+            .filter(|a| a.0 != "seed")
+            .map(|a| csv_field(&a.0))
+            .collect();
+        header.extend([
+            csv_field(&axes[0].0),
+            format!("{m}_mean"),
+            format!("{m}_stderr"),
+            "seeds".into(),
+        ]);
+        let csv = format!("{}\n{means}", header.join(","));
+        grains::io::write_atomic(&out.join("sweep_mean.csv"), csv.as_bytes())?;
+    }
+    let path = out.join(format!("sweep_{m}.png"));
+    save_plot(&path, &series, true)?;
+    eprintln!(
+        "grains: plotted {m}{} against {} -> {}",
+        if seed_axis.is_some() {
+            " (mean over seeds, standard-error bars)"
+        } else {
+            ""
+        },
+        axes[0].0,
+        path.display()
+    );
+    Ok(())
+}
+
+/// Mean and standard error of the mean (0 for a single sample).
+fn mean_and_standard_error(ys: &[f64]) -> (f64, f64) {
+    let n = ys.len() as f64;
+    let mean = ys.iter().sum::<f64>() / n;
+    if ys.len() < 2 {
+        return (mean, 0.0);
+    }
+    let var = ys.iter().map(|y| (y - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (var / n).sqrt())
 }
 
 #[cfg(test)]
@@ -272,5 +352,14 @@ mod tests {
         assert_eq!(variant_name(&axes, &g[2]), "a=2_b=x");
         assert!(parse_vary("k=").is_err());
         assert_eq!(parse_vary("k=1, 2").unwrap().1, vec!["1", "2"]);
+    }
+
+    #[test]
+    fn standard_error_of_the_mean() {
+        let (m, e) = mean_and_standard_error(&[1.0, 2.0, 3.0, 4.0]);
+        assert_eq!(m, 2.5);
+        // sample variance 5/3, over n = 4
+        assert!((e - (5.0f64 / 12.0).sqrt()).abs() < 1e-15);
+        assert_eq!(mean_and_standard_error(&[7.0]), (7.0, 0.0));
     }
 }

@@ -6,12 +6,15 @@ use crate::error::Result;
 use crate::io::picture::{Image, View};
 use std::path::Path;
 
-/// One series: points (x, y) drawn in order, joined by lines if `lines`.
+/// One series: points (x, y) drawn in order, joined by lines if `lines`;
+/// `errors`, when given, holds one half-height of a vertical error bar per
+/// point (e.g. the standard error of a mean over seeds).
 #[derive(Clone, Debug)]
 pub struct Series {
     pub points: Vec<[f64; 2]>,
     pub colour: [u8; 3],
     pub lines: bool,
+    pub errors: Option<Vec<f64>>,
 }
 
 /// Colours for successive series.
@@ -135,7 +138,12 @@ fn range(vals: impl Iterator<Item = f64>) -> (f64, f64) {
 /// Draws the series on framed axes; `zero_line` adds y = 0 when in range.
 pub fn plot(series: &[Series], width: u32, height: u32, zero_line: bool) -> Image {
     let (x0, x1) = range(series.iter().flat_map(|s| s.points.iter().map(|p| p[0])));
-    let (y0, y1) = range(series.iter().flat_map(|s| s.points.iter().map(|p| p[1])));
+    let (y0, y1) = range(series.iter().flat_map(|s| {
+        s.points.iter().enumerate().flat_map(move |(i, p)| {
+            let e = s.errors.as_ref().map_or(0.0, |e| e[i]);
+            [p[1] - e, p[1] + e]
+        })
+    }));
     let (ml, mr, mt, mb) = (80.0, 20.0, 20.0, 40.0);
     let (w, h) = (width as f64, height as f64);
     let sx = (w - ml - mr) / (x1 - x0);
@@ -203,6 +211,14 @@ pub fn plot(series: &[Series], width: u32, height: u32, zero_line: bool) -> Imag
         for p in &pts {
             img.fill_disk(*p, 3.5, s.colour, true);
         }
+        for (p, e) in s.points.iter().zip(s.errors.iter().flatten()) {
+            if p[0].is_finite() && p[1].is_finite() && e.is_finite() && *e > 0.0 {
+                let (lo, hi) = (px([p[0], p[1] - e]), px([p[0], p[1] + e]));
+                img.draw_segment(lo, hi, 1.5, s.colour);
+                img.draw_segment([lo[0] - 4.0, lo[1]], [lo[0] + 4.0, lo[1]], 1.5, s.colour);
+                img.draw_segment([hi[0] - 4.0, hi[1]], [hi[0] + 4.0, hi[1]], 1.5, s.colour);
+            }
+        }
     }
     img
 }
@@ -232,6 +248,7 @@ mod tests {
             points: vec![[0.0, 0.0], [1.0, 1.0]],
             colour: PALETTE[1],
             lines: true,
+            errors: Some(vec![0.1, 0.0]),
         };
         let img = plot(&[s], 200, 150, false);
         assert!(img.rgb.chunks(3).any(|p| p == PALETTE[1]));

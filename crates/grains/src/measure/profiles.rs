@@ -136,6 +136,7 @@ impl Profiles {
             points: rows.iter().map(|r| [r[2], r[0] * 1e3]).collect(),
             colour: PALETTE[0],
             lines: true,
+            errors: None,
         };
         save_plot(&dir.join("profile_density.png"), &[dens], false)?;
         let vel = Series {
@@ -147,6 +148,7 @@ impl Profiles {
                 .collect(),
             colour: PALETTE[1],
             lines: true,
+            errors: None,
         };
         save_plot(&dir.join("profile_velocity.png"), &[vel], false)
     }
