@@ -216,6 +216,9 @@ pub fn run(args: SweepArgs) -> grains::Result<()> {
     Ok(())
 }
 
+/// The values of the measurement at one x (one per seed).
+type Samples = (f64, Vec<f64>);
+
 /// Plots measurement `m` against the first varied key: one line per
 /// combination of the other keys. A varied `seed` is averaged over instead:
 /// the line is the mean over seeds with standard-error bars, and the means
@@ -233,8 +236,7 @@ fn plot_against_first_key(
         .skip(1)
         .position(|a| a.0 == "seed")
         .map(|i| i + 1);
-    // (other keys' values, x) -> samples of m
-    let mut groups: Vec<(Vec<String>, Vec<(f64, Vec<f64>)>)> = Vec::new();
+    let mut groups: Vec<(Vec<String>, Vec<Samples>)> = Vec::new();
     for (vals, r) in variants.iter().zip(results) {
         let Some(Ok(v)) = r else { continue };
         let x: f64 = vals[0].parse().map_err(|_| {
