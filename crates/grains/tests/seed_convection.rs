@@ -82,13 +82,13 @@ fn walls(tag: &str, gamma_t: &str) -> (f64, f64) {
     )
 }
 
-/// Not reproduced. A first run gave edge +0.0042 > centre +0.0001 m/s, but
-/// the signal is below the noise: after a change to the floating-point order
-/// of the force sums, seeds 1, 2, 3 gave (centre, edge) = (−0.0010, −0.0022),
-/// (+0.0032, −0.0023), (+0.0027, −0.0011) m/s: grains sink at the walls
-/// with γ_s = 0 too. See docs/seed-figures.md.
+/// Not reproduced: with γ_s = 0 there is no convection at all. Seeds 1, 2, 3
+/// at 20 cycles gave (centre, edge) = (−0.0010, −0.0022), (+0.0032, −0.0023),
+/// (+0.0027, −0.0011) m/s; seeds 1, 2 at 200 cycles (-0.0006, -0.0010),
+/// (-0.0007, +0.0007): within ±1 mm/s of zero, no consistent sign. See
+/// docs/seed-figures.md.
 #[test]
-#[ignore = "gamma_s = 0: edges sink in 3 of 3 seeds (edge - centre = -0.001 to -0.006 m/s); the seed's rise at the walls is not reproduced"]
+#[ignore = "gamma_s = 0: no convection within +-1 mm/s over 200 cycles, no consistent sign between seeds; the seed's rise at the walls is not reproduced"]
 fn side_walls_without_shear_friction_lift_the_grains() {
     let (c, e) = walls("gs0", "0");
     assert!(e > c, "gamma_s = 0: center {c}, edge {e}");
