@@ -17,7 +17,7 @@ use std::sync::Mutex;
 pub struct SweepArgs {
     /// Scenario file (TOML).
     scenario: PathBuf,
-    /// A key and its values, e.g. --vary walls.0.motion.frequency=40,60,80 (repeatable; the grid is their product).
+    /// A key and its values, e.g. --vary walls.0.motion.frequency=40,60,80 (repeatable; the grid is their product). KEY1+KEY2=... gives several keys the same value.
     #[arg(long = "vary", value_name = "KEY=V1,V2,...", required = true)]
     vary: Vec<String>,
     /// Fixed overrides applied to every variant (repeatable).
@@ -47,12 +47,21 @@ fn parse_vary(s: &str) -> grains::Result<(String, Vec<String>)> {
         .map(|x| x.trim().to_string())
         .filter(|x| !x.is_empty())
         .collect();
-    if k.trim().is_empty() || vals.is_empty() {
+    if k.split('+').any(|k| k.trim().is_empty()) || vals.is_empty() {
         return Err(Error::input(format!(
             "--vary {s}: expected KEY=V1,V2,... with at least one value"
         )));
     }
     Ok((k.trim().to_string(), vals))
+}
+
+/// The `--set` overrides of one value of a varied key; `K1+K2+...` sets the
+/// same value at every key (e.g. the frequency of all three vibrating walls
+/// of a cell).
+fn overrides(key: &str, value: &str) -> Vec<String> {
+    key.split('+')
+        .map(|k| format!("{}={value}", k.trim()))
+        .collect()
 }
 
 /// Every combination of the values, the first key varying slowest.
@@ -117,7 +126,11 @@ pub fn run(args: SweepArgs) -> grains::Result<()> {
     let mut loaded = Vec::new();
     for vals in &variants {
         let mut sets = args.sets.clone();
-        sets.extend(axes.iter().zip(vals).map(|((k, _), v)| format!("{k}={v}")));
+        sets.extend(
+            axes.iter()
+                .zip(vals)
+                .flat_map(|((k, _), v)| overrides(k, v)),
+        );
         loaded.push(scenario::load_file(&args.scenario, &sets)?);
     }
     let name = loaded[0].scenario.name.clone();
@@ -354,6 +367,8 @@ mod tests {
         assert_eq!(variant_name(&axes, &g[2]), "a=2_b=x");
         assert!(parse_vary("k=").is_err());
         assert_eq!(parse_vary("k=1, 2").unwrap().1, vec!["1", "2"]);
+        assert!(parse_vary("a+=1").is_err());
+        assert_eq!(overrides("a + b", "3"), vec!["a=3", "b=3"]);
     }
 
     #[test]
