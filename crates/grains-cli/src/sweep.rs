@@ -3,7 +3,7 @@
 //! and plots one measurement against the first varied key.
 
 use clap::Args;
-use grains::measure::plot::{save_plot, Series, PALETTE};
+use grains::measure::plot::{save_plot, Series, Titles, PALETTE};
 use grains::runner::{self, RunOptions, Silent};
 use grains::scenario;
 use grains::Error;
@@ -326,7 +326,16 @@ fn plot_against_first_key(
         grains::io::write_atomic(&out.join("sweep_mean.csv"), csv.as_bytes())?;
     }
     let path = out.join(format!("sweep_{m}.png"));
-    save_plot(&path, &series, true)?;
+    let y = if seed_axis.is_some() {
+        format!("{m} (mean over seeds)")
+    } else {
+        m.to_string()
+    };
+    let titles = Titles {
+        x: &axes[0].0,
+        y: &y,
+    };
+    save_plot(&path, &series, true, titles)?;
     eprintln!(
         "grains: plotted {m}{} against {} -> {}",
         if seed_axis.is_some() {

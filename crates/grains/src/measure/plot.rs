@@ -27,8 +27,15 @@ pub const PALETTE: [[u8; 3]; 6] = [
     [60, 60, 60],
 ];
 
-/// 3×5 glyphs for digits, '.', '-', 'e', '+', as rows of 3 bits.
+/// 3×5 glyphs as rows of 3 bits: digits, '.', '-', '+', a small 'e' for
+/// exponents, capital letters (other lower-case letters are drawn as
+/// capitals) and a little punctuation for axis titles.
 fn glyph(c: char) -> Option<[u8; 5]> {
+    let c = if c.is_ascii_lowercase() && c != 'e' {
+        c.to_ascii_uppercase()
+    } else {
+        c
+    };
     Some(match c {
         '0' => [7, 5, 5, 5, 7],
         '1' => [2, 6, 2, 2, 7],
@@ -44,6 +51,41 @@ fn glyph(c: char) -> Option<[u8; 5]> {
         '-' => [0, 0, 7, 0, 0],
         '+' => [0, 2, 7, 2, 0],
         'e' => [0, 7, 7, 4, 7],
+        'A' => [2, 5, 7, 5, 5],
+        'B' => [6, 5, 6, 5, 6],
+        'C' => [7, 4, 4, 4, 7],
+        'D' => [6, 5, 5, 5, 6],
+        'E' => [7, 4, 7, 4, 7],
+        'F' => [7, 4, 6, 4, 4],
+        'G' => [7, 4, 5, 5, 7],
+        'H' => [5, 5, 7, 5, 5],
+        'I' => [7, 2, 2, 2, 7],
+        'J' => [1, 1, 1, 5, 7],
+        'K' => [5, 5, 6, 5, 5],
+        'L' => [4, 4, 4, 4, 7],
+        'M' => [5, 7, 7, 5, 5],
+        'N' => [6, 5, 5, 5, 5],
+        'O' => [7, 5, 5, 5, 7],
+        'P' => [7, 5, 7, 4, 4],
+        'Q' => [7, 5, 5, 7, 1],
+        'R' => [6, 5, 6, 5, 5],
+        'S' => [7, 4, 7, 1, 7],
+        'T' => [7, 2, 2, 2, 2],
+        'U' => [5, 5, 5, 5, 7],
+        'V' => [5, 5, 5, 5, 2],
+        'W' => [5, 5, 7, 7, 5],
+        'X' => [5, 5, 2, 5, 5],
+        'Y' => [5, 5, 2, 2, 2],
+        'Z' => [7, 1, 2, 4, 7],
+        '_' => [0, 0, 0, 0, 7],
+        '(' => [1, 2, 2, 2, 1],
+        ')' => [4, 2, 2, 2, 4],
+        '[' => [3, 2, 2, 2, 3],
+        ']' => [6, 2, 2, 2, 6],
+        '/' => [1, 1, 2, 4, 4],
+        ':' => [0, 2, 0, 2, 0],
+        '=' => [0, 7, 0, 7, 0],
+        ',' => [0, 0, 0, 2, 4],
         _ => return None,
     })
 }
@@ -135,8 +177,15 @@ fn range(vals: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+/// Axis titles: `x` under the horizontal axis, `y` above the frame.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Titles<'a> {
+    pub x: &'a str,
+    pub y: &'a str,
+}
+
 /// Draws the series on framed axes; `zero_line` adds y = 0 when in range.
-pub fn plot(series: &[Series], width: u32, height: u32, zero_line: bool) -> Image {
+pub fn plot(series: &[Series], width: u32, height: u32, zero_line: bool, titles: Titles) -> Image {
     let (x0, x1) = range(series.iter().flat_map(|s| s.points.iter().map(|p| p[0])));
     let (y0, y1) = range(series.iter().flat_map(|s| {
         s.points.iter().enumerate().flat_map(move |(i, p)| {
@@ -144,7 +193,7 @@ pub fn plot(series: &[Series], width: u32, height: u32, zero_line: bool) -> Imag
             [p[1] - e, p[1] + e]
         })
     }));
-    let (ml, mr, mt, mb) = (80.0, 20.0, 20.0, 40.0);
+    let (ml, mr, mt, mb) = (80.0, 20.0, 34.0, 60.0);
     let (w, h) = (width as f64, height as f64);
     let sx = (w - ml - mr) / (x1 - x0);
     let sy = (h - mt - mb) / (y1 - y0);
@@ -192,6 +241,18 @@ pub fn plot(series: &[Series], width: u32, height: u32, zero_line: bool) -> Imag
     if zero_line && y0 < 0.0 && y1 > 0.0 {
         img.draw_segment(px([x0, 0.0]), px([x1, 0.0]), 1.0, [150, 150, 150]);
     }
+    let title_x = titles.x.to_uppercase();
+    let title_y = titles.y.to_uppercase();
+    let mid = ml + 0.5 * (w - ml - mr);
+    draw_text(
+        &mut img,
+        mid - 0.5 * text_width(&title_x, font),
+        h - 22.0,
+        &title_x,
+        font,
+        dark,
+    );
+    draw_text(&mut img, 8.0, 10.0, &title_y, font, dark);
     let corners = [px([x0, y0]), px([x1, y0]), px([x1, y1]), px([x0, y1])];
     for k in 0..4 {
         img.draw_segment(corners[k], corners[(k + 1) % 4], 1.5, dark);
@@ -223,9 +284,9 @@ pub fn plot(series: &[Series], width: u32, height: u32, zero_line: bool) -> Imag
     img
 }
 
-/// Plots and saves as PNG.
-pub fn save_plot(path: &Path, series: &[Series], zero_line: bool) -> Result<()> {
-    plot(series, 640, 440, zero_line).save_png(path)
+/// Plots with axis titles and saves as PNG.
+pub fn save_plot(path: &Path, series: &[Series], zero_line: bool, titles: Titles) -> Result<()> {
+    plot(series, 640, 460, zero_line, titles).save_png(path)
 }
 
 #[cfg(test)]
@@ -250,7 +311,7 @@ mod tests {
             lines: true,
             errors: Some(vec![0.1, 0.0]),
         };
-        let img = plot(&[s], 200, 150, false);
+        let img = plot(&[s], 200, 150, false, Titles { x: "x (m)", y: "y" });
         assert!(img.rgb.chunks(3).any(|p| p == PALETTE[1]));
     }
 }

@@ -4,7 +4,7 @@
 //! state after relaxation). Also the transport velocity: the mean horizontal
 //! velocity of the mobile grains, averaged over the samples.
 
-use super::plot::{save_plot, Series, PALETTE};
+use super::plot::{save_plot, Series, Titles, PALETTE};
 use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
@@ -138,7 +138,16 @@ impl Profiles {
             lines: true,
             errors: None,
         };
-        save_plot(&dir.join("profile_density.png"), &[dens], false)?;
+        let titles = |x| Titles {
+            x,
+            y: "height (mm)",
+        };
+        save_plot(
+            &dir.join("profile_density.png"),
+            &[dens],
+            false,
+            titles("packing fraction"),
+        )?;
         let vel = Series {
             points: rows
                 .iter()
@@ -150,7 +159,12 @@ impl Profiles {
             lines: true,
             errors: None,
         };
-        save_plot(&dir.join("profile_velocity.png"), &[vel], false)
+        save_plot(
+            &dir.join("profile_velocity.png"),
+            &[vel],
+            false,
+            titles("mean vx (m/s)"),
+        )
     }
 }
 
