@@ -3,7 +3,7 @@
 
 #[path = "seed_util.rs"]
 mod seed_util;
-use seed_util::{num, run_scenario};
+use seed_util::{num, read_csv, run_scenario, run_scenario_kept};
 
 // The shipped length (10 + 15 cycles, about 2.5 s in release): shorter runs
 // are dominated by the bed's breathing and do not give a stable sign.
@@ -96,6 +96,30 @@ fn side_walls_without_shear_friction_lift_the_grains() {
 
 #[test]
 fn side_walls_with_shear_friction_drag_the_grains_down() {
-    let (c, e) = walls("gs400", "400");
+    let (s, out) = run_scenario_kept("seed-convection-walls", "gs400", &["contact.gamma_t=400"]);
+    let (c, e) = (
+        num(&s, "convection_center_vz"),
+        num(&s, "convection_edge_vz"),
+    );
     assert!(e < 0.0 && c > e, "gamma_s = 400: center {c}, edge {e}");
+    // The column profile shows the same: the columns at the walls sink
+    // fastest of all, and the flow turns upward away from them.
+    let rows = read_csv(&out.join("convection_profile.csv"));
+    let _ = std::fs::remove_dir_all(&out);
+    assert_eq!(rows.len(), grains::measure::convection::COLUMNS);
+    let vz: Vec<f64> = rows.iter().map(|r| r[1]).collect();
+    let (left, right) = (vz[0], vz[vz.len() - 1]);
+    let inner_max = vz[2..vz.len() - 2].iter().cloned().fold(f64::MIN, f64::max);
+    assert!(
+        left < 0.0 && right < 0.0,
+        "wall columns {left}, {right}: {vz:?}"
+    );
+    assert!(inner_max > 0.0, "no rising column inside: {vz:?}");
+    // Mass balance: over the whole bed the mean vertical velocity is
+    // nearly zero against the wall columns' sinking.
+    let mean = vz.iter().sum::<f64>() / vz.len() as f64;
+    assert!(
+        mean.abs() < 0.5 * left.abs().min(right.abs()),
+        "mean {mean}: {vz:?}"
+    );
 }

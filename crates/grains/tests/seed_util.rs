@@ -4,6 +4,18 @@
 /// Runs a shipped scenario (scenarios/NAME.toml) through the library runner
 /// with `sets` applied and no frames or pictures; returns summary.json.
 pub fn run_scenario(name: &str, tag: &str, sets: &[&str]) -> serde_json::Value {
+    let (s, out) = run_scenario_kept(name, tag, sets);
+    let _ = std::fs::remove_dir_all(&out);
+    s
+}
+
+/// As [`run_scenario`], but keeps the output directory (returned) so that a
+/// test can read the measurement files; the caller removes it.
+pub fn run_scenario_kept(
+    name: &str,
+    tag: &str,
+    sets: &[&str],
+) -> (serde_json::Value, std::path::PathBuf) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let path = root.join("scenarios").join(format!("{name}.toml"));
     let mut all: Vec<String> = vec!["output.frames=false".into(), "output.picture=false".into()];
@@ -16,8 +28,21 @@ pub fn run_scenario(name: &str, tag: &str, sets: &[&str]) -> serde_json::Value {
         ..Default::default()
     };
     let s = grains::runner::run(&loaded, &opts, &mut grains::runner::Silent).expect("run");
-    let _ = std::fs::remove_dir_all(&out);
-    s
+    (s, out)
+}
+
+/// Reads a CSV file with one header line into rows of numbers.
+pub fn read_csv(path: &std::path::Path) -> Vec<Vec<f64>> {
+    std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .lines()
+        .skip(1)
+        .map(|l| {
+            l.split(',')
+                .map(|x| x.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect()
 }
 
 pub fn num(s: &serde_json::Value, key: &str) -> f64 {

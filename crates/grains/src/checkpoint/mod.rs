@@ -31,7 +31,7 @@ use std::path::{Path, PathBuf};
 pub const MAGIC: &[u8; 8] = b"GRAINSCK";
 /// Version of the layout; a file of another version is refused. Version 2
 /// added the measurement section.
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
 /// Checkpoints kept in a run directory (older ones are deleted).
 pub const KEEP: usize = 2;
 const HEADER: usize = 8 + 4 + 8 + 4;

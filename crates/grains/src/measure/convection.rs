@@ -1,11 +1,21 @@
 //! Convection strength (seed 002 §3): the mean vertical velocity of the
 //! grains in a central band of the box and in the two edge bands, averaged
 //! over samples. Upward flow in the centre and downward at the edges is the
-//! two-roll pattern of Fig. 2; walls (Fig. 3) reverse or keep it.
+//! two-roll pattern of Fig. 2; walls (Fig. 3) reverse or keep it. The same
+//! average in columns across the box (`convection_profile.csv` and `.png`)
+//! shows where the rolls turn: attached to the walls or not.
 
+use super::plot::{save_plot, Series, Titles, PALETTE};
 use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
+use crate::error::Result;
+use crate::io::write_atomic;
 use crate::md::Md;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Columns across the box for the profile of the mean vertical velocity.
+pub const COLUMNS: usize = 20;
 
 #[derive(Clone, Debug)]
 pub struct Convection {
@@ -16,6 +26,11 @@ pub struct Convection {
     center_n: u64,
     edge_sum: f64,
     edge_n: u64,
+    column_sum: Vec<f64>,
+    column_n: Vec<u64>,
+    /// Left edge and width of the box (m), for the profile's abscissa.
+    lo: f64,
+    width: f64,
 }
 
 impl Convection {
@@ -26,6 +41,10 @@ impl Convection {
             center_n: 0,
             edge_sum: 0.0,
             edge_n: 0,
+            column_sum: vec![0.0; COLUMNS],
+            column_n: vec![0; COLUMNS],
+            lo: 0.0,
+            width: 0.0,
         }
     }
 
@@ -35,6 +54,7 @@ impl Convection {
         let lo = D::get(md.domain.lo, 0);
         let l = md.domain.length(0);
         let up = D::vertical();
+        (self.lo, self.width) = (lo, l);
         for i in 0..p.n_owned() {
             if p.frozen[i] {
                 continue;
@@ -42,6 +62,9 @@ impl Convection {
             // Position across the box in [0, 1), periodic or not.
             let s = ((D::get(p.pos[i], 0) - lo) / l).rem_euclid(1.0);
             let vz = D::get(p.vel[i], up);
+            let col = ((s * COLUMNS as f64) as usize).min(COLUMNS - 1);
+            self.column_sum[col] += vz;
+            self.column_n[col] += 1;
             if (s - 0.5).abs() < 0.5 * self.band {
                 self.center_sum += vz;
                 self.center_n += 1;
@@ -59,6 +82,44 @@ impl Convection {
         } else {
             self.center_sum / self.center_n as f64
         }
+    }
+
+    /// Mean vertical velocity per column across the box: (column centre in
+    /// m, mean v_z in m/s, samples); NaN for a column no grain visited.
+    pub fn profile(&self) -> Vec<(f64, f64, u64)> {
+        (0..COLUMNS)
+            .map(|k| {
+                let x = self.lo + (k as f64 + 0.5) / COLUMNS as f64 * self.width;
+                let n = self.column_n[k];
+                let v = if n == 0 {
+                    f64::NAN
+                } else {
+                    self.column_sum[k] / n as f64
+                };
+                (x, v, n)
+            })
+            .collect()
+    }
+
+    /// Writes `convection_profile.csv` and `convection_profile.png`.
+    pub fn write(&self, dir: &Path) -> Result<()> {
+        let rows = self.profile();
+        let mut csv = String::from("x,mean_vz,samples\n");
+        for (x, v, n) in &rows {
+            let _ = writeln!(csv, "{x},{v},{n}");
+        }
+        write_atomic(&dir.join("convection_profile.csv"), csv.as_bytes())?;
+        let series = Series {
+            points: rows.iter().map(|r| [r.0 * 1e3, r.1]).collect(),
+            colour: PALETTE[0],
+            lines: true,
+            errors: None,
+        };
+        let titles = Titles {
+            x: "x (mm)",
+            y: "mean vertical velocity (m/s)",
+        };
+        save_plot(&dir.join("convection_profile.png"), &[series], true, titles)
     }
 
     /// Mean vertical velocity in the edge bands (m/s).
@@ -79,15 +140,26 @@ impl Convection {
         e.u64(self.center_n);
         e.f64(self.edge_sum);
         e.u64(self.edge_n);
+        e.f64(self.lo);
+        e.f64(self.width);
+        for k in 0..COLUMNS {
+            e.f64(self.column_sum[k]);
+            e.u64(self.column_n[k]);
+        }
     }
 
     pub fn load(d: &mut Dec) -> DecResult<Self> {
-        Ok(Self {
-            band: d.f64("convection band")?,
-            center_sum: d.f64("convection sum")?,
-            center_n: d.u64("convection count")?,
-            edge_sum: d.f64("convection sum")?,
-            edge_n: d.u64("convection count")?,
-        })
+        let mut c = Self::new(d.f64("convection band")?);
+        c.center_sum = d.f64("convection sum")?;
+        c.center_n = d.u64("convection count")?;
+        c.edge_sum = d.f64("convection sum")?;
+        c.edge_n = d.u64("convection count")?;
+        c.lo = d.f64("convection box edge")?;
+        c.width = d.f64("convection box width")?;
+        for k in 0..COLUMNS {
+            c.column_sum[k] = d.f64("convection column sum")?;
+            c.column_n[k] = d.u64("convection column count")?;
+        }
+        Ok(c)
     }
 }

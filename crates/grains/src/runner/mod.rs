@@ -277,6 +277,9 @@ impl Measurements {
     }
 
     fn write<D: Dim>(&self, dir: &Path, md: &Md<D>, last: &Frame) -> Result<()> {
+        if let Some(c) = &self.convection {
+            c.write(dir)?;
+        }
         if let Some(p) = &self.phases {
             p.write(dir, &md.walls)?;
         }
