@@ -21,8 +21,25 @@ fn modulated(tag: &str, extra: &[&str]) -> (f64, f64) {
 
 #[test]
 fn modulated_plate_flows_up_in_the_centre() {
-    let (c, e) = modulated("base", &[]);
+    let (s, out) = run_scenario_kept("seed-convection-modulated", "base", &[]);
+    let (c, e) = (
+        num(&s, "convection_center_vz"),
+        num(&s, "convection_edge_vz"),
+    );
     assert!(c > 0.0 && e < 0.0, "center {c}, edge {e}");
+    // Two rolls: every column of the middle fifth rises, the two columns
+    // at each side (where the plate's amplitude is smallest) sink.
+    let rows = read_csv(&out.join("convection_profile.csv"));
+    let _ = std::fs::remove_dir_all(&out);
+    let vz: Vec<f64> = rows.iter().map(|r| r[1]).collect();
+    let n = vz.len();
+    assert!(vz[n / 2 - 2..n / 2 + 2].iter().all(|&v| v > 0.0), "{vz:?}");
+    assert!(
+        [vz[0], vz[1], vz[n - 2], vz[n - 1]]
+            .iter()
+            .all(|&v| v < 0.0),
+        "{vz:?}"
+    );
 }
 
 /// Convection strength (centre minus edge vertical velocity, m/s) averaged
