@@ -30,7 +30,7 @@ pub enum Motion<D: Dim> {
     /// With B ≠ 0 the wall must be a plane whose normal is perpendicular to
     /// x: its surface is then the curve (3D: the ridged sheet) z0(x, t), whose
     /// normal tilts by the local slope ∂z0/∂x (up to 13° in seed 002 Fig. 2),
-    /// so the plate also pushes sideways. See `modulated_plate` in
+    /// so the plate also pushes sideways. See `lifted_plane` in
     /// `boundary/flat.rs`. The velocity is taken at the contact point's x.
     Vibrate {
         direction: D::V,
