@@ -113,10 +113,17 @@ pub(crate) fn check_polygon(v: &[DVec3]) -> Result<(), String> {
 /// (from [`polygon_normal`]). The nearest point is the projection of `p` when
 /// that falls inside, otherwise the nearest point of the boundary. A centre
 /// lying exactly in the polygon is pushed along `normal`.
+///
+/// Edges listed in `seams` are shared with a coplanar neighbour: a projection
+/// beyond one belongs to the neighbour, so this piece gives no contact. A
+/// projection exactly on a seam goes to the piece that traverses the edge in
+/// lexicographically increasing direction (the neighbour traverses it the
+/// other way), so each point of the joined surface has exactly one owner.
 pub(crate) fn polygon(
     p: DVec3,
     n: usize,
     vert: impl Fn(usize) -> DVec3,
+    seams: &[usize],
     normal: DVec3,
     r: f64,
 ) -> Option<Touch> {
@@ -132,7 +139,16 @@ pub(crate) fn polygon(
     for i in 0..n {
         let a = vert(i);
         let b = vert((i + 1) % n);
-        if (b - a).cross(q - a).dot(normal) < 0.0 {
+        let side = (b - a).cross(q - a).dot(normal);
+        if seams.contains(&i) {
+            let e = (b - a).to_array();
+            let ascending = e.iter().find(|c| **c != 0.0).is_some_and(|c| *c > 0.0);
+            if side < 0.0 || (side == 0.0 && !ascending) {
+                return None;
+            }
+            continue; // a seam is no boundary: its points are no nearest point
+        }
+        if side < 0.0 {
             inside = false;
         }
         let c = closest_on_segment(p, a, b);

@@ -94,9 +94,15 @@ fn hopper_walls(s: &crate::scenario::Scenario, h: &HopperSpec) -> Result<Vec<Wal
                     "hopper.outlet = {d}: must be narrower than the domain along y"
                 )));
             }
-            let poly = |v: [[f64; 2]; 4]| ShapeSpec::Polygon {
+            // Four floor pieces around the orifice. Where two meet, the edge is
+            // a seam (no contact from either side: the neighbour's face carries
+            // the grain), so a grain on a seam is pushed once; only the
+            // orifice rim acts as an edge.
+            let poly = |v: &[[f64; 2]], seams: &[usize]| ShapeSpec::Polygon {
                 vertices: v.iter().map(|p| vec![p[0], p[1], f]).collect(),
+                seams: seams.to_vec(),
             };
+            let (y0, y1, x0, x1) = (lo[1], hi[1], lo[0], hi[0]);
             vec![
                 wall(
                     "silo-left",
@@ -116,17 +122,26 @@ fn hopper_walls(s: &crate::scenario::Scenario, h: &HopperSpec) -> Result<Vec<Wal
                 ),
                 wall(
                     "floor-left",
-                    poly([[lo[0], lo[1]], [a, lo[1]], [a, hi[1]], [lo[0], hi[1]]]),
+                    poly(
+                        &[[x0, y0], [a, y0], [a, c], [a, e], [a, y1], [x0, y1]],
+                        &[1, 3],
+                    ),
                 ),
                 wall(
                     "floor-right",
-                    poly([[b, lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [b, hi[1]]]),
+                    poly(
+                        &[[b, y0], [x1, y0], [x1, y1], [b, y1], [b, e], [b, c]],
+                        &[3, 5],
+                    ),
                 ),
                 wall(
                     "floor-front",
-                    poly([[a, lo[1]], [b, lo[1]], [b, c], [a, c]]),
+                    poly(&[[a, y0], [b, y0], [b, c], [a, c]], &[1, 3]),
                 ),
-                wall("floor-back", poly([[a, e], [b, e], [b, hi[1]], [a, hi[1]]])),
+                wall(
+                    "floor-back",
+                    poly(&[[a, e], [b, e], [b, y1], [a, y1]], &[1, 3]),
+                ),
             ]
         }
     })
