@@ -769,4 +769,19 @@ fn polygon_seam_pushes_once() {
     // A real edge (not a seam) still acts: beyond x = 2 the right square's rim.
     let c = right.contact(DVec3::new(2.2, 0.5, 0.3), 0.5, 0.0).unwrap();
     assert!(c.overlap > 0.0 && c.normal.x > 0.0);
+    // A rim collinear with a seam (an orifice beside a joint): x = 1 is a seam
+    // for y < 1 and a real edge for 1 < y < 2.
+    let piece = fixed3(Shape::Polygon {
+        vertices: vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(1.0, 2.0, 0.0),
+            DVec3::new(0.0, 2.0, 0.0),
+        ],
+        seams: vec![1],
+    });
+    let c = piece.contact(DVec3::new(1.2, 1.5, 0.1), 0.5, 0.0).unwrap();
+    assert!(near(c.overlap, 0.5 - 0.05_f64.sqrt()) && c.normal.x > 0.0);
+    assert!(piece.contact(DVec3::new(1.2, 0.5, 0.1), 0.5, 0.0).is_none());
 }
