@@ -620,6 +620,14 @@ fn constructor_errors() {
     );
     assert!(e.contains("coplanar"), "{e}");
     let e = err(
+        Shape::<D3>::Polygon {
+            vertices: vec![DVec3::ZERO, DVec3::X, DVec3::Y],
+            seams: vec![3],
+        },
+        Motion::Fixed,
+    );
+    assert!(e.contains("seam 3 is not an edge"), "{e}");
+    let e = err(
         Shape::<D2>::Cylinder {
             point: DVec2::ZERO,
             axis: DVec2::ZERO,
