@@ -176,6 +176,8 @@ pub struct FlowRun<D: Dim> {
     /// Highest grain top when settling ended: the repose fit keeps only the
     /// surface below it (the part that flowed).
     fill_top: Option<f64>,
+    /// Mobile grains when settling ended.
+    settled_grains: usize,
     hopper: Option<Recycler>,
     repose: Option<SurfaceSpec>,
     drum: Option<(SurfaceSpec, Vec<f64>)>,
@@ -249,6 +251,7 @@ impl<D: Dim> FlowRun<D> {
             parked: 0,
             d0,
             fill_top: None,
+            settled_grains: 0,
             hopper,
             repose: s.measure.repose.clone(),
             drum: s.measure.surface_angle.clone().map(|m| (m, Vec::new())),
@@ -284,6 +287,7 @@ impl<D: Dim> FlowRun<D> {
             {
                 self.stage = Stage::Settled(md.time);
                 self.fill_top = Some(top_of_pile(md));
+                self.settled_grains = md.particles.n_mobile();
                 if let Some(name) = &e.remove_wall {
                     for w in md.walls.iter_mut().filter(|w| &w.name == name) {
                         w.remove_at = Some(md.time);
@@ -432,11 +436,22 @@ impl<D: Dim> FlowRun<D> {
         }
         if let Some(fit) = self.repose_fit(md) {
             write_surface(dir, &fit)?;
-            // Fewer than three columns below the fill height: nothing flowed
-            // (the pile stands as a block), so there is no slope of repose.
-            if fit.points.len() >= 3 {
+            // Share of the settled grains that left the box. Below a tenth
+            // there was no avalanche (the pile stands as a block, at most a
+            // corner slumped), so whatever slope is there is no angle of
+            // repose; with fewer than three columns there is no fit either.
+            let flowed = if self.settled_grains > 0 {
+                self.parked as f64 / self.settled_grains as f64
+            } else {
+                0.0
+            };
+            // Without a sink nothing is counted as gone: no such check.
+            let sink = self.events.as_ref().and_then(|e| e.sink);
+            let avalanche = sink.is_none() || flowed >= 0.1;
+            if fit.points.len() >= 3 && avalanche {
                 summary.insert("repose_angle_deg".into(), json!(fit.angle_deg()));
             }
+            summary.insert("repose_flowed_fraction".into(), json!(flowed));
             summary.insert("repose_surface_points".into(), json!(fit.points.len()));
             summary.insert("remaining_grains".into(), json!(md.particles.n_mobile()));
         }
