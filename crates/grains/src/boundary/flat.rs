@@ -144,10 +144,19 @@ pub(crate) fn check_polygon(v: &[DVec3]) -> Result<(), String> {
 /// (from [`polygon_normal`]). The nearest point is the projection of `p` when
 /// that falls inside, otherwise the nearest point of the boundary. A centre
 /// lying exactly in the polygon is pushed along `normal`.
+///
+/// Edges listed in `seams` are shared with a coplanar neighbour: a projection
+/// outside whose nearest boundary point lies on a seam belongs to the
+/// neighbour, so this piece gives no contact (a real edge collinear with a
+/// seam, like an orifice rim, still acts). A
+/// projection exactly on a seam goes to the piece that traverses the edge in
+/// lexicographically increasing direction (the neighbour traverses it the
+/// other way), so each point of the joined surface has exactly one owner.
 pub(crate) fn polygon(
     p: DVec3,
     n: usize,
     vert: impl Fn(usize) -> DVec3,
+    seams: &[usize],
     normal: DVec3,
     r: f64,
 ) -> Option<Touch> {
@@ -160,17 +169,27 @@ pub(crate) fn polygon(
     let mut inside = true;
     let mut best = q;
     let mut best_d2 = f64::INFINITY;
+    let mut best_on_seam = false;
     for i in 0..n {
         let a = vert(i);
         let b = vert((i + 1) % n);
-        if (b - a).cross(q - a).dot(normal) < 0.0 {
+        let side = (b - a).cross(q - a).dot(normal);
+        let seam = seams.contains(&i);
+        if side < 0.0 {
             inside = false;
+        } else if side == 0.0 && seam && closest_on_segment(q, a, b) == q {
+            let e = (b - a).to_array();
+            if !e.iter().find(|c| **c != 0.0).is_some_and(|c| *c > 0.0) {
+                return None; // exactly on the seam: the neighbour's point
+            }
         }
         let c = closest_on_segment(p, a, b);
         let d2 = (p - c).length_squared();
-        if d2 < best_d2 {
+        // On a tie (a corner where a seam meets a real edge) the real edge wins.
+        if d2 < best_d2 || (d2 == best_d2 && !seam) {
             best_d2 = d2;
             best = c;
+            best_on_seam = seam;
         }
     }
     if inside {
@@ -180,6 +199,9 @@ pub(crate) fn polygon(
             normal: side,
             point: q,
         });
+    }
+    if best_on_seam {
+        return None; // beyond a seam: the neighbour's face carries the grain
     }
     touch_at(p, best, r, normal)
 }

@@ -24,8 +24,15 @@ pub enum Shape<D: Dim> {
     /// Finite segment from `a` to `b` (2D only). Two-sided; end caps round.
     Segment { a: D::V, b: D::V },
     /// Convex planar polygon (3D only), vertices in order around it.
-    /// Two-sided; edges and corners round.
-    Polygon { vertices: Vec<D::V> },
+    /// Two-sided; edges and corners round. `seams` lists edges (edge i runs
+    /// from vertex i to i + 1) shared with a coplanar neighbour that carries
+    /// the grains beyond them: no contact there, so a grain on a seam is
+    /// pushed once, not by both pieces.
+    Polygon {
+        vertices: Vec<D::V>,
+        #[serde(default)]
+        seams: Vec<usize>,
+    },
     /// Cylinder of `radius` about the line through `point` along `axis`; in 2D
     /// a circle about `point` (axis ignored). `inside`: particles are inside
     /// (pipe, drum); otherwise outside (a post). One-sided like `Plane`.
@@ -98,7 +105,13 @@ impl<D: Dim> Shape<D> {
                 }
                 Ok(())
             }
-            Shape::Polygon { vertices } => {
+            Shape::Polygon { vertices, seams } => {
+                if let Some(i) = seams.iter().find(|&&i| i >= vertices.len()) {
+                    return Err(format!(
+                        "polygon seam {i} is not an edge (edges 0 to {})",
+                        vertices.len().saturating_sub(1)
+                    ));
+                }
                 if D::D != 3 {
                     return Err(format!(
                         "polygons are 3D walls; in {} use segments",
@@ -136,7 +149,7 @@ impl<D: Dim> Shape<D> {
         match self {
             Shape::Plane { point, .. } | Shape::Cylinder { point, .. } => *point,
             Shape::Segment { a, b } => (*a + *b) * 0.5,
-            Shape::Polygon { vertices } => {
+            Shape::Polygon { vertices, .. } => {
                 let n = vertices.len().max(1);
                 vertices.iter().fold(D::zero(), |s, v| s + *v) / n as f64
             }
@@ -152,11 +165,11 @@ impl<D: Dim> Shape<D> {
                 flat::plane(p, to3::<D>(*point), to3::<D>(*normal), r)
             }
             Shape::Segment { a, b } => flat::segment(p, to3::<D>(*a), to3::<D>(*b), r),
-            Shape::Polygon { vertices } => {
+            Shape::Polygon { vertices, seams } => {
                 let n = vertices.len();
                 let vert = |i: usize| to3::<D>(vertices[i]);
                 let normal = flat::polygon_normal(n, vert);
-                flat::polygon(p, n, vert, normal, r)
+                flat::polygon(p, n, vert, seams, normal, r)
             }
             Shape::Cylinder {
                 point,

@@ -124,6 +124,7 @@ fn polygon_interior_edge_and_vertex() {
             DVec3::new(2.0, 2.0, 1.0),
             DVec3::new(0.0, 2.0, 1.0),
         ],
+        seams: vec![],
     });
     // Interior, both sides.
     let c = w.contact(DVec3::new(1.0, 1.0, 1.3), 0.5, 0.0).unwrap();
@@ -162,6 +163,7 @@ fn tilted_polygon() {
     ];
     let w = fixed3(Shape::Polygon {
         vertices: tri.iter().map(|v| o + q * *v).collect(),
+        seams: vec![],
     });
     let c = w
         .contact(o + q * DVec3::new(1.0, 1.0, 0.35), 0.5, 0.0)
@@ -559,6 +561,7 @@ fn rotated_polygon_quarter_turn_3d() {
                 DVec3::new(3.0, 0.0, 2.0),
                 DVec3::new(1.0, 0.0, 2.0),
             ],
+            seams: vec![],
         },
         Motion::Rotate {
             center: DVec3::ZERO,
@@ -666,6 +669,7 @@ fn constructor_errors() {
     let e = err(
         Shape::<D2>::Polygon {
             vertices: vec![DVec2::ZERO, DVec2::X, DVec2::Y],
+            seams: vec![],
         },
         Motion::Fixed,
     );
@@ -673,6 +677,7 @@ fn constructor_errors() {
     let e = err(
         Shape::<D3>::Polygon {
             vertices: vec![DVec3::ZERO, DVec3::X],
+            seams: vec![],
         },
         Motion::Fixed,
     );
@@ -680,6 +685,7 @@ fn constructor_errors() {
     let e = err(
         Shape::<D3>::Polygon {
             vertices: vec![DVec3::ZERO, DVec3::X, DVec3::new(0.2, 0.2, 0.0), DVec3::Y],
+            seams: vec![],
         },
         Motion::Fixed,
     );
@@ -687,10 +693,19 @@ fn constructor_errors() {
     let e = err(
         Shape::<D3>::Polygon {
             vertices: vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.5), DVec3::Y],
+            seams: vec![],
         },
         Motion::Fixed,
     );
     assert!(e.contains("coplanar"), "{e}");
+    let e = err(
+        Shape::<D3>::Polygon {
+            vertices: vec![DVec3::ZERO, DVec3::X, DVec3::Y],
+            seams: vec![3],
+        },
+        Motion::Fixed,
+    );
+    assert!(e.contains("seam 3 is not an edge"), "{e}");
     let e = err(
         Shape::<D2>::Cylinder {
             point: DVec2::ZERO,
@@ -803,4 +818,57 @@ fn serde_round_trip() {
     .unwrap();
     let back: Wall<D3> = serde_json::from_str(&serde_json::to_string(&d).unwrap()).unwrap();
     assert_eq!(back, d);
+}
+
+/// Two coplanar squares that share an edge marked as a seam on both act as
+/// one rectangle: a sphere anywhere across the seam (and exactly on it) feels
+/// the single-face overlap once, never an edge contact.
+#[test]
+fn polygon_seam_pushes_once() {
+    let sq = |x0: f64, seams: Vec<usize>| {
+        fixed3(Shape::Polygon {
+            vertices: vec![
+                DVec3::new(x0, 0.0, 0.0),
+                DVec3::new(x0 + 1.0, 0.0, 0.0),
+                DVec3::new(x0 + 1.0, 1.0, 0.0),
+                DVec3::new(x0, 1.0, 0.0),
+            ],
+            seams,
+        })
+    };
+    // Edge 1 of the left square (x = 1, going +y) meets edge 3 of the right
+    // one (x = 1, going −y).
+    let (left, right) = (sq(0.0, vec![1]), sq(1.0, vec![3]));
+    for x in [0.7, 0.95, 1.0 - 1e-12, 1.0, 1.0 + 1e-12, 1.05, 1.3] {
+        let p = DVec3::new(x, 0.5, 0.3);
+        let touches: Vec<_> = [&left, &right]
+            .iter()
+            .filter_map(|w| w.contact(p, 0.5, 0.0))
+            .collect();
+        assert_eq!(touches.len(), 1, "x = {x}: {} contacts", touches.len());
+        assert!(near(touches[0].overlap, 0.2), "x = {x}");
+        assert!(near3(touches[0].normal, DVec3::Z), "x = {x}");
+    }
+    // Without seams both squares push a sphere near the shared edge.
+    let (l, r) = (sq(0.0, vec![]), sq(1.0, vec![]));
+    let p = DVec3::new(1.05, 0.5, 0.3);
+    assert!(l.contact(p, 0.5, 0.0).is_some() && r.contact(p, 0.5, 0.0).is_some());
+    // A real edge (not a seam) still acts: beyond x = 2 the right square's rim.
+    let c = right.contact(DVec3::new(2.2, 0.5, 0.3), 0.5, 0.0).unwrap();
+    assert!(c.overlap > 0.0 && c.normal.x > 0.0);
+    // A rim collinear with a seam (an orifice beside a joint): x = 1 is a seam
+    // for y < 1 and a real edge for 1 < y < 2.
+    let piece = fixed3(Shape::Polygon {
+        vertices: vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(1.0, 2.0, 0.0),
+            DVec3::new(0.0, 2.0, 0.0),
+        ],
+        seams: vec![1],
+    });
+    let c = piece.contact(DVec3::new(1.2, 1.5, 0.1), 0.5, 0.0).unwrap();
+    assert!(near(c.overlap, 0.5 - 0.05_f64.sqrt()) && c.normal.x > 0.0);
+    assert!(piece.contact(DVec3::new(1.2, 0.5, 0.1), 0.5, 0.0).is_none());
 }

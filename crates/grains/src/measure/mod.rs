@@ -24,4 +24,4 @@ pub mod spacetime;
 pub mod surface;
 
 pub use spacetime::Spacetime;
-pub use surface::{fit_line, surface, SurfaceFit};
+pub use surface::{fit_line, refit_below, surface, SurfaceFit};

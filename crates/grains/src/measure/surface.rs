@@ -79,6 +79,17 @@ pub fn surface<D: Dim>(md: &Md<D>, x0: f64, x1: f64, column: f64, min_height: f6
     }
 }
 
+/// The same fit with only the points whose height is below `cap`.
+pub fn refit_below(fit: SurfaceFit, cap: f64) -> SurfaceFit {
+    let points: Vec<[f64; 2]> = fit.points.into_iter().filter(|p| p[1] < cap).collect();
+    let (intercept, slope) = fit_line(&points).unwrap_or((0.0, 0.0));
+    SurfaceFit {
+        points,
+        intercept,
+        slope,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -89,5 +100,21 @@ mod tests {
         let (a, b) = fit_line(&pts).unwrap();
         assert!((a - 1.0).abs() < 1e-12 && (b - 0.5).abs() < 1e-12);
         assert!(fit_line(&pts[..1]).is_none());
+    }
+
+    #[test]
+    fn refit_drops_the_plateau() {
+        // A slope 0.5 below height 2 and a flat plateau at 3 (a wall column).
+        let mut pts: Vec<[f64; 2]> = (0..4).map(|k| [k as f64, 2.0 - 0.5 * k as f64]).collect();
+        pts.push([-1.0, 3.0]);
+        let fit = refit_below(
+            SurfaceFit {
+                points: pts,
+                ..Default::default()
+            },
+            2.5,
+        );
+        assert_eq!(fit.points.len(), 4);
+        assert!((fit.slope + 0.5).abs() < 1e-12);
     }
 }

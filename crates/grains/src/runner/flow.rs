@@ -11,7 +11,7 @@ use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::io::write_atomic;
 use crate::md::Md;
-use crate::measure::{surface, Spacetime, SurfaceFit};
+use crate::measure::{refit_below, surface, Spacetime, SurfaceFit};
 use crate::scenario::schema::{
     Dimension, EventsSpec, HopperSpec, MotionSpec, ShapeSpec, SurfaceSpec, WallSpec,
 };
@@ -94,9 +94,15 @@ fn hopper_walls(s: &crate::scenario::Scenario, h: &HopperSpec) -> Result<Vec<Wal
                     "hopper.outlet = {d}: must be narrower than the domain along y"
                 )));
             }
-            let poly = |v: [[f64; 2]; 4]| ShapeSpec::Polygon {
+            // Four floor pieces around the orifice. Where two meet, the edge is
+            // a seam (no contact from either side: the neighbour's face carries
+            // the grain), so a grain on a seam is pushed once; only the
+            // orifice rim acts as an edge.
+            let poly = |v: &[[f64; 2]], seams: &[usize]| ShapeSpec::Polygon {
                 vertices: v.iter().map(|p| vec![p[0], p[1], f]).collect(),
+                seams: seams.to_vec(),
             };
+            let (y0, y1, x0, x1) = (lo[1], hi[1], lo[0], hi[0]);
             vec![
                 wall(
                     "silo-left",
@@ -116,17 +122,26 @@ fn hopper_walls(s: &crate::scenario::Scenario, h: &HopperSpec) -> Result<Vec<Wal
                 ),
                 wall(
                     "floor-left",
-                    poly([[lo[0], lo[1]], [a, lo[1]], [a, hi[1]], [lo[0], hi[1]]]),
+                    poly(
+                        &[[x0, y0], [a, y0], [a, c], [a, e], [a, y1], [x0, y1]],
+                        &[1, 3],
+                    ),
                 ),
                 wall(
                     "floor-right",
-                    poly([[b, lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [b, hi[1]]]),
+                    poly(
+                        &[[b, y0], [x1, y0], [x1, y1], [b, y1], [b, e], [b, c]],
+                        &[3, 5],
+                    ),
                 ),
                 wall(
                     "floor-front",
-                    poly([[a, lo[1]], [b, lo[1]], [b, c], [a, c]]),
+                    poly(&[[a, y0], [b, y0], [b, c], [a, c]], &[1, 3]),
                 ),
-                wall("floor-back", poly([[a, e], [b, e], [b, hi[1]], [a, hi[1]]])),
+                wall(
+                    "floor-back",
+                    poly(&[[a, e], [b, e], [b, y1], [a, y1]], &[1, 3]),
+                ),
             ]
         }
     })
@@ -135,10 +150,18 @@ fn hopper_walls(s: &crate::scenario::Scenario, h: &HopperSpec) -> Result<Vec<Wal
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Stage {
     Settling,
-    /// Settled at this time; the wall is gone or tilting goes on.
+    /// Settled at this time; the wall is gone (or goes on tilting).
     Settled(f64),
-    /// Tilting failed at this angle (degrees).
-    Failed(f64),
+    /// Tilting since this time; the surface stood at `base` degrees when it began.
+    Tilting {
+        since: f64,
+        base: f64,
+    },
+    /// The pile failed `tilt` degrees into the tilt, its surface at `base` + `tilt`.
+    Failed {
+        tilt: f64,
+        base: f64,
+    },
 }
 
 /// Everything a flow scenario adds to a run.
@@ -150,6 +173,11 @@ pub struct FlowRun<D: Dim> {
     tilt: f64,
     parked: usize,
     d0: f64,
+    /// Highest grain top when settling ended: the repose fit keeps only the
+    /// surface below it (the part that flowed).
+    fill_top: Option<f64>,
+    /// Mobile grains when settling ended.
+    settled_grains: usize,
     hopper: Option<Recycler>,
     repose: Option<SurfaceSpec>,
     drum: Option<(SurfaceSpec, Vec<f64>)>,
@@ -187,6 +215,14 @@ impl<D: Dim> FlowRun<D> {
                 }
             }
         }
+        if let Some(e) = &events {
+            if e.tilt_rate.is_some() && e.remove_wall.is_some() && s.measure.repose.is_none() {
+                return Err(Error::input(
+                    "run.events: tilt_rate after remove_wall measures the slope left by the \
+                     avalanche first; add [measure.repose] (or set remove_wall = \"\")",
+                ));
+            }
+        }
         for (key, m) in [
             ("repose", &s.measure.repose),
             ("surface_angle", &s.measure.surface_angle),
@@ -214,6 +250,8 @@ impl<D: Dim> FlowRun<D> {
             tilt: 0.0,
             parked: 0,
             d0,
+            fill_top: None,
+            settled_grains: 0,
             hopper,
             repose: s.measure.repose.clone(),
             drum: s.measure.surface_angle.clone().map(|m| (m, Vec::new())),
@@ -248,30 +286,74 @@ impl<D: Dim> FlowRun<D> {
                 if look && md.time >= e.settle_min && self.energy(md) < e.settle_energy =>
             {
                 self.stage = Stage::Settled(md.time);
+                self.fill_top = Some(top_of_pile(md));
+                self.settled_grains = md.particles.n_mobile();
                 if let Some(name) = &e.remove_wall {
                     for w in md.walls.iter_mut().filter(|w| &w.name == name) {
                         w.remove_at = Some(md.time);
                     }
+                } else if e.tilt_rate.is_some() {
+                    // A closed box tilts from its flat settled surface.
+                    self.stage = Stage::Tilting {
+                        since: md.time,
+                        base: 0.0,
+                    };
                 }
             }
-            Stage::Settled(t0) => {
-                if let Some(rate) = e.tilt_rate {
-                    if look && self.energy(md) > e.fail_energy {
-                        self.stage = Stage::Failed(self.tilt);
-                        return;
-                    }
-                    self.tilt = rate * (md.time - t0);
-                    let a = self.tilt.to_radians();
-                    let g = D::norm(self.g0);
-                    let v = D::vertical();
-                    let mut gv = D::zero();
-                    D::set(&mut gv, 0, g * a.sin());
-                    D::set(&mut gv, v, -g * a.cos());
-                    md.settings.gravity = gv;
+            // With a wall removed, the tilt starts from the pile the avalanche
+            // left (Lee & Herrmann 1993): wait until it is at rest again (and
+            // at least as long after the removal as settling took), then take
+            // its slope as the base of the tilt.
+            Stage::Settled(t0)
+                if e.tilt_rate.is_some()
+                    && look
+                    && md.time >= 2.0 * t0
+                    && self.energy(md) < e.settle_energy =>
+            {
+                let base = self.repose_fit(md).map_or(0.0, |f| f.angle_deg());
+                self.stage = Stage::Tilting {
+                    since: md.time,
+                    base,
+                };
+            }
+            Stage::Tilting { since, base } => {
+                let rate = e.tilt_rate.unwrap_or(0.0);
+                if look && self.energy(md) > e.fail_energy {
+                    self.stage = Stage::Failed {
+                        tilt: self.tilt,
+                        base,
+                    };
+                    return;
                 }
+                self.tilt = rate * (md.time - since);
+                let a = self.tilt.to_radians();
+                let g = D::norm(self.g0);
+                let v = D::vertical();
+                let mut gv = D::zero();
+                D::set(&mut gv, 0, g * a.sin());
+                D::set(&mut gv, v, -g * a.cos());
+                md.settings.gravity = gv;
             }
             _ => {}
         }
+    }
+
+    /// The slope of the pile left by the avalanche: column tops within
+    /// `x_range`, only those more than 2 d0 below the settled fill height
+    /// (the settled top is rough by about one grain).
+    /// The columns still standing at that height (against the far wall, or a
+    /// block that never moved) are not a slope of repose.
+    fn repose_fit(&self, md: &Md<D>) -> Option<SurfaceFit> {
+        let m = self.repose.as_ref()?;
+        let fit = surface(
+            md,
+            m.x_range[0],
+            m.x_range[1],
+            m.column * self.d0,
+            m.min_height,
+        );
+        let cap = self.fill_top.map_or(f64::INFINITY, |h| h - 2.0 * self.d0);
+        Some(refit_below(fit, cap))
     }
 
     /// Grains that fell below `sink` are frozen and parked in rows below it,
@@ -328,33 +410,48 @@ impl<D: Dim> FlowRun<D> {
                 Stage::Settling => {
                     summary.insert("settled".into(), json!(0));
                 }
-                Stage::Settled(t) => {
+                Stage::Settled(t) | Stage::Tilting { since: t, .. } => {
                     summary.insert("settled".into(), json!(1));
                     summary.insert("settle_time".into(), json!(t));
-                    if e.tilt_rate.is_some() {
+                    if let Stage::Tilting { base, .. } = self.stage {
                         // Never failed: the angle reached is a lower bound.
-                        summary.insert("marginal_angle_lower_bound_deg".into(), json!(self.tilt));
+                        summary.insert(
+                            "marginal_angle_lower_bound_deg".into(),
+                            json!(base + self.tilt),
+                        );
+                    } else if e.tilt_rate.is_some() {
+                        summary.insert("marginal_angle_lower_bound_deg".into(), json!(0.0));
                     }
                 }
-                Stage::Failed(a) => {
+                Stage::Failed { tilt, base } => {
                     summary.insert("settled".into(), json!(1));
-                    summary.insert("marginal_angle_deg".into(), json!(a));
+                    summary.insert("marginal_angle_deg".into(), json!(base + tilt));
+                    summary.insert("tilt_at_failure_deg".into(), json!(tilt));
+                    summary.insert("repose_before_tilt_deg".into(), json!(base));
                 }
             }
             if e.sink.is_some() {
                 summary.insert("lost_grains".into(), json!(self.parked));
             }
         }
-        if let Some(m) = &self.repose {
-            let fit = surface(
-                md,
-                m.x_range[0],
-                m.x_range[1],
-                m.column * self.d0,
-                m.min_height,
-            );
+        if let Some(fit) = self.repose_fit(md) {
             write_surface(dir, &fit)?;
-            summary.insert("repose_angle_deg".into(), json!(fit.angle_deg()));
+            // Share of the settled grains that left the box. Below a tenth
+            // there was no avalanche (the pile stands as a block, at most a
+            // corner slumped), so whatever slope is there is no angle of
+            // repose; with fewer than three columns there is no fit either.
+            let flowed = if self.settled_grains > 0 {
+                self.parked as f64 / self.settled_grains as f64
+            } else {
+                0.0
+            };
+            // Without a sink nothing is counted as gone: no such check.
+            let sink = self.events.as_ref().and_then(|e| e.sink);
+            let avalanche = sink.is_none() || flowed >= 0.1;
+            if fit.points.len() >= 3 && avalanche {
+                summary.insert("repose_angle_deg".into(), json!(fit.angle_deg()));
+            }
+            summary.insert("repose_flowed_fraction".into(), json!(flowed));
             summary.insert("repose_surface_points".into(), json!(fit.points.len()));
             summary.insert("remaining_grains".into(), json!(md.particles.n_mobile()));
         }
@@ -374,6 +471,16 @@ impl<D: Dim> FlowRun<D> {
         }
         Ok(())
     }
+}
+
+/// Highest grain top among the mobile grains.
+fn top_of_pile<D: Dim>(md: &Md<D>) -> f64 {
+    let p = &md.particles;
+    let v = D::vertical();
+    (0..p.n_owned())
+        .filter(|&i| !p.frozen[i])
+        .map(|i| D::get(p.pos[i], v) + p.radius[i])
+        .fold(f64::NEG_INFINITY, f64::max)
 }
 
 /// Puts grain `i` at `x` at rest, its integrator history cleared.

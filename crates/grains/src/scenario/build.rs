@@ -309,12 +309,13 @@ fn wall<D: Dim>(k: usize, w: &WallSpec, dom: &Domain<D>) -> Result<Wall<D>> {
             a: v("shape.a", a)?,
             b: v("shape.b", b)?,
         },
-        ShapeSpec::Polygon { vertices } => Shape::Polygon {
+        ShapeSpec::Polygon { vertices, seams } => Shape::Polygon {
             vertices: vertices
                 .iter()
                 .enumerate()
                 .map(|(i, x)| v(&format!("shape.vertices[{i}]"), x))
                 .collect::<Result<_>>()?,
+            seams: seams.clone(),
         },
         ShapeSpec::Cylinder {
             point,

@@ -234,8 +234,13 @@ pub enum ShapeSpec {
     Plane { point: Vec<f64>, normal: Vec<f64> },
     /// Finite segment (2D).
     Segment { a: Vec<f64>, b: Vec<f64> },
-    /// Convex planar polygon (3D).
-    Polygon { vertices: Vec<Vec<f64>> },
+    /// Convex planar polygon (3D); `seams`: edges shared with a coplanar
+    /// neighbour (edge i from vertex i to i + 1), which give no contact.
+    Polygon {
+        vertices: Vec<Vec<f64>>,
+        #[serde(default)]
+        seams: Vec<usize>,
+    },
     /// Circle (2D) or cylinder (3D) of `radius`; `inside` for pipes and drums.
     Cylinder {
         point: Vec<f64>,
