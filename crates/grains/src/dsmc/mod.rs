@@ -11,6 +11,7 @@ pub mod rng;
 pub mod sort;
 pub mod spec;
 pub mod store;
+pub mod stream;
 pub mod workload;
 
 pub use collide::{CellState, GasDim, Tally};
