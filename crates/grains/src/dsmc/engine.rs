@@ -24,6 +24,7 @@
 
 use super::collide::{collide_cell, CellState, GasDim, Selection, Tally};
 use super::dense::{Correction, DenseGas};
+pub use super::haff::haff_time;
 use super::rng::{StepStreams, Stream};
 use super::sort::{gather_in_place, sort_indices, CellGrid, RESORT_EVERY};
 use super::store::Particle;
@@ -308,11 +309,6 @@ pub fn collision_frequency(dim: usize, n: f64, sigma: f64, chi: f64, t_over_m: f
     } else {
         4.0 * sp * n * sigma * sigma * chi * t_over_m.sqrt()
     }
-}
-
-/// Haff's time τ0 = 2d / ((1 − e²) ω0): T(t) = T0 / (1 + t/τ0)².
-pub fn haff_time(dim: usize, restitution: f64, omega0: f64) -> f64 {
-    2.0 * dim as f64 / ((1.0 - restitution * restitution) * omega0)
 }
 
 /// A Maxwellian velocity with `sqrt(T/m)` = `thermal_speed`.

@@ -7,6 +7,7 @@ pub mod collide;
 pub mod dense;
 pub mod diagnostics;
 pub mod engine;
+pub mod haff;
 pub mod rng;
 pub mod sort;
 pub mod spec;
