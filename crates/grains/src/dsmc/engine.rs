@@ -49,6 +49,9 @@ unsafe impl<D: Dim> Sync for Shared<D> {}
 const STREAM_CHUNK: usize = 8192;
 /// Cells per collision task.
 const CELL_CHUNK: usize = 512;
+/// How many cells ahead the records are prefetched: a cell's work (about
+/// 5 candidates and 10 flights) is shorter than a memory access.
+const PREFETCH_CELLS: usize = 2;
 
 /// Settings of a run.
 #[derive(Clone, Debug, PartialEq)]
@@ -245,9 +248,9 @@ impl<D: GasDim> Dsmc<D> {
                 for (i, st) in cs.iter_mut().enumerate() {
                     let c = c0 + i;
                     let idx = &order[start[c] as usize..start[c + 1] as usize];
-                    // Fetch the cell after next while this one works.
-                    if let Some(ahead) = start.get(c + 3) {
-                        for &j in &order[start[c + 2] as usize..*ahead as usize] {
+                    // Fetch a cell a few ahead while this one works.
+                    if let Some(ahead) = start.get(c + PREFETCH_CELLS + 1) {
+                        for &j in &order[start[c + PREFETCH_CELLS] as usize..*ahead as usize] {
                             prefetch(shared.p.wrapping_add(j as usize));
                         }
                     }
@@ -324,13 +327,21 @@ pub fn maxwellian<D: Dim>(rng: &mut Stream, thermal_speed: f64) -> D::V {
     v
 }
 
-/// Asks the cache for the record at `p` (a hint; no effect elsewhere).
+/// Asks the cache for the record at `p`, both its first and its last byte:
+/// the store's allocation is 16-byte aligned, so a 32- or 48-byte record
+/// may straddle two cache lines. A hint only (no effect off x86-64).
 #[inline(always)]
 fn prefetch<T>(p: *const T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: a prefetch never faults, whatever the address.
     unsafe {
-        core::arch::x86_64::_mm_prefetch(p as *const i8, core::arch::x86_64::_MM_HINT_T0);
+        use core::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let first = p as *const i8;
+        _mm_prefetch(first, _MM_HINT_T0);
+        _mm_prefetch(
+            first.wrapping_add(std::mem::size_of::<T>() - 1),
+            _MM_HINT_T0,
+        );
     }
     #[cfg(not(target_arch = "x86_64"))]
     let _ = p;
