@@ -1,14 +1,14 @@
 //! A DSMC engine to and from checkpoint bytes: a kind tag (so an MD and a
 //! DSMC state are never mistaken for each other), a fingerprint of the
 //! settings the state depends on, then the state: the particle store in
-//! store order, the cell sort (`order`, `start`), every cell's v_max,
+//! store order, the cell starts of the last sort, every cell's v_max,
 //! fractional remainder and collision counter, the candidate/collision
 //! tallies, step and time.
 //!
 //! The collision random numbers carry no state: each cell's stream is
 //! derived from (seed, step, cell) ([`crate::dsmc::rng::Stream::new`]), so
 //! the seed (fingerprinted) and the step (saved) bring them back. The cell
-//! keys are rewritten by streaming before they are read and are not saved.
+//! keys are a function of the positions and are recomputed on restore.
 
 use super::codec::{Dec, DecResult, Enc};
 use crate::dsmc::collide::{CellState, GasDim, Tally};
@@ -80,7 +80,6 @@ pub fn encode<D: GasDim>(sim: &Dsmc<D>) -> Vec<u8> {
         e.len(v.len());
         v.iter().for_each(|&x| e.u32(x));
     };
-    u32s(&mut e, &sim.order);
     u32s(&mut e, &sim.start);
     e.len(sim.cells.len());
     for c in &sim.cells {
@@ -139,7 +138,6 @@ pub fn restore<'a, D: GasDim>(
             let v = d.vec::<D>("velocity")?;
             p.push(Particle { x, v });
         }
-        let order = u32s(&mut d, n_p, "cell order")?;
         let start = u32s(&mut d, n_cells + 1, "cell starts")?;
         let n = d.len(16, "cells")?;
         if n != n_cells {
@@ -160,15 +158,13 @@ pub fn restore<'a, D: GasDim>(
             })
         };
         let (totals, last) = (tally()?, tally()?);
-        if order.iter().any(|&i| i as usize >= n_p)
-            || start.windows(2).any(|w| w[0] > w[1])
-            || start.last().is_some_and(|&s| s as usize != n_p)
+        if start.windows(2).any(|w| w[0] > w[1]) || start.last().is_some_and(|&s| s as usize != n_p)
         {
             return Err("the cell sort is inconsistent".into());
         }
-        Ok((fp, step, time, p, order, start, cells, totals, last))
+        Ok((fp, step, time, p, start, cells, totals, last))
     };
-    let (fp, step, time, p, order, start, cells, totals, last) =
+    let (fp, step, time, p, start, cells, totals, last) =
         read().map_err(|e| Error::input(format!("checkpoint {origin}: DSMC engine state: {e}")))?;
     for (k, v) in &fingerprint(sim) {
         match fp.iter().find(|(fk, _)| fk == k) {
@@ -189,10 +185,10 @@ pub fn restore<'a, D: GasDim>(
     sim.step = step;
     sim.time = time;
     sim.store.p = p;
-    sim.order = order;
     sim.start = start;
     sim.cells = cells;
     sim.totals = totals;
     sim.last = last;
+    sim.sort_now();
     Ok(&bytes[bytes.len() - d.remaining()..])
 }

@@ -30,7 +30,9 @@ use std::path::{Path, PathBuf};
 /// First bytes of every checkpoint file.
 pub const MAGIC: &[u8; 8] = b"GRAINSCK";
 /// Version of the layout; a file of another version is refused. Version 2
-/// added the measurement section.
+/// added the measurement section; version 3 dropped the DSMC index sort
+/// (the DSMC store itself is kept in cell order) and added the convection
+/// column profile.
 pub const VERSION: u32 = 3;
 /// Checkpoints kept in a run directory (older ones are deleted).
 pub const KEEP: usize = 2;

@@ -155,11 +155,8 @@ pub unsafe fn collide_cell<D: GasDim>(
     let mut hits = 0u64;
     let nu = n as u32;
     for _ in 0..m {
-        let i = rng.below(nu) as usize;
-        let mut j = rng.below(nu - 1) as usize;
-        if j >= i {
-            j += 1;
-        }
+        let (i, j) = rng.pair_below(nu);
+        let (i, j) = (i as usize, j as usize);
         // SAFETY: distinct entries of `idx` (i ≠ j) into the live array,
         // owned by this call (the caller's contract).
         let pi = unsafe { &mut *base.add(*idx.get_unchecked(i) as usize) };
@@ -170,6 +167,7 @@ pub unsafe fn collide_cell<D: GasDim>(
             vmax2 = g2;
             vmax = g2.sqrt();
         }
+        // Z v_max < |g| without a square root: both sides are positive.
         let z = rng.uniform() * vmax;
         if z * z < g2 {
             collide_pair::<D>(&mut pi.v, &mut pj.v, g2, sel.half_one_plus_e, rng);

@@ -106,17 +106,21 @@ impl Validity {
         self.last_time = sim.time;
         let per_layer = sim.grid.cells_per_layer();
         let mut window = vec![Acc::default(); self.regions];
+        // Region of each cell layer.
+        let mut region_of = vec![0usize; sim.grid.layers()];
         for (r, &(a, b)) in self.layers_per_region.iter().enumerate() {
+            region_of[a..b].fill(r);
             let w = &mut window[r];
             for c in a * per_layer..b * per_layer {
                 w.collisions += sim.cells[c].collisions as u64;
-                for q in sim.cell_particles(c) {
-                    w.particle_samples += 1.0;
-                    w.speed_sum += D::norm(q.v);
-                }
             }
             w.samples = 1;
             w.time = dt_window;
+        }
+        for (c, q) in sim.particles_with_cells() {
+            let w = &mut window[region_of[c / per_layer]];
+            w.particle_samples += 1.0;
+            w.speed_sum += D::norm(q.v);
         }
         for st in &mut sim.cells {
             st.collisions = 0;

@@ -1,75 +1,57 @@
-//! The DSMC engine: stream, sort, collide.
+//! The DSMC engine: sort, then collide and stream cell by cell.
 //!
 //! ```text
 //! Dsmc::step
-//!   stream    x += v τ + g τ²/2, v += g τ; reflect at walls (at the wall's
-//!             place and velocity at the end of the step); wrap periodic
-//!             axes; write each particle's cell into `key`            (parallel)
-//!   sort      counting sort by cell, in place                        (serial)
-//!   collide   every cell with N_c ≥ 2, its own random stream
-//!             derived from (seed, step, cell)                        (parallel)
+//!   sort      counting sort of the particle indices by the cells that
+//!             the last streaming wrote into `key`; every few steps the
+//!             records themselves are put in that order          (serial)
+//!   per cell  collide: its own random stream derived from
+//!             (seed, step, cell); then stream its particles:
+//!             x += v τ + g τ²/2, v += g τ, walls at the end of
+//!             the step, periodic wrap, new cell into `key`     (parallel)
 //! ```
 //!
-//! Work is split into fixed chunks of particles (streaming) and of cells
-//! (collisions), never by thread count, and each cell's random numbers come
-//! from its own stream: the result is the same bit for bit on any number of
-//! threads.
+//! Streaming is fused with the collisions so that each record comes from
+//! memory once per step: a cell's particles are still in cache when they
+//! fly (and the next cell's are prefetched while this one collides).
+//! Between steps the state is consistent: positions and velocities at
+//! `time`, `key` their cells. A step collides at the start of its interval
+//! and then streams over it.
+//!
+//! Work is split into fixed chunks of cells, never by thread count, and
+//! each cell's random numbers come from its own stream: the result is the
+//! same bit for bit on any number of threads.
 
 use super::collide::{collide_cell, CellState, GasDim, Selection, Tally};
 use super::dense::{Correction, DenseGas};
-use super::rng::Stream;
+pub use super::haff::haff_time;
+use super::rng::{StepStreams, Stream};
 use super::sort::{gather_in_place, sort_indices, CellGrid, RESORT_EVERY};
 use super::store::Particle;
 use super::store::{cross_section, Store};
-use crate::boundary::Motion;
+use super::stream::Flight;
+pub use super::stream::PlaneWall;
 use crate::dim::Dim;
 use crate::domain::Domain;
 use rayon::prelude::*;
 
-/// Particles per streaming task.
+/// The particle records and their cell keys, shared by the collision
+/// tasks, each of which touches only the particles of its own cells.
+struct Shared<D: Dim> {
+    p: *mut Particle<D>,
+    key: *mut u32,
+}
+// SAFETY: see `Dsmc::collide_and_stream`: tasks touch disjoint particles.
+unsafe impl<D: Dim> Send for Shared<D> {}
+unsafe impl<D: Dim> Sync for Shared<D> {}
+
+/// Particles per streaming task (at construction).
 const STREAM_CHUNK: usize = 8192;
 /// Cells per collision task.
 const CELL_CHUNK: usize = 512;
-
-/// An axis-aligned plane wall, possibly moving (vibrating bottom).
-#[derive(Clone, Debug, PartialEq)]
-pub struct PlaneWall<D: Dim> {
-    pub name: String,
-    /// The axis the normal lies along.
-    pub axis: usize,
-    /// +1 when the particles live on the high side of the plane.
-    pub sign: f64,
-    /// Coordinate of the plane along `axis` at rest.
-    pub offset: f64,
-    /// Prescribed motion ([`crate::boundary::Motion`] kinematics).
-    pub motion: Motion<D>,
-}
-
-impl<D: Dim> PlaneWall<D> {
-    /// Whether the displacement is the same at every point of the plane.
-    fn is_rigid(&self) -> bool {
-        !matches!(self.motion, Motion::Vibrate { modulation, .. } if modulation != 0.0)
-    }
-
-    /// The plane's coordinate along `axis` and its velocity, at time `t`,
-    /// under the point `at` (which only matters for a modulated vibration).
-    fn surface(&self, at: D::V, t: f64) -> (f64, D::V) {
-        let mut q = at;
-        D::set(&mut q, self.axis, self.offset);
-        let moved = self.motion.place(q, t);
-        (D::get(moved, self.axis), self.motion.velocity_at(moved, t))
-    }
-}
-
-/// The particle array shared by the collision tasks, each of which touches
-/// only the particles of its own cells.
-struct SharedParticles<D: Dim>(*mut Particle<D>);
-// SAFETY: see `Dsmc::collide`: tasks write disjoint particles.
-unsafe impl<D: Dim> Send for SharedParticles<D> {}
-unsafe impl<D: Dim> Sync for SharedParticles<D> {}
-
-/// A wall and, when rigid, its place and velocity at the end of the step.
-type WallNow<'a, D> = (&'a PlaneWall<D>, Option<(f64, <D as Dim>::V)>);
+/// How many cells ahead the records are prefetched: a cell's work (about
+/// 5 candidates and 10 flights) is shorter than a memory access.
+const PREFETCH_CELLS: usize = 2;
 
 /// Settings of a run.
 #[derive(Clone, Debug, PartialEq)]
@@ -103,8 +85,8 @@ pub struct Dsmc<D: GasDim> {
     pub step: u64,
     /// Cell of each particle, written by streaming.
     key: Vec<u32>,
-    /// Particle indices sorted by cell: cell c holds
-    /// `order[start[c]..start[c + 1]]`.
+    /// Particle indices sorted by cell at the last sort: cell c held
+    /// `order[start[c]..start[c + 1]]` when it collided.
     pub order: Vec<u32>,
     /// First entry of each cell in `order` (length cells + 1).
     pub start: Vec<u32>,
@@ -175,12 +157,13 @@ impl<D: GasDim> Dsmc<D> {
             last: Tally::default(),
         };
         me.sort_now();
+        me.gather();
         me
     }
 
-    /// Cell of every particle, then the sort and the reordering of the
-    /// records (at construction).
-    fn sort_now(&mut self) {
+    /// Cell of every particle (at construction and after a restore); at
+    /// construction also puts the records in cell order.
+    pub fn sort_now(&mut self) {
         let grid = &self.grid;
         self.store
             .p
@@ -191,15 +174,21 @@ impl<D: GasDim> Dsmc<D> {
                     *k = grid.cell_of::<D>(q.x);
                 }
             });
-        sort_indices(&self.key, &mut self.start, &mut self.fill, &mut self.order);
-        gather_in_place(&mut self.store.p, &mut self.order);
     }
 
-    /// The particles of cell `c`.
-    pub fn cell_particles(&self, c: usize) -> impl Iterator<Item = &Particle<D>> + '_ {
-        self.order[self.start[c] as usize..self.start[c + 1] as usize]
+    /// Puts the records in cell order (keys follow), for locality.
+    fn gather(&mut self) {
+        sort_indices(&self.key, &mut self.start, &mut self.fill, &mut self.order);
+        gather_in_place(&mut self.store.p, &mut self.order);
+        self.sort_now();
+    }
+
+    /// Every particle with its cell.
+    pub fn particles_with_cells(&self) -> impl Iterator<Item = (usize, &Particle<D>)> + '_ {
+        self.key
             .iter()
-            .map(|&i| &self.store.p[i as usize])
+            .map(|&c| c as usize)
+            .zip(self.store.p.iter())
     }
 
     /// The selection constants (for tests and diagnostics).
@@ -209,13 +198,14 @@ impl<D: GasDim> Dsmc<D> {
 
     /// One time step.
     pub fn step(&mut self) {
-        self.stream();
         sort_indices(&self.key, &mut self.start, &mut self.fill, &mut self.order);
-        self.step += 1;
-        if self.step.is_multiple_of(RESORT_EVERY) {
+        if (self.step + 1).is_multiple_of(RESORT_EVERY) {
+            // The keys are rewritten by streaming before they are read.
             gather_in_place(&mut self.store.p, &mut self.order);
         }
-        let t = self.collide();
+        let t = self.collide_and_stream();
+        self.time += self.settings.dt;
+        self.step += 1;
         self.last = t;
         self.totals += t;
     }
@@ -226,100 +216,61 @@ impl<D: GasDim> Dsmc<D> {
         }
     }
 
-    fn stream(&mut self) {
-        let dt = self.settings.dt;
-        let t_end = self.time + dt;
-        let g = self.gravity;
-        let drift = g * (0.5 * dt * dt);
-        let kick = g * dt;
-        let radius = 0.5 * self.store.diameter;
-        let ew = self.settings.wall_restitution;
-        // Rigid walls: place and velocity once per step.
-        let walls: Vec<WallNow<D>> = self
-            .walls
-            .iter()
-            .map(|w| {
-                let s = w.is_rigid().then(|| w.surface(D::zero(), t_end));
-                (w, s)
-            })
-            .collect();
-        let mut periodic = [None; 3];
-        for (a, slot) in periodic.iter_mut().enumerate().take(D::D) {
-            if self.domain.is_periodic(a) {
-                *slot = Some((D::get(self.domain.lo, a), self.domain.length(a)));
-            }
-        }
-        let grid = &self.grid;
-        self.store
-            .p
-            .par_chunks_mut(STREAM_CHUNK)
-            .zip(self.key.par_chunks_mut(STREAM_CHUNK))
-            .for_each(|(ps, ks)| {
-                for (q, k) in ps.iter_mut().zip(ks.iter_mut()) {
-                    let mut x = q.x + q.v * dt + drift;
-                    let mut v = q.v + kick;
-                    for (w, rigid) in &walls {
-                        let (plane, u) = match rigid {
-                            Some(s) => *s,
-                            None => w.surface(x, t_end),
-                        };
-                        let touch = plane + w.sign * radius;
-                        let pen = w.sign * (touch - D::get(x, w.axis));
-                        if pen > 0.0 {
-                            let ua = D::get(u, w.axis);
-                            let vn = D::get(v, w.axis) - ua;
-                            if w.sign * vn < 0.0 {
-                                D::set(&mut v, w.axis, ua - ew * vn);
-                            }
-                            D::set(&mut x, w.axis, touch + w.sign * ew * pen);
-                        }
-                    }
-                    for (a, p) in periodic.iter().enumerate().take(D::D) {
-                        if let Some((lo, l)) = *p {
-                            let xa = D::get(x, a);
-                            if xa < lo || xa >= lo + l {
-                                let mut w = xa - l * ((xa - lo) / l).floor();
-                                if w >= lo + l {
-                                    w -= l;
-                                }
-                                D::set(&mut x, a, w);
-                            }
-                        }
-                    }
-                    q.x = x;
-                    q.v = v;
-                    *k = grid.cell_of::<D>(x);
-                }
-            });
-        self.time = t_end;
-    }
-
-    fn collide(&mut self) -> Tally {
+    /// Collisions of every cell, each followed by the flight of its
+    /// particles, in parallel over fixed chunks of cells.
+    fn collide_and_stream(&mut self) -> Tally {
+        let flight = Flight::new(
+            self.time,
+            self.settings.dt,
+            self.gravity,
+            0.5 * self.store.diameter,
+            self.settings.wall_restitution,
+            &self.walls,
+            &self.domain,
+            &self.grid,
+        );
+        let sel = self.selection;
+        // Streams are numbered by the step being taken (the first is 1).
+        let streams = StepStreams::new(self.settings.seed, self.step + 1);
         let start = &self.start;
         let order = &self.order;
-        let sel = self.selection;
-        let seed = self.settings.seed;
-        let step = self.step;
-        let base = SharedParticles(self.store.p.as_mut_ptr());
+        let shared = Shared {
+            p: self.store.p.as_mut_ptr(),
+            key: self.key.as_mut_ptr(),
+        };
         self.cells
             .par_chunks_mut(CELL_CHUNK)
             .enumerate()
             .map(|(k, cs)| {
-                let base = &base;
+                let shared = &shared;
                 let c0 = k * CELL_CHUNK;
                 let mut t = Tally::default();
                 for (i, st) in cs.iter_mut().enumerate() {
                     let c = c0 + i;
                     let idx = &order[start[c] as usize..start[c + 1] as usize];
-                    if idx.len() < 2 {
-                        continue;
+                    // Fetch a cell a few ahead while this one works.
+                    if let Some(ahead) = start.get(c + PREFETCH_CELLS + 1) {
+                        for &j in &order[start[c + PREFETCH_CELLS] as usize..*ahead as usize] {
+                            prefetch(shared.p.wrapping_add(j as usize));
+                        }
                     }
-                    let mut rng = Stream::new(seed, step, c as u64);
-                    // SAFETY: `order` is a permutation of the particle
-                    // indices and each cell lists its own disjoint part of
-                    // it, so concurrent cells touch disjoint particles; the
-                    // store is not otherwise borrowed during this loop.
-                    t += unsafe { collide_cell(base.0, idx, st, &sel, &mut rng) };
+                    if idx.len() >= 2 {
+                        let mut rng = streams.cell(c as u64);
+                        // SAFETY: `order` is a permutation of the particle
+                        // indices and each cell lists its own disjoint part
+                        // of it, so concurrent cells touch disjoint
+                        // particles; the store is not otherwise borrowed
+                        // during this loop.
+                        t += unsafe { collide_cell(shared.p, idx, st, &sel, &mut rng) };
+                    }
+                    for &j in idx {
+                        // SAFETY: as above, particle j and its key belong
+                        // to this cell only.
+                        unsafe {
+                            let q = &mut *shared.p.add(j as usize);
+                            *shared.key.add(j as usize) = flight.advance(q);
+                        }
+                    }
                 }
                 t
             })
@@ -363,11 +314,6 @@ pub fn collision_frequency(dim: usize, n: f64, sigma: f64, chi: f64, t_over_m: f
     }
 }
 
-/// Haff's time τ0 = 2d / ((1 − e²) ω0): T(t) = T0 / (1 + t/τ0)².
-pub fn haff_time(dim: usize, restitution: f64, omega0: f64) -> f64 {
-    2.0 * dim as f64 / ((1.0 - restitution * restitution) * omega0)
-}
-
 /// A Maxwellian velocity with `sqrt(T/m)` = `thermal_speed`.
 pub fn maxwellian<D: Dim>(rng: &mut Stream, thermal_speed: f64) -> D::V {
     let mut v = D::zero();
@@ -379,4 +325,24 @@ pub fn maxwellian<D: Dim>(rng: &mut Stream, thermal_speed: f64) -> D::V {
         D::set(&mut v, 2, c * thermal_speed);
     }
     v
+}
+
+/// Asks the cache for the record at `p`, both its first and its last byte:
+/// the store's allocation is 16-byte aligned, so a 32- or 48-byte record
+/// may straddle two cache lines. A hint only (no effect off x86-64).
+#[inline(always)]
+fn prefetch<T>(p: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch never faults, whatever the address.
+    unsafe {
+        use core::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let first = p as *const i8;
+        _mm_prefetch(first, _MM_HINT_T0);
+        _mm_prefetch(
+            first.wrapping_add(std::mem::size_of::<T>() - 1),
+            _MM_HINT_T0,
+        );
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
 }

@@ -7,10 +7,12 @@ pub mod collide;
 pub mod dense;
 pub mod diagnostics;
 pub mod engine;
+pub mod haff;
 pub mod rng;
 pub mod sort;
 pub mod spec;
 pub mod store;
+pub mod stream;
 pub mod workload;
 
 pub use collide::{CellState, GasDim, Tally};

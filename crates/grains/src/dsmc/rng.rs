@@ -15,6 +15,31 @@ pub fn mix64(mut z: u64) -> u64 {
 
 const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
 
+/// The streams of one (seed, step): the two counters mixed once per step,
+/// so that a cell's stream costs one more mix.
+#[derive(Clone, Copy, Debug)]
+pub struct StepStreams {
+    base: u64,
+}
+
+impl StepStreams {
+    #[inline(always)]
+    pub fn new(seed: u64, step: u64) -> Self {
+        let a = mix64(seed ^ 0x5DEE_CE66_D1CE_4E5B);
+        Self {
+            base: mix64(a ^ step.wrapping_mul(GOLDEN)),
+        }
+    }
+
+    /// The stream of one cell.
+    #[inline(always)]
+    pub fn cell(&self, cell: u64) -> Stream {
+        Stream {
+            state: mix64(self.base ^ cell.wrapping_mul(0xD6E8_FEB8_6659_FD93)),
+        }
+    }
+}
+
 /// A SplitMix64 stream.
 #[derive(Clone, Debug)]
 pub struct Stream {
@@ -25,11 +50,7 @@ impl Stream {
     /// The stream of one (seed, step, cell).
     #[inline(always)]
     pub fn new(seed: u64, step: u64, cell: u64) -> Self {
-        let a = mix64(seed ^ 0x5DEE_CE66_D1CE_4E5B);
-        let b = mix64(a ^ step.wrapping_mul(GOLDEN));
-        Self {
-            state: mix64(b ^ cell.wrapping_mul(0xD6E8_FEB8_6659_FD93)),
-        }
+        StepStreams::new(seed, step).cell(cell)
     }
 
     /// A stream for a named purpose (initial positions, velocities).
@@ -46,7 +67,8 @@ impl Stream {
     /// Uniform in [0, 1) with 53 random bits.
     #[inline(always)]
     pub fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+        // Through i64 (exact below 2⁵³): one signed conversion instruction.
+        (self.next_u64() >> 11) as i64 as f64 * (1.0 / (1u64 << 53) as f64)
     }
 
     /// Uniform in [-1, 1).
@@ -60,6 +82,19 @@ impl Stream {
     #[inline(always)]
     pub fn below(&mut self, n: u32) -> u32 {
         (((self.next_u64() >> 32) * n as u64) >> 32) as u32
+    }
+
+    /// Two distinct indices i ≠ j uniform in [0, n) (n ≥ 2) from one draw:
+    /// i from the high 32 bits, j from the low 32 over the n − 1 others.
+    #[inline(always)]
+    pub fn pair_below(&mut self, n: u32) -> (u32, u32) {
+        let r = self.next_u64();
+        let i = (((r >> 32) * n as u64) >> 32) as u32;
+        let mut j = (((r & 0xFFFF_FFFF) * (n - 1) as u64) >> 32) as u32;
+        if j >= i {
+            j += 1;
+        }
+        (i, j)
     }
 
     /// Two independent standard normal deviates (Marsaglia's polar method).
@@ -95,6 +130,23 @@ mod tests {
         assert!((s2 / n as f64 - 1.0 / 3.0).abs() < 0.003);
         for _ in 0..1000 {
             assert!(r.below(7) < 7);
+        }
+        // Every ordered pair (i, j), i ≠ j, of 5 equally often.
+        let mut h = [[0u32; 5]; 5];
+        let draws = 200_000;
+        for _ in 0..draws {
+            let (i, j) = r.pair_below(5);
+            assert_ne!(i, j);
+            h[i as usize][j as usize] += 1;
+        }
+        let want = draws as f64 / 20.0;
+        for (i, row) in h.iter().enumerate() {
+            for (j, &c) in row.iter().enumerate() {
+                if i != j {
+                    // 4.5 standard deviations of a binomial count.
+                    assert!((c as f64 - want).abs() < 4.5 * want.sqrt(), "{i} {j}: {c}");
+                }
+            }
         }
         assert_ne!(
             Stream::new(7, 3, 11).next_u64(),

@@ -30,6 +30,8 @@ pub struct CellGrid {
     /// Cell edge per axis (m).
     pub size: [f64; 3],
     inv: [f64; 3],
+    /// n − 1 per axis, as a float.
+    last: [f64; 3],
 }
 
 impl CellGrid {
@@ -39,11 +41,13 @@ impl CellGrid {
         let mut n = [1u32; 3];
         let mut size = [1.0; 3];
         let mut inv = [0.0; 3];
+        let mut last = [0.0; 3];
         for a in 0..dim {
             let l = hi[a] - lo[a];
             n[a] = ((l / cell).round() as u32).max(1);
             size[a] = l / n[a] as f64;
             inv[a] = 1.0 / size[a];
+            last[a] = (n[a] - 1) as f64;
         }
         Self {
             dim,
@@ -51,6 +55,7 @@ impl CellGrid {
             n,
             size,
             inv,
+            last,
         }
     }
 
@@ -86,8 +91,11 @@ impl CellGrid {
         let mut stride = 1u32;
         for a in 0..D::D {
             let f = (D::get(x, a) - self.lo[a]) * self.inv[a];
-            // `as` saturates: negative and NaN go to 0.
-            let k = (f as u32).min(self.n[a] - 1);
+            // Clamped in floating point (NaN and negative go to 0) so that
+            // the conversion needs no saturation checks.
+            let f = f.max(0.0).min(self.last[a]);
+            // SAFETY: f is finite and in [0, n − 1], which u32 holds.
+            let k = unsafe { f.to_int_unchecked::<u32>() };
             idx += k * stride;
             stride *= self.n[a];
         }
