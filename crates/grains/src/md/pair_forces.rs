@@ -13,7 +13,8 @@
 //! ever write the same memory.
 
 use super::MdStats;
-use crate::contact::ContactLaw;
+use crate::contact::hooke_history::HookeHistory;
+use crate::contact::{ContactLaw, ContactOutcome};
 use crate::dim::Dim;
 use crate::neighbors::NeighborList;
 use crate::particles::Particles;
@@ -226,6 +227,7 @@ pub fn pair_forces<D: Dim>(
     let mass = &p.mass;
     let frozen = &p.frozen;
     let ids = &p.id;
+    let hooke = HookeHistory::of(input.law);
     // At least MIN_BLOCKS_PER_JOB blocks per job: a small system runs on one
     // thread instead of paying to wake others every step.
     let block_stats: Vec<BlockStats> = tasks
@@ -240,7 +242,11 @@ pub fn pair_forces<D: Dim>(
                 mass,
                 frozen,
             };
-            let mut s = run_block(input, &grains, t);
+            // The LAMMPS-shaped law gets its own compiled loop.
+            let mut s = match hooke {
+                Some(h) => run_block(&h, input, &grains, t),
+                None => run_block(input.law, input, &grains, t),
+            };
             if s.contacts > 0 {
                 s.worst = (ids[s.worst.0 as usize], ids[s.worst.1 as usize]);
             }
@@ -282,6 +288,83 @@ pub fn pair_forces<D: Dim>(
     }
 }
 
+/// What the pair loop needs from a contact law; implemented by the general
+/// [`ContactLaw`] and by the fixed [`HookeHistory`] kernel, so that the loop
+/// is compiled once for each.
+trait PairLaw: Sync {
+    fn rotation(&self) -> bool;
+    fn damping_mass(&self, mi: f64, mj: f64) -> f64;
+    fn force_factor(&self, m: f64) -> f64;
+    #[allow(clippy::too_many_arguments)]
+    fn evaluate<D: Dim>(
+        &self,
+        overlap: f64,
+        n: D::V,
+        v_rel: D::V,
+        damping_mass: f64,
+        spring: &mut D::V,
+        dt: f64,
+        update: bool,
+    ) -> ContactOutcome<D>;
+}
+
+impl PairLaw for ContactLaw {
+    #[inline(always)]
+    fn rotation(&self) -> bool {
+        self.rotation
+    }
+    #[inline(always)]
+    fn damping_mass(&self, mi: f64, mj: f64) -> f64 {
+        ContactLaw::damping_mass(self, mi, mj)
+    }
+    #[inline(always)]
+    fn force_factor(&self, m: f64) -> f64 {
+        self.scaling.force_factor(m)
+    }
+    #[inline(always)]
+    fn evaluate<D: Dim>(
+        &self,
+        overlap: f64,
+        n: D::V,
+        v_rel: D::V,
+        damping_mass: f64,
+        spring: &mut D::V,
+        dt: f64,
+        update: bool,
+    ) -> ContactOutcome<D> {
+        ContactLaw::evaluate(self, overlap, n, v_rel, damping_mass, spring, dt, update)
+    }
+}
+
+impl PairLaw for HookeHistory {
+    #[inline(always)]
+    fn rotation(&self) -> bool {
+        true
+    }
+    #[inline(always)]
+    fn damping_mass(&self, mi: f64, mj: f64) -> f64 {
+        HookeHistory::damping_mass(mi, mj)
+    }
+    #[inline(always)]
+    fn force_factor(&self, _: f64) -> f64 {
+        // Reduced scaling: forces are not multiplied by a mass.
+        1.0
+    }
+    #[inline(always)]
+    fn evaluate<D: Dim>(
+        &self,
+        overlap: f64,
+        n: D::V,
+        v_rel: D::V,
+        damping_mass: f64,
+        spring: &mut D::V,
+        dt: f64,
+        update: bool,
+    ) -> ContactOutcome<D> {
+        HookeHistory::evaluate(self, overlap, n, v_rel, damping_mass, spring, dt, update)
+    }
+}
+
 /// Read-only per-grain arrays.
 struct Grains<'a, D: Dim> {
     pos: &'a [D::V],
@@ -303,19 +386,29 @@ fn at<T: Copy>(v: &[T], i: u32) -> T {
     unsafe { *v.get_unchecked(i as usize) }
 }
 
-fn run_block<D: Dim>(input: &PairInput<D>, g: &Grains<D>, t: &mut Block<D>) -> BlockStats {
-    let law = input.law;
+fn run_block<D: Dim, L: PairLaw>(
+    law: &L,
+    input: &PairInput<D>,
+    g: &Grains<D>,
+    t: &mut Block<D>,
+) -> BlockStats {
     let list = input.neighbors;
-    let rotation = law.rotation;
+    let rotation = law.rotation();
     let range = t.pairs.clone();
     let pairs = &list.pairs[range.clone()];
     let images = &list.image[range.clone()];
     let slots = &input.blocks.slot_of_pair[range];
     let shift = |code: u8| list.shift(code);
 
-    // Pass 1: which listed pairs touch. Cheap and branch-light; open
-    // contacts drop their spring (written only when it was stretched).
-    t.touching.clear();
+    // Pass 1: which listed pairs touch. Without a branch on the test (about
+    // a third touch, in no predictable pattern): every index is written and
+    // the count advances only for a contact. Open contacts drop their spring
+    // (written only when it was stretched, a rare and predictable branch).
+    if t.touching.len() < pairs.len() {
+        t.touching.resize(pairs.len(), 0);
+    }
+    let touching = &mut t.touching[..pairs.len()];
+    let mut n_touching = 0;
     for (k, ((&[i, j], &code), spring)) in pairs
         .iter()
         .zip(images)
@@ -324,9 +417,10 @@ fn run_block<D: Dim>(input: &PairInput<D>, g: &Grains<D>, t: &mut Block<D>) -> B
     {
         let del = at(g.pos, i) - (at(g.pos, j) + shift(code));
         let radsum = at(g.radius, i) + at(g.radius, j);
-        if D::norm2(del) < radsum * radsum {
-            t.touching.push(k as u32);
-        } else if *spring != D::zero() {
+        let touch = D::norm2(del) < radsum * radsum;
+        touching[n_touching] = k as u32;
+        n_touching += touch as usize;
+        if !touch & (*spring != D::zero()) {
             *spring = D::zero();
         }
     }
@@ -338,7 +432,7 @@ fn run_block<D: Dim>(input: &PairInput<D>, g: &Grains<D>, t: &mut Block<D>) -> B
     let mut s = BlockStats::default();
     let first = t.first;
     let own = first..first + t.force.len();
-    for &k in t.touching.iter() {
+    for &k in t.touching[..n_touching].iter() {
         let k = k as usize;
         let [i, j] = pairs[k];
         // del points from j to i.
@@ -366,7 +460,7 @@ fn run_block<D: Dim>(input: &PairInput<D>, g: &Grains<D>, t: &mut Block<D>) -> B
             input.dt,
             input.update,
         );
-        let (fi, fj) = (law.scaling.force_factor(mi), law.scaling.force_factor(mj));
+        let (fi, fj) = (law.force_factor(mi), law.force_factor(mj));
         let (i, j) = (i as usize, j as usize);
         t.force[i - first] += out.force * fi;
         let fj_vec = -(out.force * fj);
