@@ -121,7 +121,10 @@ impl PairBlocks {
 pub struct Deferred<D: Dim> {
     force: Vec<D::V>,
     torque: Vec<D::A>,
-    touching: Vec<Vec<u32>>,
+    /// Per block, the pairs in contact now and at the previous evaluation.
+    touching: Vec<[Vec<u32>; 2]>,
+    /// The neighbour-list build the previous evaluation's contacts refer to.
+    list_build: Option<u64>,
 }
 
 /// Inputs every block reads.
@@ -152,8 +155,10 @@ struct Block<'a, D: Dim> {
     slot_force: &'a mut [D::V],
     slot_torque: &'a mut [D::A],
     slot_first: usize,
-    /// Scratch: indices (within the block) of the pairs in contact.
-    touching: &'a mut Vec<u32>,
+    /// Indices (within the block) of the pairs in contact: now, and at the
+    /// previous evaluation when `was_valid` (same list since then).
+    touching: &'a mut [Vec<u32>; 2],
+    was_valid: bool,
 }
 
 /// Splits `v` into consecutive pieces of the given lengths.
@@ -182,7 +187,10 @@ pub fn pair_forces<D: Dim>(
     let slots = blocks.deferred_slots();
     deferred.force.resize(slots, D::zero());
     deferred.torque.resize(slots, D::A::default());
-    deferred.touching.resize_with(nb, Vec::new);
+    deferred.touching.resize_with(nb, Default::default);
+    let build = input.neighbors.builds();
+    let was_valid = deferred.list_build == Some(build);
+    deferred.list_build = Some(build);
     // The unchecked reads in `run_block` rely on this.
     assert!(
         blocks.grains <= n,
@@ -216,6 +224,7 @@ pub fn pair_forces<D: Dim>(
                 slot_torque,
                 slot_first: blocks.slot_start[b],
                 touching,
+                was_valid,
             },
         )
         .collect();
@@ -401,27 +410,43 @@ fn run_block<D: Dim, L: PairLaw>(
     let shift = |code: u8| list.shift(code);
 
     // Pass 1: which listed pairs touch. Without a branch on the test (about
-    // a third touch, in no predictable pattern): every index is written and
-    // the count advances only for a contact. Open contacts drop their spring
-    // (written only when it was stretched, a rare and predictable branch).
-    if t.touching.len() < pairs.len() {
-        t.touching.resize(pairs.len(), 0);
+    // a third touch, in no predictable pattern): every index is written to a
+    // small buffer and the count advances only for a contact.
+    let [touching, was_touching] = t.touching;
+    std::mem::swap(touching, was_touching);
+    touching.clear();
+    const CHUNK: usize = 256;
+    let mut buf = [0u32; CHUNK];
+    for (c, (pairs, images)) in pairs.chunks(CHUNK).zip(images.chunks(CHUNK)).enumerate() {
+        let mut m = 0;
+        for (k, (&[i, j], &code)) in pairs.iter().zip(images).enumerate() {
+            let del = at(g.pos, i) - (at(g.pos, j) + shift(code));
+            let radsum = at(g.radius, i) + at(g.radius, j);
+            buf[m] = (c * CHUNK + k) as u32;
+            m += (D::norm2(del) < radsum * radsum) as usize;
+        }
+        touching.extend_from_slice(&buf[..m]);
     }
-    let touching = &mut t.touching[..pairs.len()];
-    let mut n_touching = 0;
-    for (k, ((&[i, j], &code), spring)) in pairs
-        .iter()
-        .zip(images)
-        .zip(t.springs.iter_mut())
-        .enumerate()
-    {
-        let del = at(g.pos, i) - (at(g.pos, j) + shift(code));
-        let radsum = at(g.radius, i) + at(g.radius, j);
-        let touch = D::norm2(del) < radsum * radsum;
-        touching[n_touching] = k as u32;
-        n_touching += touch as usize;
-        if !touch & (*spring != D::zero()) {
-            *spring = D::zero();
+    // Contacts that opened drop their spring. Both lists are ascending, so
+    // a merge finds them; after a rebuild, every stretched spring outside
+    // the contacts is dropped instead.
+    let mut a = 0;
+    if t.was_valid {
+        for &k in was_touching.iter() {
+            while a < touching.len() && touching[a] < k {
+                a += 1;
+            }
+            if a == touching.len() || touching[a] != k {
+                t.springs[k as usize] = D::zero();
+            }
+        }
+    } else {
+        for (k, spring) in t.springs.iter_mut().enumerate() {
+            if a < touching.len() && touching[a] as usize == k {
+                a += 1;
+            } else if *spring != D::zero() {
+                *spring = D::zero();
+            }
         }
     }
     // Deferred shares of open contacts must read as zero.
@@ -432,7 +457,7 @@ fn run_block<D: Dim, L: PairLaw>(
     let mut s = BlockStats::default();
     let first = t.first;
     let own = first..first + t.force.len();
-    for &k in t.touching[..n_touching].iter() {
+    for &k in touching.iter() {
         let k = k as usize;
         let [i, j] = pairs[k];
         // del points from j to i.
@@ -499,6 +524,62 @@ fn run_block<D: Dim, L: PairLaw>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contact::MassScaling;
+    use crate::dim::D3;
+    use crate::domain::Domain;
+    use crate::integrate::Integrator;
+    use crate::md::{Md, MdSettings};
+    use crate::particles::ParticleRecord;
+    use glam::DVec3;
+
+    /// Two spheres touching, the second sliding past the first.
+    fn sliding_pair(law: ContactLaw) -> Md<D3> {
+        let mut p = Particles::new();
+        p.push_record(ParticleRecord::new(1, DVec3::splat(5.0), 0.5, 1.0, 0.1));
+        let mut b = ParticleRecord::new(2, DVec3::new(5.999, 5.0, 5.0), 0.5, 1.0, 0.1);
+        b.vel = DVec3::new(0.0, 0.01, 0.0);
+        p.push_record(b);
+        let domain = Domain::new(DVec3::ZERO, DVec3::splat(10.0), [false; 3]);
+        let mut settings = MdSettings::new(1e-4, law, 0.5);
+        settings.integrator = Integrator::Verlet;
+        Md::new(p, domain, Vec::new(), settings).unwrap()
+    }
+
+    /// An opened contact forgets its spring, whether or not the list was
+    /// rebuilt since the previous evaluation, with either compiled law.
+    #[test]
+    fn opened_contacts_drop_their_spring() {
+        let hooke = ContactLaw {
+            kn: 2e5,
+            beta: 1.0,
+            gamma_n: 50.0,
+            gamma_t: 0.0,
+            kt: 2e5 * 2.0 / 7.0,
+            mu: 0.5,
+            scaling: MassScaling::Reduced,
+            rotation: true,
+        };
+        let mut general = hooke.clone();
+        general.beta = 1.5;
+        for law in [hooke, general] {
+            for rebuild in [false, true] {
+                let mut md = sliding_pair(law.clone());
+                md.run(20).unwrap();
+                assert_eq!(md.springs.len(), 1);
+                assert!(md.springs[0].length() > 1e-7, "{:?}", md.springs[0]);
+                // Pull the second grain out of contact (still inside the skin).
+                md.particles.pos[1].x += 0.01;
+                let builds = md.neighbor_builds();
+                if rebuild {
+                    md.rebuild_neighbors().unwrap();
+                }
+                md.step().unwrap();
+                assert_eq!(md.neighbor_builds(), builds + rebuild as u64);
+                assert_eq!(md.springs[0], DVec3::ZERO, "rebuild {rebuild}");
+                assert_eq!(md.stats.contacts, 0);
+            }
+        }
+    }
 
     #[test]
     fn blocks_partition_pairs_and_defer_cross_block_contacts() {
