@@ -39,10 +39,12 @@ pub struct PairBlocks {
     slot_start: Vec<usize>,
     /// Per pair: its deferred slot, or `u32::MAX` when both grains share a block.
     slot_of_pair: Vec<u32>,
-    /// Per grain, the deferred slots where it is the second grain:
-    /// `slots_by_grain[grain_start[i]..grain_start[i + 1]]`, in slot order.
-    grain_start: Vec<u32>,
-    slots_by_grain: Vec<u32>,
+    /// The deferred shares as (second grain, slot), by grain and, for one
+    /// grain, in slot order; those of grains in block b are
+    /// `shares[share_start[b]..share_start[b + 1]]`. Only grains that get
+    /// a share appear, so the pass that adds them costs nothing for others.
+    shares: Vec<(u32, u32)>,
+    share_start: Vec<usize>,
     /// One more than the largest grain index in the list.
     grains: usize,
 }
@@ -80,14 +82,16 @@ impl PairBlocks {
         for i in 0..n {
             count[i + 1] += count[i];
         }
-        let grain_start = count.clone();
+        let share_start = (0..=n_blocks)
+            .map(|b| count[(b * block).min(n)] as usize)
+            .collect();
         let mut fill = count;
-        let mut slots_by_grain = vec![0u32; slots as usize];
+        let mut shares = vec![(0u32, 0u32); slots as usize];
         for (k, &[_, j]) in pairs.iter().enumerate() {
             let s = slot_of_pair[k];
             if s != u32::MAX {
                 let at = &mut fill[j as usize];
-                slots_by_grain[*at as usize] = s;
+                shares[*at as usize] = (j, s);
                 *at += 1;
             }
         }
@@ -101,8 +105,8 @@ impl PairBlocks {
             pair_start,
             slot_start,
             slot_of_pair,
-            grain_start,
-            slots_by_grain,
+            shares,
+            share_start,
             grains,
         }
     }
@@ -112,7 +116,7 @@ impl PairBlocks {
     }
 
     pub fn deferred_slots(&self) -> usize {
-        self.slots_by_grain.len()
+        self.shares.len()
     }
 }
 
@@ -275,14 +279,13 @@ pub fn pair_forces<D: Dim>(
         .with_min_len(MIN_BLOCKS_PER_JOB)
         .enumerate()
         .for_each(|(b, (force, torque))| {
-            for (k, (f, t)) in force.iter_mut().zip(torque.iter_mut()).enumerate() {
-                let i = b * block + k;
-                let range = blocks.grain_start[i] as usize..blocks.grain_start[i + 1] as usize;
-                for &s in &blocks.slots_by_grain[range] {
-                    *f += d_force[s as usize];
-                    if rotation {
-                        *t += d_torque[s as usize];
-                    }
+            let first = b * block;
+            let shares = &blocks.shares[blocks.share_start[b]..blocks.share_start[b + 1]];
+            for &(j, s) in shares {
+                let (k, s) = (j as usize - first, s as usize);
+                force[k] += d_force[s];
+                if rotation {
+                    torque[k] += d_torque[s];
                 }
             }
         });
@@ -599,10 +602,13 @@ mod tests {
         assert_eq!(b.slot_start, vec![0, 2, 3, 3]);
         // Grain 1500 receives slot 0, 1024 slot 1, 2999 slot 2.
         let slots =
-            |i: usize| &b.slots_by_grain[b.grain_start[i] as usize..b.grain_start[i + 1] as usize];
-        assert_eq!(slots(1500), &[0]);
-        assert_eq!(slots(1024), &[1]);
-        assert_eq!(slots(2999), &[2]);
+            |i: u32| -> Vec<u32> { b.shares.iter().filter(|s| s.0 == i).map(|s| s.1).collect() };
+        assert_eq!(slots(1500), [0]);
+        assert_eq!(slots(1024), [1]);
+        assert_eq!(slots(2999), [2]);
         assert!(slots(0).is_empty());
+        // By grain: 1024 and 1500 in block 1, 2999 in block 2.
+        assert_eq!(b.shares, [(1024, 1), (1500, 0), (2999, 2)]);
+        assert_eq!(b.share_start, [0, 0, 2, 3]);
     }
 }
