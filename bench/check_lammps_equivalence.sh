@@ -9,7 +9,7 @@
 # Needs LAMMPS (`apt-get install lammps`) and `cargo build --release`.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-grains="$root/target/release/grains"
+grains="${CARGO_TARGET_DIR:-$root/target}/release/grains"
 command -v lmp >/dev/null || { echo "lmp not found: apt-get install lammps" >&2; exit 2; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

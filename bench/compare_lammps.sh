@@ -6,13 +6,14 @@
 #   bench/compare_lammps.sh vib2d 20000
 #
 # Needs LAMMPS (`apt-get install lammps`, command `lmp`) and a release build
-# of grains (`cargo build --release`). Run from the repository root.
+# of grains (`cargo build --release`; found under $CARGO_TARGET_DIR when set).
+# Run from the repository root.
 set -euo pipefail
 workload=${1:-chute}
 steps=${2:-1000}
 threads=${THREADS:-1}
 root=$(cd "$(dirname "$0")/.." && pwd)
-grains="$root/target/release/grains"
+grains="${CARGO_TARGET_DIR:-$root/target}/release/grains"
 command -v lmp >/dev/null || { echo "lmp not found: apt-get install lammps" >&2; exit 2; }
 [ -x "$grains" ] || { echo "$grains not found: cargo build --release" >&2; exit 2; }
 case "$workload" in

@@ -129,6 +129,43 @@ impl<D: Dim> Particles<D> {
         }
     }
 
+    /// A store of owned grains from records, in their order, without Gear
+    /// history (as `push_record` on a new store). The records' memory is
+    /// handed back while they are moved over (reversed in place, taken from
+    /// the back into pre-sized arrays, the record array shrinking as it
+    /// empties), so the two copies never coexist in full: for 10^6 grains
+    /// that is the difference between about 330 and 190 bytes per grain at
+    /// the peak of the set-up.
+    pub fn from_records(mut records: Vec<ParticleRecord<D>>) -> Self {
+        let mut p = Self::new();
+        p.reserve(records.len());
+        records.reverse();
+        while let Some(r) = records.pop() {
+            p.push_record(r);
+            // Shrinking in place returns the emptied tail to the system.
+            if records.capacity() > 4096 && records.len() < records.capacity() / 8 * 7 {
+                records.shrink_to_fit();
+            }
+        }
+        p
+    }
+
+    fn reserve(&mut self, n: usize) {
+        self.pos.reserve_exact(n);
+        self.vel.reserve_exact(n);
+        self.force.reserve_exact(n);
+        self.omega.reserve_exact(n);
+        self.torque.reserve_exact(n);
+        self.radius.reserve_exact(n);
+        self.mass.reserve_exact(n);
+        self.inertia.reserve_exact(n);
+        self.inv_mass.reserve_exact(n);
+        self.inv_inertia.reserve_exact(n);
+        self.id.reserve_exact(n);
+        self.kind.reserve_exact(n);
+        self.frozen.reserve_exact(n);
+    }
+
     /// All entries, owned and ghost.
     pub fn len(&self) -> usize {
         self.pos.len()
@@ -347,6 +384,44 @@ mod tests {
     use super::*;
     use crate::dim::D2;
     use glam::DVec2;
+
+    #[test]
+    fn from_records_equals_pushing_them_in_order() {
+        // More than the shrink threshold, so the record array shrinks on the way.
+        let records: Vec<ParticleRecord<D2>> = (0..10_000u64)
+            .map(|i| {
+                let mut r = ParticleRecord::new(
+                    100 + i,
+                    DVec2::new(i as f64, 0.5 * i as f64),
+                    0.5 + 1e-5 * i as f64,
+                    1.0 + 1e-4 * i as f64,
+                    0.1,
+                );
+                r.vel = DVec2::new(-(i as f64), 1.0);
+                r.omega = 0.25 * i as f64;
+                r.kind = 1 + (i % 3) as u32;
+                r.frozen = i % 7 == 0;
+                r
+            })
+            .collect();
+        let mut pushed = Particles::<D2>::new();
+        for r in records.clone() {
+            pushed.push_record(r);
+        }
+        let built = Particles::from_records(records);
+        assert_eq!(built.n_owned(), 10_000);
+        assert_eq!(built.len(), 10_000);
+        for i in [0, 1, 6999, 9999] {
+            assert_eq!(built.pack(i), pushed.pack(i));
+        }
+        assert_eq!(built.pos, pushed.pos);
+        assert_eq!(built.vel, pushed.vel);
+        assert_eq!(built.inv_mass, pushed.inv_mass);
+        assert_eq!(built.inv_inertia, pushed.inv_inertia);
+        assert_eq!(built.id, pushed.id);
+        assert_eq!(built.frozen, pushed.frozen);
+        assert!(built.gear.is_empty() && built.gear_ang.is_empty());
+    }
 
     fn store(n: usize) -> Particles<D2> {
         let mut p = Particles::<D2>::new();

@@ -10,10 +10,13 @@
 //! "normalized by the mass" or the momentum-conserving reduced mass), and
 //! [`law::ContactLaw`] puts the parts together. [`binary`] has the closed
 //! forms of a two-grain collision that the tests and the automatic time step use.
+//! [`hooke_history`] is the LAMMPS-shaped law fixed at compile time, for the
+//! pair loop.
 
 pub mod binary;
 pub mod cundall_strack;
 pub mod damping;
+pub mod hooke_history;
 pub mod law;
 pub mod mass_scaling;
 pub mod normal_power_law;

@@ -2,6 +2,7 @@
 //! Grains are independent here, so the loop runs in parallel chunks; each
 //! grain's sum is formed in wall order, whatever the threads.
 
+use super::wall_springs::{ChunkSprings, WallSprings};
 use super::MdStats;
 use crate::boundary::Wall;
 use crate::contact::ContactLaw;
@@ -29,12 +30,12 @@ struct ChunkStats {
     worst: u64,
 }
 
-/// Adds wall contacts and gravity to every owned, non-frozen grain.
-/// `wall_springs[i * walls.len() + w]` is grain i's spring against wall w.
+/// Adds wall contacts and gravity to every owned, non-frozen grain, and
+/// updates the wall contacts' springs.
 pub fn field_forces<D: Dim>(
     input: &FieldInput<D>,
     p: &mut Particles<D>,
-    wall_springs: &mut [D::V],
+    wall_springs: &mut WallSprings<D>,
     stats: &mut MdStats,
 ) {
     let nw = input.walls.len();
@@ -47,25 +48,28 @@ pub fn field_forces<D: Dim>(
         &p.pos, &p.vel, &p.omega, &p.radius, &p.mass, &p.frozen, &p.id,
     );
     let law = input.law;
-    let chunk_stats: Vec<ChunkStats> = p.force[..n]
+    let springs_in = &*wall_springs;
+    let chunks: Vec<(ChunkStats, ChunkSprings<D>)> = p.force[..n]
         .par_chunks_mut(CHUNK)
         .zip(p.torque[..n].par_chunks_mut(CHUNK))
-        .zip(wall_springs.par_chunks_mut(CHUNK * nw.max(1)))
         .enumerate()
-        .map(|(c, ((force, torque), springs))| {
+        .map(|(c, (force, torque))| {
             let mut s = ChunkStats::default();
+            let first = c * CHUNK;
+            let mut springs = springs_in.cursor(first..first + force.len());
+            let mut kept = ChunkSprings::default();
             for (k, (f, t)) in force.iter_mut().zip(torque.iter_mut()).enumerate() {
-                let i = c * CHUNK + k;
+                let i = first + k;
                 if frozen[i] {
                     continue;
                 }
                 let (ri, mi) = (radius[i], mass[i]);
                 for (w, wall) in input.walls.iter().enumerate() {
-                    let spring = &mut springs[k * nw + w];
+                    // An open contact keeps no spring.
                     let Some(contact) = wall.contact(pos[i], ri, input.time) else {
-                        *spring = D::zero();
                         continue;
                     };
+                    let mut spring = springs.get(i, w);
                     let mut v_rel = vel[i] - contact.velocity;
                     if law.rotation {
                         v_rel -= D::ang_cross(omega[i] * ri, contact.normal);
@@ -75,10 +79,11 @@ pub fn field_forces<D: Dim>(
                         contact.normal,
                         v_rel,
                         law.damping_mass(mi, f64::INFINITY),
-                        spring,
+                        &mut spring,
                         input.dt,
                         input.update,
                     );
+                    kept.keep(i, w, spring);
                     let fi = law.scaling.force_factor(mi);
                     *f += out.force * fi;
                     if law.rotation {
@@ -96,9 +101,14 @@ pub fn field_forces<D: Dim>(
                     *f += input.gravity * mi;
                 }
             }
-            s
+            (s, kept)
         })
         .collect();
+    let mut chunk_stats = Vec::with_capacity(chunks.len());
+    wall_springs.assemble(chunks.into_iter().map(|(s, kept)| {
+        chunk_stats.push(s);
+        kept
+    }));
     for s in &chunk_stats {
         stats.contacts += s.contacts;
         stats.max_overlap = stats.max_overlap.max(s.max_overlap);

@@ -15,6 +15,7 @@
 
 mod field_forces;
 mod pair_forces;
+mod wall_springs;
 
 use crate::boundary::Wall;
 use crate::checkpoint::MdState;
@@ -31,6 +32,7 @@ use field_forces::{field_forces, FieldInput};
 use pair_forces::{pair_forces, Deferred, PairBlocks, PairInput};
 use rayon::prelude::*;
 use std::collections::HashMap;
+use wall_springs::WallSprings;
 
 /// Numerical settings of an MD run.
 #[derive(Clone, Debug)]
@@ -90,9 +92,8 @@ pub struct Md<D: Dim> {
     /// Tangential spring of each listed pair, aligned with `neighbors.pairs`,
     /// oriented as the displacement of the pair's first grain.
     springs: Vec<D::V>,
-    /// Tangential spring of each grain against each wall:
-    /// `wall_springs[i * walls + w]` (one unused slot per grain without walls).
-    wall_springs: Vec<D::V>,
+    /// Tangential springs of the grain–wall contacts that are stretched.
+    wall_springs: WallSprings<D>,
     /// The pair list cut into blocks for the parallel force loop.
     blocks: PairBlocks,
     deferred: Deferred<D>,
@@ -123,8 +124,6 @@ impl<D: Dim> Md<D> {
                 settings.skin
             )));
         }
-        let n_walls = walls.len();
-        let n = particles.len();
         let mut md = Self {
             particles,
             domain,
@@ -135,7 +134,7 @@ impl<D: Dim> Md<D> {
             step: 0,
             stats: MdStats::default(),
             springs: Vec::new(),
-            wall_springs: vec![D::zero(); n * n_walls.max(1)],
+            wall_springs: WallSprings::default(),
             blocks: PairBlocks::default(),
             deferred: Deferred::default(),
             rebuilds_since_sort: 0,
@@ -164,7 +163,7 @@ impl<D: Dim> Md<D> {
             particles: p.clone(),
             list: self.neighbors.export_state(),
             springs: self.springs.clone(),
-            wall_springs: self.wall_springs.clone(),
+            wall_springs: self.wall_springs.to_dense(p.len(), self.walls.len().max(1)),
             rebuilds_since_sort: self.rebuilds_since_sort,
             contacts: self.stats.contacts as u64,
             max_overlap: self.stats.max_overlap,
@@ -253,7 +252,7 @@ impl<D: Dim> Md<D> {
         self.time = s.time;
         self.step = s.step;
         self.springs = s.springs;
-        self.wall_springs = s.wall_springs;
+        self.wall_springs = WallSprings::from_dense(&s.wall_springs, nw);
         self.rebuilds_since_sort = s.rebuilds_since_sort;
         self.stats = MdStats {
             contacts: s.contacts as usize,
@@ -330,12 +329,7 @@ impl<D: Dim> Md<D> {
             let cell = 2.0 * self.particles.max_radius() + self.settings.skin;
             let order = spatial_sort_order(&self.particles.pos[..n], &self.domain, cell);
             self.particles.permute(&order);
-            let nw = self.walls.len().max(1);
-            let old = self.wall_springs.clone();
-            for (k, &o) in order.iter().enumerate() {
-                let (to, from) = (k * nw, o as usize * nw);
-                self.wall_springs[to..to + nw].copy_from_slice(&old[from..from + nw]);
-            }
+            self.wall_springs.permute(&order);
         }
         self.rebuilds_since_sort = self.rebuilds_since_sort.wrapping_add(1);
         let p = &self.particles;

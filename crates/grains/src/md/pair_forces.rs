@@ -13,7 +13,8 @@
 //! ever write the same memory.
 
 use super::MdStats;
-use crate::contact::ContactLaw;
+use crate::contact::hooke_history::HookeHistory;
+use crate::contact::{ContactLaw, ContactOutcome};
 use crate::dim::Dim;
 use crate::neighbors::NeighborList;
 use crate::particles::Particles;
@@ -38,10 +39,12 @@ pub struct PairBlocks {
     slot_start: Vec<usize>,
     /// Per pair: its deferred slot, or `u32::MAX` when both grains share a block.
     slot_of_pair: Vec<u32>,
-    /// Per grain, the deferred slots where it is the second grain:
-    /// `slots_by_grain[grain_start[i]..grain_start[i + 1]]`, in slot order.
-    grain_start: Vec<u32>,
-    slots_by_grain: Vec<u32>,
+    /// The deferred shares as (second grain, slot), by grain and, for one
+    /// grain, in slot order; those of grains in block b are
+    /// `shares[share_start[b]..share_start[b + 1]]`. Only grains that get
+    /// a share appear, so the pass that adds them costs nothing for others.
+    shares: Vec<(u32, u32)>,
+    share_start: Vec<usize>,
     /// One more than the largest grain index in the list.
     grains: usize,
 }
@@ -79,14 +82,16 @@ impl PairBlocks {
         for i in 0..n {
             count[i + 1] += count[i];
         }
-        let grain_start = count.clone();
+        let share_start = (0..=n_blocks)
+            .map(|b| count[(b * block).min(n)] as usize)
+            .collect();
         let mut fill = count;
-        let mut slots_by_grain = vec![0u32; slots as usize];
+        let mut shares = vec![(0u32, 0u32); slots as usize];
         for (k, &[_, j]) in pairs.iter().enumerate() {
             let s = slot_of_pair[k];
             if s != u32::MAX {
                 let at = &mut fill[j as usize];
-                slots_by_grain[*at as usize] = s;
+                shares[*at as usize] = (j, s);
                 *at += 1;
             }
         }
@@ -100,8 +105,8 @@ impl PairBlocks {
             pair_start,
             slot_start,
             slot_of_pair,
-            grain_start,
-            slots_by_grain,
+            shares,
+            share_start,
             grains,
         }
     }
@@ -111,7 +116,7 @@ impl PairBlocks {
     }
 
     pub fn deferred_slots(&self) -> usize {
-        self.slots_by_grain.len()
+        self.shares.len()
     }
 }
 
@@ -120,7 +125,10 @@ impl PairBlocks {
 pub struct Deferred<D: Dim> {
     force: Vec<D::V>,
     torque: Vec<D::A>,
-    touching: Vec<Vec<u32>>,
+    /// Per block, the pairs in contact now and at the previous evaluation.
+    touching: Vec<[Vec<u32>; 2]>,
+    /// The neighbour-list build the previous evaluation's contacts refer to.
+    list_build: Option<u64>,
 }
 
 /// Inputs every block reads.
@@ -151,8 +159,10 @@ struct Block<'a, D: Dim> {
     slot_force: &'a mut [D::V],
     slot_torque: &'a mut [D::A],
     slot_first: usize,
-    /// Scratch: indices (within the block) of the pairs in contact.
-    touching: &'a mut Vec<u32>,
+    /// Indices (within the block) of the pairs in contact: now, and at the
+    /// previous evaluation when `was_valid` (same list since then).
+    touching: &'a mut [Vec<u32>; 2],
+    was_valid: bool,
 }
 
 /// Splits `v` into consecutive pieces of the given lengths.
@@ -181,7 +191,10 @@ pub fn pair_forces<D: Dim>(
     let slots = blocks.deferred_slots();
     deferred.force.resize(slots, D::zero());
     deferred.torque.resize(slots, D::A::default());
-    deferred.touching.resize_with(nb, Vec::new);
+    deferred.touching.resize_with(nb, Default::default);
+    let build = input.neighbors.builds();
+    let was_valid = deferred.list_build == Some(build);
+    deferred.list_build = Some(build);
     // The unchecked reads in `run_block` rely on this.
     assert!(
         blocks.grains <= n,
@@ -215,6 +228,7 @@ pub fn pair_forces<D: Dim>(
                 slot_torque,
                 slot_first: blocks.slot_start[b],
                 touching,
+                was_valid,
             },
         )
         .collect();
@@ -226,6 +240,7 @@ pub fn pair_forces<D: Dim>(
     let mass = &p.mass;
     let frozen = &p.frozen;
     let ids = &p.id;
+    let hooke = HookeHistory::of(input.law);
     // At least MIN_BLOCKS_PER_JOB blocks per job: a small system runs on one
     // thread instead of paying to wake others every step.
     let block_stats: Vec<BlockStats> = tasks
@@ -240,7 +255,11 @@ pub fn pair_forces<D: Dim>(
                 mass,
                 frozen,
             };
-            let mut s = run_block(input, &grains, t);
+            // The LAMMPS-shaped law gets its own compiled loop.
+            let mut s = match hooke {
+                Some(h) => run_block(&h, input, &grains, t),
+                None => run_block(input.law, input, &grains, t),
+            };
             if s.contacts > 0 {
                 s.worst = (ids[s.worst.0 as usize], ids[s.worst.1 as usize]);
             }
@@ -260,14 +279,13 @@ pub fn pair_forces<D: Dim>(
         .with_min_len(MIN_BLOCKS_PER_JOB)
         .enumerate()
         .for_each(|(b, (force, torque))| {
-            for (k, (f, t)) in force.iter_mut().zip(torque.iter_mut()).enumerate() {
-                let i = b * block + k;
-                let range = blocks.grain_start[i] as usize..blocks.grain_start[i + 1] as usize;
-                for &s in &blocks.slots_by_grain[range] {
-                    *f += d_force[s as usize];
-                    if rotation {
-                        *t += d_torque[s as usize];
-                    }
+            let first = b * block;
+            let shares = &blocks.shares[blocks.share_start[b]..blocks.share_start[b + 1]];
+            for &(j, s) in shares {
+                let (k, s) = (j as usize - first, s as usize);
+                force[k] += d_force[s];
+                if rotation {
+                    torque[k] += d_torque[s];
                 }
             }
         });
@@ -279,6 +297,83 @@ pub fn pair_forces<D: Dim>(
             stats.max_overlap_fraction = s.max_fraction;
             stats.worst_pair = (s.worst.0, Some(s.worst.1));
         }
+    }
+}
+
+/// What the pair loop needs from a contact law; implemented by the general
+/// [`ContactLaw`] and by the fixed [`HookeHistory`] kernel, so that the loop
+/// is compiled once for each.
+trait PairLaw: Sync {
+    fn rotation(&self) -> bool;
+    fn damping_mass(&self, mi: f64, mj: f64) -> f64;
+    fn force_factor(&self, m: f64) -> f64;
+    #[allow(clippy::too_many_arguments)]
+    fn evaluate<D: Dim>(
+        &self,
+        overlap: f64,
+        n: D::V,
+        v_rel: D::V,
+        damping_mass: f64,
+        spring: &mut D::V,
+        dt: f64,
+        update: bool,
+    ) -> ContactOutcome<D>;
+}
+
+impl PairLaw for ContactLaw {
+    #[inline(always)]
+    fn rotation(&self) -> bool {
+        self.rotation
+    }
+    #[inline(always)]
+    fn damping_mass(&self, mi: f64, mj: f64) -> f64 {
+        ContactLaw::damping_mass(self, mi, mj)
+    }
+    #[inline(always)]
+    fn force_factor(&self, m: f64) -> f64 {
+        self.scaling.force_factor(m)
+    }
+    #[inline(always)]
+    fn evaluate<D: Dim>(
+        &self,
+        overlap: f64,
+        n: D::V,
+        v_rel: D::V,
+        damping_mass: f64,
+        spring: &mut D::V,
+        dt: f64,
+        update: bool,
+    ) -> ContactOutcome<D> {
+        ContactLaw::evaluate(self, overlap, n, v_rel, damping_mass, spring, dt, update)
+    }
+}
+
+impl PairLaw for HookeHistory {
+    #[inline(always)]
+    fn rotation(&self) -> bool {
+        true
+    }
+    #[inline(always)]
+    fn damping_mass(&self, mi: f64, mj: f64) -> f64 {
+        HookeHistory::damping_mass(mi, mj)
+    }
+    #[inline(always)]
+    fn force_factor(&self, _: f64) -> f64 {
+        // Reduced scaling: forces are not multiplied by a mass.
+        1.0
+    }
+    #[inline(always)]
+    fn evaluate<D: Dim>(
+        &self,
+        overlap: f64,
+        n: D::V,
+        v_rel: D::V,
+        damping_mass: f64,
+        spring: &mut D::V,
+        dt: f64,
+        update: bool,
+    ) -> ContactOutcome<D> {
+        HookeHistory::evaluate(self, overlap, n, v_rel, damping_mass, spring, dt, update)
     }
 }
 
@@ -303,31 +398,58 @@ fn at<T: Copy>(v: &[T], i: u32) -> T {
     unsafe { *v.get_unchecked(i as usize) }
 }
 
-fn run_block<D: Dim>(input: &PairInput<D>, g: &Grains<D>, t: &mut Block<D>) -> BlockStats {
-    let law = input.law;
+fn run_block<D: Dim, L: PairLaw>(
+    law: &L,
+    input: &PairInput<D>,
+    g: &Grains<D>,
+    t: &mut Block<D>,
+) -> BlockStats {
     let list = input.neighbors;
-    let rotation = law.rotation;
+    let rotation = law.rotation();
     let range = t.pairs.clone();
     let pairs = &list.pairs[range.clone()];
     let images = &list.image[range.clone()];
     let slots = &input.blocks.slot_of_pair[range];
     let shift = |code: u8| list.shift(code);
 
-    // Pass 1: which listed pairs touch. Cheap and branch-light; open
-    // contacts drop their spring (written only when it was stretched).
-    t.touching.clear();
-    for (k, ((&[i, j], &code), spring)) in pairs
-        .iter()
-        .zip(images)
-        .zip(t.springs.iter_mut())
-        .enumerate()
-    {
-        let del = at(g.pos, i) - (at(g.pos, j) + shift(code));
-        let radsum = at(g.radius, i) + at(g.radius, j);
-        if D::norm2(del) < radsum * radsum {
-            t.touching.push(k as u32);
-        } else if *spring != D::zero() {
-            *spring = D::zero();
+    // Pass 1: which listed pairs touch. Without a branch on the test (about
+    // a third touch, in no predictable pattern): every index is written to a
+    // small buffer and the count advances only for a contact.
+    let [touching, was_touching] = t.touching;
+    std::mem::swap(touching, was_touching);
+    touching.clear();
+    const CHUNK: usize = 256;
+    let mut buf = [0u32; CHUNK];
+    for (c, (pairs, images)) in pairs.chunks(CHUNK).zip(images.chunks(CHUNK)).enumerate() {
+        let mut m = 0;
+        for (k, (&[i, j], &code)) in pairs.iter().zip(images).enumerate() {
+            let del = at(g.pos, i) - (at(g.pos, j) + shift(code));
+            let radsum = at(g.radius, i) + at(g.radius, j);
+            buf[m] = (c * CHUNK + k) as u32;
+            m += (D::norm2(del) < radsum * radsum) as usize;
+        }
+        touching.extend_from_slice(&buf[..m]);
+    }
+    // Contacts that opened drop their spring. Both lists are ascending, so
+    // a merge finds them; after a rebuild, every stretched spring outside
+    // the contacts is dropped instead.
+    let mut a = 0;
+    if t.was_valid {
+        for &k in was_touching.iter() {
+            while a < touching.len() && touching[a] < k {
+                a += 1;
+            }
+            if a == touching.len() || touching[a] != k {
+                t.springs[k as usize] = D::zero();
+            }
+        }
+    } else {
+        for (k, spring) in t.springs.iter_mut().enumerate() {
+            if a < touching.len() && touching[a] as usize == k {
+                a += 1;
+            } else if *spring != D::zero() {
+                *spring = D::zero();
+            }
         }
     }
     // Deferred shares of open contacts must read as zero.
@@ -338,7 +460,7 @@ fn run_block<D: Dim>(input: &PairInput<D>, g: &Grains<D>, t: &mut Block<D>) -> B
     let mut s = BlockStats::default();
     let first = t.first;
     let own = first..first + t.force.len();
-    for &k in t.touching.iter() {
+    for &k in touching.iter() {
         let k = k as usize;
         let [i, j] = pairs[k];
         // del points from j to i.
@@ -366,7 +488,7 @@ fn run_block<D: Dim>(input: &PairInput<D>, g: &Grains<D>, t: &mut Block<D>) -> B
             input.dt,
             input.update,
         );
-        let (fi, fj) = (law.scaling.force_factor(mi), law.scaling.force_factor(mj));
+        let (fi, fj) = (law.force_factor(mi), law.force_factor(mj));
         let (i, j) = (i as usize, j as usize);
         t.force[i - first] += out.force * fi;
         let fj_vec = -(out.force * fj);
@@ -405,6 +527,62 @@ fn run_block<D: Dim>(input: &PairInput<D>, g: &Grains<D>, t: &mut Block<D>) -> B
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contact::MassScaling;
+    use crate::dim::D3;
+    use crate::domain::Domain;
+    use crate::integrate::Integrator;
+    use crate::md::{Md, MdSettings};
+    use crate::particles::ParticleRecord;
+    use glam::DVec3;
+
+    /// Two spheres touching, the second sliding past the first.
+    fn sliding_pair(law: ContactLaw) -> Md<D3> {
+        let mut p = Particles::new();
+        p.push_record(ParticleRecord::new(1, DVec3::splat(5.0), 0.5, 1.0, 0.1));
+        let mut b = ParticleRecord::new(2, DVec3::new(5.999, 5.0, 5.0), 0.5, 1.0, 0.1);
+        b.vel = DVec3::new(0.0, 0.01, 0.0);
+        p.push_record(b);
+        let domain = Domain::new(DVec3::ZERO, DVec3::splat(10.0), [false; 3]);
+        let mut settings = MdSettings::new(1e-4, law, 0.5);
+        settings.integrator = Integrator::Verlet;
+        Md::new(p, domain, Vec::new(), settings).unwrap()
+    }
+
+    /// An opened contact forgets its spring, whether or not the list was
+    /// rebuilt since the previous evaluation, with either compiled law.
+    #[test]
+    fn opened_contacts_drop_their_spring() {
+        let hooke = ContactLaw {
+            kn: 2e5,
+            beta: 1.0,
+            gamma_n: 50.0,
+            gamma_t: 0.0,
+            kt: 2e5 * 2.0 / 7.0,
+            mu: 0.5,
+            scaling: MassScaling::Reduced,
+            rotation: true,
+        };
+        let mut general = hooke.clone();
+        general.beta = 1.5;
+        for law in [hooke, general] {
+            for rebuild in [false, true] {
+                let mut md = sliding_pair(law.clone());
+                md.run(20).unwrap();
+                assert_eq!(md.springs.len(), 1);
+                assert!(md.springs[0].length() > 1e-7, "{:?}", md.springs[0]);
+                // Pull the second grain out of contact (still inside the skin).
+                md.particles.pos[1].x += 0.01;
+                let builds = md.neighbor_builds();
+                if rebuild {
+                    md.rebuild_neighbors().unwrap();
+                }
+                md.step().unwrap();
+                assert_eq!(md.neighbor_builds(), builds + rebuild as u64);
+                assert_eq!(md.springs[0], DVec3::ZERO, "rebuild {rebuild}");
+                assert_eq!(md.stats.contacts, 0);
+            }
+        }
+    }
 
     #[test]
     fn blocks_partition_pairs_and_defer_cross_block_contacts() {
@@ -424,10 +602,13 @@ mod tests {
         assert_eq!(b.slot_start, vec![0, 2, 3, 3]);
         // Grain 1500 receives slot 0, 1024 slot 1, 2999 slot 2.
         let slots =
-            |i: usize| &b.slots_by_grain[b.grain_start[i] as usize..b.grain_start[i + 1] as usize];
-        assert_eq!(slots(1500), &[0]);
-        assert_eq!(slots(1024), &[1]);
-        assert_eq!(slots(2999), &[2]);
+            |i: u32| -> Vec<u32> { b.shares.iter().filter(|s| s.0 == i).map(|s| s.1).collect() };
+        assert_eq!(slots(1500), [0]);
+        assert_eq!(slots(1024), [1]);
+        assert_eq!(slots(2999), [2]);
         assert!(slots(0).is_empty());
+        // By grain: 1024 and 1500 in block 1, 2999 in block 2.
+        assert_eq!(b.shares, [(1024, 1), (1500, 0), (2999, 2)]);
+        assert_eq!(b.share_start, [0, 0, 2, 3]);
     }
 }

@@ -49,7 +49,6 @@ pub struct NeighborList<D: Dim> {
     skin: f64,
     builds: u64,
     built: bool,
-    grid: CellGrid,
 }
 
 impl<D: Dim> Default for NeighborList<D> {
@@ -70,7 +69,6 @@ impl<D: Dim> NeighborList<D> {
             skin,
             builds: 0,
             built: false,
-            grid: CellGrid::default(),
         }
     }
 
@@ -171,13 +169,16 @@ impl<D: Dim> NeighborList<D> {
 
         let max_cells = (CELLS_PER_PARTICLE * n).clamp(MIN_CELLS, MAX_CELLS);
         let shape = GridShape::new(domain, reach, max_cells);
-        self.grid.bin::<D>(shape, pos);
+        // The grid is scratch, dropped after the build: keeping it would cost
+        // about 14 bytes per grain between rebuilds.
+        let mut grid = CellGrid::default();
+        grid.bin::<D>(shape, pos);
 
         let scan = Scan::<D> {
             pos,
             radius,
             frozen,
-            grid: &self.grid,
+            grid: &grid,
             periodic,
             length,
             shifts: &self.shifts,

@@ -438,10 +438,7 @@ fn build_md_inner<D: Dim>(loaded: &Loaded) -> Result<(Md<D>, Resolved)> {
     if let Some(g) = &s.gravity {
         settings.gravity = vector::<D>("gravity", g)?;
     }
-    let mut particles = Particles::new();
-    for r in records {
-        particles.push_record(r);
-    }
+    let particles = Particles::from_records(records);
     let md = Md::new(particles, dom, walls, settings).map_err(|e| match e {
         Error::Unstable(m) => Error::input(format!(
             "{}: the initial state is unusable: {m}",
