@@ -46,30 +46,42 @@ pub fn predict<D: Dim>(p: &mut Particles<D>, dt: f64, rotation: bool) {
     let [g2, g3, g4, g5] = &mut p.gear[..] else {
         panic!("gear5::initialize was not called");
     };
-    for i in 0..n {
-        if p.frozen[i] {
+    // Zipped slices: no bounds checks in this memory-bound loop.
+    let grains = p.pos[..n]
+        .iter_mut()
+        .zip(&mut p.vel[..n])
+        .zip(&p.frozen[..n])
+        .zip(g2[..n].iter_mut().zip(&mut g3[..n]))
+        .zip(g4[..n].iter_mut().zip(&g5[..n]));
+    for ((((pos, vel), &frozen), (g2, g3)), (g4, &r5)) in grains {
+        if frozen {
             continue;
         }
-        let (r2, r3, r4, r5) = (g2[i], g3[i], g4[i], g5[i]);
-        p.pos[i] += p.vel[i] * dt + r2 + r3 + r4 + r5;
-        p.vel[i] += (r2 * 2.0 + r3 * 3.0 + r4 * 4.0 + r5 * 5.0) * inv_dt;
-        g2[i] = r2 + r3 * 3.0 + r4 * 6.0 + r5 * 10.0;
-        g3[i] = r3 + r4 * 4.0 + r5 * 10.0;
-        g4[i] = r4 + r5 * 5.0;
+        let (r2, r3, r4) = (*g2, *g3, *g4);
+        *pos += *vel * dt + r2 + r3 + r4 + r5;
+        *vel += (r2 * 2.0 + r3 * 3.0 + r4 * 4.0 + r5 * 5.0) * inv_dt;
+        *g2 = r2 + r3 * 3.0 + r4 * 6.0 + r5 * 10.0;
+        *g3 = r3 + r4 * 4.0 + r5 * 10.0;
+        *g4 = r4 + r5 * 5.0;
     }
     if rotation {
         let [w1, w2, w3, w4] = &mut p.gear_ang[..] else {
             panic!("gear5::initialize was not called");
         };
-        for i in 0..n {
-            if p.frozen[i] {
+        let grains = p.omega[..n]
+            .iter_mut()
+            .zip(&p.frozen[..n])
+            .zip(w1[..n].iter_mut().zip(&mut w2[..n]))
+            .zip(w3[..n].iter_mut().zip(&w4[..n]));
+        for (((omega, &frozen), (w1, w2)), (w3, &a4)) in grains {
+            if frozen {
                 continue;
             }
-            let (a1, a2, a3, a4) = (w1[i], w2[i], w3[i], w4[i]);
-            p.omega[i] += a1 + a2 + a3 + a4;
-            w1[i] = a1 + a2 * 2.0 + a3 * 3.0 + a4 * 4.0;
-            w2[i] = a2 + a3 * 3.0 + a4 * 6.0;
-            w3[i] = a3 + a4 * 4.0;
+            let (a1, a2, a3) = (*w1, *w2, *w3);
+            *omega += a1 + a2 + a3 + a4;
+            *w1 = a1 + a2 * 2.0 + a3 * 3.0 + a4 * 4.0;
+            *w2 = a2 + a3 * 3.0 + a4 * 6.0;
+            *w3 = a3 + a4 * 4.0;
         }
     }
 }
@@ -82,32 +94,53 @@ pub fn correct<D: Dim>(p: &mut Particles<D>, dt: f64, rotation: bool) {
     let [g2, g3, g4, g5] = &mut p.gear[..] else {
         panic!("gear5::initialize was not called");
     };
-    for i in 0..n {
-        if p.frozen[i] {
+    let grains = p.pos[..n]
+        .iter_mut()
+        .zip(&mut p.vel[..n])
+        .zip(
+            p.frozen[..n]
+                .iter()
+                .zip(&p.force[..n])
+                .zip(&p.inv_mass[..n]),
+        )
+        .zip(g2[..n].iter_mut().zip(&mut g3[..n]))
+        .zip(g4[..n].iter_mut().zip(&mut g5[..n]));
+    for ((((pos, vel), ((&frozen, &force), &inv_mass)), (g2, g3)), (g4, g5)) in grains {
+        if frozen {
             continue;
         }
-        let delta = p.force[i] * (half_dt2 * p.inv_mass[i]) - g2[i];
-        p.pos[i] += delta * C_POS[0];
-        p.vel[i] += delta * (C_POS[1] * inv_dt);
-        g2[i] += delta;
-        g3[i] += delta * C_POS[3];
-        g4[i] += delta * C_POS[4];
-        g5[i] += delta * C_POS[5];
+        let delta = force * (half_dt2 * inv_mass) - *g2;
+        *pos += delta * C_POS[0];
+        *vel += delta * (C_POS[1] * inv_dt);
+        *g2 += delta;
+        *g3 += delta * C_POS[3];
+        *g4 += delta * C_POS[4];
+        *g5 += delta * C_POS[5];
     }
     if rotation {
         let [w1, w2, w3, w4] = &mut p.gear_ang[..] else {
             panic!("gear5::initialize was not called");
         };
-        for i in 0..n {
-            if p.frozen[i] {
+        let grains = p.omega[..n]
+            .iter_mut()
+            .zip(
+                p.frozen[..n]
+                    .iter()
+                    .zip(&p.torque[..n])
+                    .zip(&p.inv_inertia[..n]),
+            )
+            .zip(w1[..n].iter_mut().zip(&mut w2[..n]))
+            .zip(w3[..n].iter_mut().zip(&mut w4[..n]));
+        for (((omega, ((&frozen, &torque), &inv_i)), (w1, w2)), (w3, w4)) in grains {
+            if frozen {
                 continue;
             }
-            let delta = p.torque[i] * (dt * p.inv_inertia[i]) - w1[i];
-            p.omega[i] += delta * C_ANG[0];
-            w1[i] += delta;
-            w2[i] += delta * C_ANG[2];
-            w3[i] += delta * C_ANG[3];
-            w4[i] += delta * C_ANG[4];
+            let delta = torque * (dt * inv_i) - *w1;
+            *omega += delta * C_ANG[0];
+            *w1 += delta;
+            *w2 += delta * C_ANG[2];
+            *w3 += delta * C_ANG[3];
+            *w4 += delta * C_ANG[4];
         }
     }
 }
