@@ -195,6 +195,19 @@ impl<D: GasDim> Dsmc<D> {
         gather_in_place(&mut self.store.p, &mut self.order);
     }
 
+    /// Cells and the index sort again after the store changed length or
+    /// content (migration between ranks in `super::decomp`).
+    pub(super) fn reindex(&mut self) {
+        let n = self.store.len();
+        self.key.resize(n, 0);
+        self.order.resize(n, 0);
+        let grid = &self.grid;
+        for (q, k) in self.store.p.iter().zip(self.key.iter_mut()) {
+            *k = grid.cell_of::<D>(q.x);
+        }
+        sort_indices(&self.key, &mut self.start, &mut self.fill, &mut self.order);
+    }
+
     /// The particles of cell `c`.
     pub fn cell_particles(&self, c: usize) -> impl Iterator<Item = &Particle<D>> + '_ {
         self.order[self.start[c] as usize..self.start[c + 1] as usize]
@@ -226,7 +239,9 @@ impl<D: GasDim> Dsmc<D> {
         }
     }
 
-    fn stream(&mut self) {
+    /// Moves every particle over one step and writes its cell into `key`
+    /// (also the first part of a decomposed step, `super::decomp`).
+    pub(super) fn stream(&mut self) {
         let dt = self.settings.dt;
         let t_end = self.time + dt;
         let g = self.gravity;
@@ -294,7 +309,8 @@ impl<D: GasDim> Dsmc<D> {
         self.time = t_end;
     }
 
-    fn collide(&mut self) -> Tally {
+    /// Collisions in every cell with two particles or more.
+    pub(super) fn collide(&mut self) -> Tally {
         let start = &self.start;
         let order = &self.order;
         let sel = self.selection;
