@@ -156,10 +156,6 @@ impl<'c, D: GasDim> Decomposed<'c, D> {
         &self.bounds
     }
 
-    fn owner_of_layer(&self, layer: usize) -> usize {
-        self.bounds.partition_point(|&b| b <= layer) - 1
-    }
-
     /// One time step: stream, migrate, sort, collide (as [`Dsmc::step`]).
     pub fn step(&mut self) {
         self.sim.stream();
@@ -167,6 +163,12 @@ impl<'c, D: GasDim> Decomposed<'c, D> {
         self.sim.step += 1;
         if self.sim.step.is_multiple_of(RESORT_EVERY) {
             gather_in_place(&mut self.sim.store.p, &mut self.sim.order);
+            // The store is now in cell order: the cells follow from `start`.
+            let sim = &mut self.sim;
+            for c in 0..sim.cells.len() {
+                let (a, b) = (sim.start[c] as usize, sim.start[c + 1] as usize);
+                sim.key[a..b].fill(c as u32);
+            }
             self.renumber();
             self.imbalance = self.measure_imbalance();
             if self.imbalance > self.threshold {
@@ -191,23 +193,33 @@ impl<'c, D: GasDim> Decomposed<'c, D> {
     }
 
     /// Sends every particle whose layer another rank owns there, merges the
-    /// arrivals in by serial index, and sorts the cells again.
+    /// arrivals in by serial index, and sorts the cells again. Uses the cells
+    /// streaming wrote; touches the store only when particles come or go.
     fn migrate(&mut self) {
-        let per = self.sim.grid.cells_per_layer();
+        let per = self.sim.grid.cells_per_layer() as u32;
         let me = self.comm.rank();
+        let lo = self.bounds[me] as u32 * per;
+        let hi = self.bounds[me + 1] as u32 * per;
         let mut out = vec![Writer::default(); self.comm.size()];
-        let mut p = Vec::with_capacity(self.sim.store.len());
-        let mut keys = Vec::with_capacity(self.keys.len());
-        for (q, &k) in self.sim.store.p.iter().zip(&self.keys) {
-            let layer = self.sim.grid.cell_of::<D>(q.x) as usize / per;
-            let r = self.owner_of_layer(layer);
-            if r == me {
-                p.push(*q);
-                keys.push(k);
+        let sim = &mut self.sim;
+        let mut kept = 0;
+        for i in 0..sim.store.len() {
+            let c = sim.key[i];
+            if c < lo || c >= hi {
+                let r = self.bounds.partition_point(|&b| b as u32 * per <= c) - 1;
+                put(&mut out[r], self.keys[i], &sim.store.p[i]);
             } else {
-                put(&mut out[r], k, q);
+                if kept != i {
+                    sim.store.p[kept] = sim.store.p[i];
+                    sim.key[kept] = c;
+                    self.keys[kept] = self.keys[i];
+                }
+                kept += 1;
             }
         }
+        sim.store.p.truncate(kept);
+        sim.key.truncate(kept);
+        self.keys.truncate(kept);
         let out: Vec<Vec<u8>> = out.into_iter().map(|w| w.buf).collect();
         let mut arrived: Vec<(u64, Particle<D>)> = Vec::new();
         for blob in self.comm.exchange(&out) {
@@ -216,30 +228,38 @@ impl<'c, D: GasDim> Decomposed<'c, D> {
                 arrived.push(get::<D>(&mut r));
             }
         }
-        if arrived.is_empty() {
-            self.sim.store.p = p;
-            self.keys = keys;
-        } else {
+        if !arrived.is_empty() {
             arrived.sort_unstable_by_key(|a| a.0);
-            let n = p.len() + arrived.len();
-            let (mut mp, mut mk) = (Vec::with_capacity(n), Vec::with_capacity(n));
-            let mut it = arrived.into_iter().peekable();
-            for (q, k) in p.into_iter().zip(keys) {
-                while let Some((ka, qa)) = it.next_if(|a| a.0 < k) {
-                    mp.push(qa);
-                    mk.push(ka);
-                }
-                mp.push(q);
-                mk.push(k);
-            }
-            for (ka, qa) in it {
-                mp.push(qa);
-                mk.push(ka);
-            }
-            self.sim.store.p = mp;
-            self.keys = mk;
+            self.merge(arrived);
         }
-        self.sim.reindex();
+        self.sim.sort_cells();
+    }
+
+    /// Merges particles sorted by serial index into the store (also sorted),
+    /// from the back, in place, moving the residents in whole blocks (the
+    /// arrivals from one neighbour all fall before or after the residents).
+    fn merge(&mut self, arrived: Vec<(u64, Particle<D>)>) {
+        let sim = &mut self.sim;
+        let (a, b) = (sim.store.len(), arrived.len());
+        sim.store.p.resize(a + b, Particle::default());
+        sim.key.resize(a + b, 0);
+        self.keys.resize(a + b, 0);
+        let (mut i, mut w) = (a, a + b);
+        for (k, q) in arrived.into_iter().rev() {
+            // Residents [at, i) come after this arrival.
+            let at = self.keys[..i].partition_point(|&x| x < k);
+            let len = i - at;
+            if len > 0 {
+                sim.store.p.copy_within(at..i, w - len);
+                sim.key.copy_within(at..i, w - len);
+                self.keys.copy_within(at..i, w - len);
+            }
+            w -= len + 1;
+            i = at;
+            sim.store.p[w] = q;
+            sim.key[w] = sim.grid.cell_of::<D>(q.x);
+            self.keys[w] = k;
+        }
     }
 
     /// After a physical re-sort the serial store is in cell order: a

@@ -102,7 +102,7 @@ pub struct Dsmc<D: GasDim> {
     pub time: f64,
     pub step: u64,
     /// Cell of each particle, written by streaming.
-    key: Vec<u32>,
+    pub(super) key: Vec<u32>,
     /// Particle indices sorted by cell: cell c holds
     /// `order[start[c]..start[c + 1]]`.
     pub order: Vec<u32>,
@@ -205,6 +205,13 @@ impl<D: GasDim> Dsmc<D> {
         for (q, k) in self.store.p.iter().zip(self.key.iter_mut()) {
             *k = grid.cell_of::<D>(q.x);
         }
+        sort_indices(&self.key, &mut self.start, &mut self.fill, &mut self.order);
+    }
+
+    /// The index sort of the cells in `key` (kept aligned with the store by
+    /// `super::decomp` when particles leave or arrive).
+    pub(super) fn sort_cells(&mut self) {
+        self.order.resize(self.store.len(), 0);
         sort_indices(&self.key, &mut self.start, &mut self.fill, &mut self.order);
     }
 
