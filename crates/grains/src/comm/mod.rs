@@ -3,7 +3,7 @@
 //! The engines talk to their peers only through [`Comm`]: reductions,
 //! a gather of bytes to rank 0 and a sparse exchange of byte buffers
 //! (halos and migrating particles). [`SingleProcess`] is the one-rank
-//! case every serial run uses; [`ThreadComm`] runs several ranks as
+//! case: the decomposed code on it is the serial run; [`ThreadComm`] runs several ranks as
 //! threads of one process (the tests check decompositions with it without
 //! MPI); `MpiComm` (cargo feature `mpi`) is the real thing.
 //!
