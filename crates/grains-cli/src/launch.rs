@@ -38,6 +38,12 @@ impl Ranks {
         None
     }
 
+    /// Whether this process reports errors that every rank meets alike
+    /// (bad input): rank 0, or a plain process.
+    pub fn reports_input_errors(&self) -> bool {
+        self.several().is_none_or(|c| c.rank() == 0)
+    }
+
     /// Ends every rank with `code` (an error on one rank would leave the
     /// others waiting in a collective).
     pub fn abort(&self, code: u8) {

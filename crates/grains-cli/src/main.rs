@@ -326,9 +326,16 @@ fn main() -> ExitCode {
     match execute(cli, &ranks) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("grains: error: {e}");
+            // Every rank meets bad input alike: one message is enough.
+            if !matches!(e, Error::Input(_)) || ranks.reports_input_errors() {
+                eprintln!("grains: error: {e}");
+            }
             let code = exit_code(&e);
-            ranks.abort(code);
+            // Other errors (a file rank 0 cannot write) leave the other
+            // ranks waiting: end them all.
+            if !matches!(e, Error::Input(_)) {
+                ranks.abort(code);
+            }
             ExitCode::from(code)
         }
     }

@@ -123,6 +123,30 @@ fn dsmc_periodic_3d_is_the_same_on_1_2_4_ranks() {
 }
 
 #[test]
+fn more_ranks_than_cell_layers_is_refused_once() {
+    let path = repo().join("scenarios/gas-vibrated-2d.toml");
+    let dir = scratch("layers");
+    let out = grains(
+        4,
+        &[
+            "run",
+            path.to_str().unwrap(),
+            "--set",
+            "dsmc.cell_size=0.1",
+            "--steps",
+            "10",
+            "--quiet",
+            "--out",
+            dir.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("4 ranks but only 3 layers"), "{err}");
+    assert_eq!(err.matches("grains: error").count(), 1, "{err}");
+}
+
+#[test]
 fn md_on_several_ranks_is_refused_clearly() {
     let path = repo().join("scenarios/bench-chute.toml");
     let dir = scratch("md");
