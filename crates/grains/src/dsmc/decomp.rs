@@ -105,6 +105,12 @@ impl<'c, D: GasDim> Decomposed<'c, D> {
     /// slabs of about equal particle counts; keeps this rank's.
     pub fn new(mut full: Dsmc<D>, comm: &'c dyn Comm) -> Result<Self, String> {
         let (rank, size) = (comm.rank(), comm.size());
+        if full.step != 0 {
+            return Err(format!(
+                "a decomposed DSMC run starts from a freshly built engine (this one is at step {})",
+                full.step
+            ));
+        }
         let layers = full.grid.layers();
         if layers < size {
             return Err(format!(
