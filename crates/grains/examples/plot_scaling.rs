@@ -6,7 +6,7 @@
 //! where scaling.csv is what `bench/mpi_scaling.sh` writes (header, then
 //! `ranks,wall_seconds,...` rows, one of them for one rank).
 
-use grains::measure::plot::{save_plot, Series, PALETTE};
+use grains::measure::plot::{save_plot, Series, Titles, PALETTE};
 use std::path::Path;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -33,13 +33,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         points: rows.iter().map(|&(p, t)| [p, t1 / t]).collect(),
         colour: PALETTE[0],
         lines: true,
+        errors: None,
     };
     let ideal = Series {
         points: vec![[1.0, 1.0], [pmax, pmax]],
         colour: PALETTE[5],
         lines: true,
+        errors: None,
     };
-    save_plot(Path::new(&args[2]), &[ideal, measured], false)?;
+    let titles = Titles {
+        x: "ranks p",
+        y: "speed-up t(1)/t(p)",
+    };
+    save_plot(Path::new(&args[2]), &[ideal, measured], false, titles)?;
     println!("{}", args[2]);
     Ok(())
 }
