@@ -3,6 +3,7 @@
 //! 1 anything else.
 
 mod bench;
+mod launch;
 mod progress;
 mod sweep;
 
@@ -154,7 +155,32 @@ fn report(summary: &serde_json::Value, quiet: bool) -> bool {
     false
 }
 
-fn execute(cli: Cli) -> grains::Result<ExitCode> {
+fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
+    if let Some(comm) = ranks.several() {
+        return match cli.command {
+            Command::Run {
+                scenario,
+                out,
+                sets,
+                steps,
+                threads,
+                checkpoint_every,
+                quiet,
+            } => {
+                if checkpoint_every.is_some() {
+                    return Err(Error::input(
+                        "--checkpoint-every is not supported under mpirun yet",
+                    ));
+                }
+                let args = (scenario, out, sets, steps, threads, quiet);
+                run_distributed(args, comm)
+            }
+            _ => Err(Error::input(format!(
+                "only `grains run` runs on several MPI ranks ({} here); start other commands without mpirun",
+                comm.size()
+            ))),
+        };
+    }
     match cli.command {
         Command::Resume {
             run_dir,
@@ -245,32 +271,96 @@ fn execute(cli: Cli) -> grains::Result<ExitCode> {
     }
 }
 
+type DistributedArgs = (
+    Option<PathBuf>,
+    Option<PathBuf>,
+    Vec<String>,
+    Option<u64>,
+    Option<usize>,
+    bool,
+);
+
+/// `grains run` as one rank of `mpirun`: rank 0 reports and writes.
+fn run_distributed(
+    (scenario, out, sets, steps, threads, quiet): DistributedArgs,
+    comm: &dyn grains::comm::Comm,
+) -> grains::Result<ExitCode> {
+    let root = comm.rank() == 0;
+    let loaded = load(scenario.as_deref(), &sets)?;
+    let from_file = Some(loaded.scenario.run.threads).filter(|&n| n > 0);
+    set_threads(threads.or(from_file))?;
+    let out_dir =
+        out.unwrap_or_else(|| Path::new("runs").join(safe_dir_name(&loaded.scenario.name)));
+    if steps == Some(0) {
+        return Err(Error::input("--steps must be at least 1"));
+    }
+    let opts = RunOptions {
+        out_dir: out_dir.clone(),
+        steps,
+        ..RunOptions::default()
+    };
+    let mut progress = progress::for_terminal(quiet || !root);
+    if root && !quiet {
+        eprintln!(
+            "grains: running {} on {} ranks -> {}",
+            loaded.origin,
+            comm.size(),
+            out_dir.display()
+        );
+    }
+    let summary = grains::parallel::on_pool(|| {
+        runner::distributed::run(&loaded, &opts, progress.as_mut(), comm)
+    })?;
+    if root {
+        report(&summary, quiet);
+        if !quiet {
+            eprintln!("grains: wrote {}", out_dir.display());
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match execute(cli) {
+    let ranks = launch::Ranks::detect();
+    match execute(cli, &ranks) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("grains: error: {e}");
-            ExitCode::from(match e {
-                Error::Input(_) => 2,
-                // A missing or unreadable input file, or an output directory
-                // that cannot be written, is bad input too.
-                Error::Io { ref source, .. }
-                    if matches!(
-                        source.kind(),
-                        std::io::ErrorKind::NotFound
-                            | std::io::ErrorKind::PermissionDenied
-                            | std::io::ErrorKind::InvalidData
-                            | std::io::ErrorKind::AlreadyExists
-                            | std::io::ErrorKind::IsADirectory
-                            | std::io::ErrorKind::NotADirectory
-                    ) =>
-                {
-                    2
-                }
-                Error::Unstable(_) => 3,
-                Error::Io { .. } => 1,
-            })
+            // Every rank meets bad input alike: one message is enough.
+            if !matches!(e, Error::Input(_)) || ranks.reports_input_errors() {
+                eprintln!("grains: error: {e}");
+            }
+            let code = exit_code(&e);
+            // Other errors (a file rank 0 cannot write) leave the other
+            // ranks waiting: end them all.
+            if !matches!(e, Error::Input(_)) {
+                ranks.abort(code);
+            }
+            ExitCode::from(code)
         }
+    }
+}
+
+/// The exit code of an error.
+fn exit_code(e: &Error) -> u8 {
+    match e {
+        Error::Input(_) => 2,
+        // A missing or unreadable input file, or an output directory
+        // that cannot be written, is bad input too.
+        Error::Io { source, .. }
+            if matches!(
+                source.kind(),
+                std::io::ErrorKind::NotFound
+                    | std::io::ErrorKind::PermissionDenied
+                    | std::io::ErrorKind::InvalidData
+                    | std::io::ErrorKind::AlreadyExists
+                    | std::io::ErrorKind::IsADirectory
+                    | std::io::ErrorKind::NotADirectory
+            ) =>
+        {
+            2
+        }
+        Error::Unstable(_) => 3,
+        Error::Io { .. } => 1,
     }
 }

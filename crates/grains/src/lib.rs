@@ -6,6 +6,7 @@
 
 pub mod boundary;
 pub mod checkpoint;
+pub mod comm;
 pub mod contact;
 pub mod dim;
 pub mod domain;

@@ -84,7 +84,7 @@ pub struct Dsmc<D: GasDim> {
     pub time: f64,
     pub step: u64,
     /// Cell of each particle, written by streaming.
-    key: Vec<u32>,
+    pub(super) key: Vec<u32>,
     /// Particle indices sorted by cell at the last sort: cell c held
     /// `order[start[c]..start[c + 1]]` when it collided.
     pub order: Vec<u32>,
@@ -183,6 +183,29 @@ impl<D: GasDim> Dsmc<D> {
         self.sort_now();
     }
 
+    /// Cells of a store that was replaced or changed length (a slab cut out
+    /// of the whole run, or the whole run gathered from the ranks,
+    /// `super::decomp`), and the index sort of them.
+    pub(super) fn reindex(&mut self) {
+        self.key.resize(self.store.len(), 0);
+        self.sort_now();
+        self.sort_cells();
+    }
+
+    /// The index sort of the cells in `key` (`order`, `start`), the first
+    /// part of a step.
+    #[inline]
+    pub(super) fn sort_cells(&mut self) {
+        self.order.resize(self.store.len(), 0);
+        sort_indices(&self.key, &mut self.start, &mut self.fill, &mut self.order);
+    }
+
+    /// Whether the step about to be taken puts the records in cell order.
+    #[inline]
+    pub(super) fn resort_due(&self) -> bool {
+        (self.step + 1).is_multiple_of(RESORT_EVERY)
+    }
+
     /// Every particle with its cell.
     pub fn particles_with_cells(&self) -> impl Iterator<Item = (usize, &Particle<D>)> + '_ {
         self.key
@@ -198,8 +221,8 @@ impl<D: GasDim> Dsmc<D> {
 
     /// One time step.
     pub fn step(&mut self) {
-        sort_indices(&self.key, &mut self.start, &mut self.fill, &mut self.order);
-        if (self.step + 1).is_multiple_of(RESORT_EVERY) {
+        self.sort_cells();
+        if self.resort_due() {
             // The keys are rewritten by streaming before they are read.
             gather_in_place(&mut self.store.p, &mut self.order);
         }
@@ -217,8 +240,10 @@ impl<D: GasDim> Dsmc<D> {
     }
 
     /// Collisions of every cell, each followed by the flight of its
-    /// particles, in parallel over fixed chunks of cells.
-    fn collide_and_stream(&mut self) -> Tally {
+    /// particles, in parallel over fixed chunks of cells. Leaves `time` and
+    /// `step` to the caller ([`Self::step`], or a rank's step in
+    /// `super::decomp`, which sums the tallies of all ranks first).
+    pub(super) fn collide_and_stream(&mut self) -> Tally {
         let flight = Flight::new(
             self.time,
             self.settings.dt,

@@ -45,7 +45,7 @@ pub struct Plan {
     pub output_every: u64,
 }
 
-fn spec(loaded: &Loaded) -> DsmcSpec {
+pub(super) fn spec(loaded: &Loaded) -> DsmcSpec {
     loaded.scenario.dsmc.clone().unwrap_or_default()
 }
 
@@ -239,7 +239,7 @@ fn gravity_norm<D: Dim>(g: D::V) -> f64 {
     D::norm(g)
 }
 
-fn describe<D: GasDim>(loaded: &Loaded, sim: &Dsmc<D>, plan: &Plan) -> Value {
+pub(super) fn describe<D: GasDim>(loaded: &Loaded, sim: &Dsmc<D>, plan: &Plan) -> Value {
     let t = sim.store.granular_temperature();
     let n = sim.number_density();
     let nu = sim.packing_fraction();
@@ -289,7 +289,7 @@ pub fn run(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) -> R
     }
 }
 
-fn frame<D: GasDim>(sim: &Dsmc<D>) -> Frame {
+pub(super) fn frame<D: GasDim>(sim: &Dsmc<D>) -> Frame {
     let n = sim.store.len();
     let mut periodic = [false; 3];
     periodic[..D::D].copy_from_slice(&sim.domain.periodic[..D::D]);
@@ -316,7 +316,7 @@ fn frame<D: GasDim>(sim: &Dsmc<D>) -> Frame {
 }
 
 /// Density and temperature versus height, accumulated over samples.
-struct Profiles {
+pub(super) struct Profiles {
     lo: f64,
     width: f64,
     count: Vec<f64>,
@@ -338,7 +338,7 @@ impl Profiles {
             samples: 0,
         }
     }
-    fn sample<D: GasDim>(&mut self, sim: &Dsmc<D>) {
+    pub(super) fn sample<D: GasDim>(&mut self, sim: &Dsmc<D>) {
         let bins = self.count.len();
         for q in &sim.store.p {
             let h = (D::get(q.x, D::vertical()) - self.lo) / self.width;
@@ -377,7 +377,7 @@ impl Profiles {
         self.samples = d.u64("profile samples")?;
         Ok(())
     }
-    fn csv<D: GasDim>(&self, sim: &Dsmc<D>) -> String {
+    pub(super) fn csv<D: GasDim>(&self, sim: &Dsmc<D>) -> String {
         let mut out = String::from("height,number_density,packing_fraction,granular_temperature\n");
         let slab = sim.domain.volume() / sim.domain.length(D::vertical()) * self.width;
         for b in 0..self.count.len() {
@@ -404,14 +404,14 @@ impl Profiles {
 
 /// thermo.csv and the frames of a DSMC run: fresh, or reopened after a
 /// resume (cut back to where they stood at the checkpoint).
-struct Outputs {
-    dir: PathBuf,
-    thermo: Thermo,
-    frames: Option<VtkSeries>,
+pub(super) struct Outputs {
+    pub(super) dir: PathBuf,
+    pub(super) thermo: Thermo,
+    pub(super) frames: Option<VtkSeries>,
 }
 
 impl Outputs {
-    fn create(dir: &Path, frames: bool) -> Result<Self> {
+    pub(super) fn create(dir: &Path, frames: bool) -> Result<Self> {
         Ok(Self {
             dir: dir.to_path_buf(),
             thermo: Thermo::Fresh(ThermoWriter::create(
@@ -477,22 +477,22 @@ impl Outputs {
         })
     }
 
-    fn write_row(&mut self, values: &[f64]) -> Result<()> {
+    pub(super) fn write_row(&mut self, values: &[f64]) -> Result<()> {
         self.thermo.write_row(values)
     }
 }
 
 /// What the measured part of a run accumulates (absent before it starts).
-struct Measure {
-    t_start: f64,
-    temp0: f64,
-    c0: Tally,
-    validity: Validity,
-    profiles: Option<Profiles>,
+pub(super) struct Measure {
+    pub(super) t_start: f64,
+    pub(super) temp0: f64,
+    pub(super) c0: Tally,
+    pub(super) validity: Validity,
+    pub(super) profiles: Option<Profiles>,
 }
 
 impl Measure {
-    fn new<D: GasDim>(sim: &Dsmc<D>, ds: &DsmcSpec) -> Self {
+    pub(super) fn new<D: GasDim>(sim: &Dsmc<D>, ds: &DsmcSpec) -> Self {
         Self {
             t_start: sim.time,
             temp0: sim.store.granular_temperature(),
@@ -532,7 +532,7 @@ impl Measure {
         Ok(m)
     }
 
-    fn row<D: GasDim>(&self, sim: &Dsmc<D>) -> [f64; 6] {
+    pub(super) fn row<D: GasDim>(&self, sim: &Dsmc<D>) -> [f64; 6] {
         let n = sim.store.len() as f64;
         [
             sim.step as f64,

@@ -6,7 +6,8 @@
 //! (the final frame, pictures, measurement files and summary.json).
 
 pub mod checkpointing;
-mod dsmc;
+pub mod distributed;
+pub mod dsmc;
 pub mod flow;
 mod output;
 

@@ -1,0 +1,199 @@
+//! Runs a scenario over several ranks (`mpirun -np N grains run ...`).
+//!
+//! DSMC only, for now: each rank steps its slab ([`crate::dsmc::decomp`]);
+//! at every sampling and output step the ranks gather the whole state on
+//! rank 0, into an engine of the same run, and rank 0 measures and writes
+//! it with the serial runner's code. The files are therefore the serial
+//! run's, byte for byte (summary.json adds `ranks`, `imbalance`,
+//! `rebalances`). The gather costs O(N) on rank 0 per sample: for very
+//! large runs choose `output.every` and `dsmc.profile_bins` with that in
+//! mind.
+//!
+//! Not supported yet, with a clear error: MD scenarios, checkpoints and
+//! resume. A stop signal ends the run without a checkpoint.
+
+use super::dsmc::{build, describe, frame, spec, Measure, Outputs};
+use super::{prepare, Progress, RunOptions};
+use crate::comm::Comm;
+use crate::dim::{D2, D3};
+use crate::dsmc::collide::GasDim;
+use crate::dsmc::decomp::Decomposed;
+use crate::dsmc::engine::haff_time;
+use crate::dsmc::Method;
+use crate::error::{Error, Result};
+use crate::io::{render_particles, PictureOptions};
+use crate::scenario::schema::Dimension;
+use crate::scenario::Loaded;
+use serde_json::{json, Map, Value};
+use std::time::Instant;
+
+/// Runs `loaded` on the ranks of `comm` (all of them call this). Returns the
+/// summary on rank 0 and `Value::Null` elsewhere.
+pub fn run(
+    loaded: &Loaded,
+    opts: &RunOptions,
+    progress: &mut dyn Progress,
+    comm: &dyn Comm,
+) -> Result<Value> {
+    if loaded.scenario.method != Method::Dsmc {
+        return Err(Error::input(format!(
+            "{}: method = \"md\" cannot run on {} MPI ranks yet (only method = \"dsmc\" is decomposed); run it on one rank with --threads",
+            loaded.origin,
+            comm.size()
+        )));
+    }
+    if opts.checkpoint_every.is_some() {
+        return Err(Error::input(
+            "--checkpoint-every is not supported in a distributed run yet",
+        ));
+    }
+    // Not on rayon's pool here (unlike `super::run`): ranks that are
+    // threads of one process would each hold a pool worker while waiting
+    // for the others. The command line puts its single rank on the pool.
+    match loaded.scenario.dimension {
+        Dimension::Two => run_dim::<D2>(loaded, opts, progress, comm),
+        Dimension::Three => run_dim::<D3>(loaded, opts, progress, comm),
+    }
+}
+
+fn run_dim<D: GasDim>(
+    loaded: &Loaded,
+    opts: &RunOptions,
+    progress: &mut dyn Progress,
+    comm: &dyn Comm,
+) -> Result<Value> {
+    let root = comm.rank() == 0;
+    if root {
+        prepare(&opts.out_dir)?;
+    }
+    // Every rank builds the same engine; rank 0 keeps a second one to
+    // gather the whole state into.
+    let (full, plan) = build::<D>(loaded)?;
+    let mut mirror = if root {
+        Some(build::<D>(loaded)?.0)
+    } else {
+        None
+    };
+    let mut summary = match describe(loaded, &full, &plan) {
+        Value::Object(m) => m,
+        _ => Map::new(),
+    };
+    let mut dec = Decomposed::new(full, comm).map_err(Error::input)?;
+    let mut outputs = match root {
+        true => Some(Outputs::create(
+            &opts.out_dir,
+            loaded.scenario.output.frames,
+        )?),
+        false => None,
+    };
+    let (relax, measure) = match opts.steps {
+        Some(n) => (0, n),
+        None => (plan.relax_steps, plan.measure_steps),
+    };
+    let ds = spec(loaded);
+    let every = plan.output_every;
+    let started = Instant::now();
+    if relax > 0 {
+        progress.phase("relax", relax);
+        for k in 1..=relax {
+            dec.step();
+            if k % 256 == 0 || k == relax {
+                progress.advance(k, dec.sim.time);
+            }
+        }
+    }
+    progress.phase("run", measure);
+    dec.gather(mirror.as_mut());
+    let mut m = None;
+    if let (Some(sim), Some(out)) = (mirror.as_mut(), outputs.as_mut()) {
+        let mut mm = Measure::new(sim, &ds);
+        // Discard the relaxation's collisions from the validity window.
+        mm.validity.sample(sim);
+        out.write_row(&mm.row(sim))?;
+        if let Some(f) = &mut out.frames {
+            f.write(&frame(sim))?;
+        }
+        m = Some(mm);
+    }
+    dec.reset_collisions();
+    let profile_every = (every / 10).max(1);
+    let profiles = ds.profile_bins > 0;
+    for k in 1..=measure {
+        dec.step();
+        let output = k % every == 0 || k == measure;
+        if output || (profiles && k % profile_every == 0) {
+            dec.gather(mirror.as_mut());
+        }
+        if let (Some(sim), Some(mm)) = (mirror.as_mut(), m.as_mut()) {
+            if let Some(p) = &mut mm.profiles {
+                if k % profile_every == 0 {
+                    p.sample(sim);
+                }
+            }
+            if output {
+                let out = outputs.as_mut().expect("rank 0 writes");
+                out.write_row(&mm.row(sim))?;
+                if let Some(f) = &mut out.frames {
+                    f.write(&frame(sim))?;
+                }
+                for w in mm.validity.sample(sim) {
+                    eprintln!("warning: {w}");
+                }
+            }
+        }
+        if output {
+            dec.reset_collisions();
+        }
+        if k % 256 == 0 || k == measure {
+            progress.advance(k, dec.sim.time);
+        }
+    }
+    progress.finish();
+    let wall = started.elapsed().as_secs_f64();
+    let (Some(sim), Some(m)) = (mirror.as_ref(), m.as_ref()) else {
+        return Ok(Value::Null);
+    };
+    let dir = &opts.out_dir;
+    if loaded.scenario.output.picture {
+        render_particles(&frame(sim), &PictureOptions::default())
+            .save_png(&dir.join("final.png"))?;
+    }
+    if let Some(p) = &m.profiles {
+        crate::io::write_atomic(&dir.join("profiles.csv"), p.csv(sim).as_bytes())?;
+    }
+    let n = sim.store.len() as f64;
+    summary.remove("source");
+    summary.insert("steps".into(), json!(relax + measure));
+    summary.insert("time".into(), json!(sim.time));
+    summary.insert("wall_seconds".into(), json!(wall));
+    summary.insert(
+        "ns_per_particle_step".into(),
+        json!(1e9 * wall / ((relax + measure).max(1) as f64 * n)),
+    );
+    summary.insert("kinetic_energy".into(), json!(sim.store.kinetic_energy()));
+    summary.insert(
+        "granular_temperature".into(),
+        json!(sim.store.granular_temperature()),
+    );
+    summary.insert(
+        "collisions".into(),
+        json!(sim.totals.collisions - m.c0.collisions),
+    );
+    if sim.settings.restitution < 1.0 {
+        let omega0 =
+            sim.kinetic_collision_frequency(sim.number_density(), sim.packing_fraction(), m.temp0);
+        summary.insert(
+            "haff_tau0".into(),
+            json!(haff_time(D::D, sim.settings.restitution, omega0)),
+        );
+        summary.insert("haff_initial_temperature".into(), json!(m.temp0));
+    }
+    summary.insert("validity".into(), m.validity.summary(sim));
+    summary.insert("ranks".into(), json!(comm.size()));
+    summary.insert("imbalance".into(), json!(dec.imbalance));
+    summary.insert("rebalances".into(), json!(dec.rebalances));
+    let summary = Value::Object(summary);
+    let text = serde_json::to_string_pretty(&summary).expect("JSON values always serialize");
+    crate::io::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
+    Ok(summary)
+}
