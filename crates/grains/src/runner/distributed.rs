@@ -12,13 +12,12 @@
 //! Not supported yet, with a clear error: MD scenarios, checkpoints and
 //! resume. A stop signal ends the run without a checkpoint.
 
-use super::dsmc::{build, describe, frame, spec, Measure, Outputs};
+use super::dsmc::{build, describe, frame, gas_summary, spec, Measure, Outputs};
 use super::{prepare, Progress, RunOptions};
 use crate::comm::Comm;
 use crate::dim::{D2, D3};
 use crate::dsmc::collide::GasDim;
 use crate::dsmc::decomp::Decomposed;
-use crate::dsmc::engine::haff_time;
 use crate::dsmc::Method;
 use crate::error::{Error, Result};
 use crate::io::{render_particles, PictureOptions};
@@ -170,25 +169,7 @@ fn run_dim<D: GasDim>(
         "ns_per_particle_step".into(),
         json!(1e9 * wall / ((relax + measure).max(1) as f64 * n)),
     );
-    summary.insert("kinetic_energy".into(), json!(sim.store.kinetic_energy()));
-    summary.insert(
-        "granular_temperature".into(),
-        json!(sim.store.granular_temperature()),
-    );
-    summary.insert(
-        "collisions".into(),
-        json!(sim.totals.collisions - m.c0.collisions),
-    );
-    if sim.settings.restitution < 1.0 {
-        let omega0 =
-            sim.kinetic_collision_frequency(sim.number_density(), sim.packing_fraction(), m.temp0);
-        summary.insert(
-            "haff_tau0".into(),
-            json!(haff_time(D::D, sim.settings.restitution, omega0)),
-        );
-        summary.insert("haff_initial_temperature".into(), json!(m.temp0));
-    }
-    summary.insert("validity".into(), m.validity.summary(sim));
+    gas_summary(&mut summary, sim, m);
     summary.insert("ranks".into(), json!(comm.size()));
     summary.insert("imbalance".into(), json!(dec.imbalance));
     summary.insert("rebalances".into(), json!(dec.rebalances));

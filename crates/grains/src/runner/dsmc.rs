@@ -826,6 +826,18 @@ fn run_loop<D: GasDim>(
         "ns_per_particle_step".into(),
         json!(1e9 * wall / ((sim.step - first_step).max(1) as f64 * n)),
     );
+    gas_summary(&mut summary, &sim, &m);
+    let summary = Value::Object(summary);
+    let text = serde_json::to_string_pretty(&summary).expect("JSON values always serialize");
+    crate::io::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
+    Ok(summary)
+}
+
+/// The gas's state at the end of a run, for summary.json: kinetic energy,
+/// temperature, collisions counted while measuring, Haff's τ0 for an
+/// inelastic gas, and the validity diagnostics (shared with the
+/// distributed runner).
+pub(super) fn gas_summary<D: GasDim>(summary: &mut Map<String, Value>, sim: &Dsmc<D>, m: &Measure) {
     summary.insert("kinetic_energy".into(), json!(sim.store.kinetic_energy()));
     summary.insert(
         "granular_temperature".into(),
@@ -844,9 +856,5 @@ fn run_loop<D: GasDim>(
         );
         summary.insert("haff_initial_temperature".into(), json!(m.temp0));
     }
-    summary.insert("validity".into(), m.validity.summary(&sim));
-    let summary = Value::Object(summary);
-    let text = serde_json::to_string_pretty(&summary).expect("JSON values always serialize");
-    crate::io::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
-    Ok(summary)
+    summary.insert("validity".into(), m.validity.summary(sim));
 }
