@@ -75,7 +75,7 @@ impl<D: Dim> Wall<D> {
         motion
             .validate()
             .map_err(|e| Error::input(format!("wall '{name}' ({} motion): {e}", motion.kind())))?;
-        if motion.modulation_slope(0.0, 0.0).is_some() {
+        if motion.is_modulated() {
             let flat_across_x =
                 matches!(&shape, Shape::Plane { normal, .. } if D::get(*normal, 0).abs() < 1e-12);
             if !flat_across_x {

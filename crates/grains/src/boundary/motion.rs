@@ -212,13 +212,19 @@ impl<D: Dim> Motion<D> {
                 frequency,
                 phase,
                 ..
-            } if *modulation != 0.0 => {
+            } if self.is_modulated() => {
                 let k = TAU / wavelength;
                 let da_dx = amplitude * modulation * k * (k * x).sin();
                 Some(da_dx * (TAU * frequency * t + phase).sin())
             }
             _ => None,
         }
+    }
+
+    /// Whether the displacement differs from point to point (a vibration
+    /// with B ≠ 0).
+    pub fn is_modulated(&self) -> bool {
+        matches!(self, Motion::Vibrate { modulation, .. } if *modulation != 0.0)
     }
 
     /// Unit direction of a vibration (`None` for other motions).

@@ -151,23 +151,9 @@ impl<'c, D: GasDim> Decomposed<'c, D> {
         Ok(me)
     }
 
-    pub fn rank(&self) -> usize {
-        self.comm.rank()
-    }
-
     /// Particles in the whole run.
     pub fn total(&self) -> u64 {
         self.total
-    }
-
-    /// The serial-store index of each local particle.
-    pub fn keys(&self) -> &[u64] {
-        &self.keys
-    }
-
-    /// First layer of each rank, then the layer count.
-    pub fn bounds(&self) -> &[usize] {
-        &self.bounds
     }
 
     /// One time step, as [`Dsmc::step`]: sort this slab's particles by cell

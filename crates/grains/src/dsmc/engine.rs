@@ -161,8 +161,8 @@ impl<D: GasDim> Dsmc<D> {
         me
     }
 
-    /// Cell of every particle (at construction and after a restore); at
-    /// construction also puts the records in cell order.
+    /// Cell of every particle (at construction and after a restore); the
+    /// records are put in cell order by `gather`.
     pub fn sort_now(&mut self) {
         let grid = &self.grid;
         self.store

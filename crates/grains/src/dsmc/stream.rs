@@ -29,7 +29,7 @@ pub struct PlaneWall<D: Dim> {
 impl<D: Dim> PlaneWall<D> {
     /// Whether the displacement is the same at every point of the plane.
     fn is_rigid(&self) -> bool {
-        !matches!(self.motion, Motion::Vibrate { modulation, .. } if modulation != 0.0)
+        !self.motion.is_modulated()
     }
 
     /// The plane's coordinate along `axis` and its velocity, at time `t`,

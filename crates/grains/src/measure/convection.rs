@@ -8,6 +8,7 @@
 use super::plot::{save_plot, Series, Titles, PALETTE};
 use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
+use crate::domain::Domain;
 use crate::error::Result;
 use crate::io::write_atomic;
 use crate::md::Md;
@@ -28,9 +29,6 @@ pub struct Convection {
     edge_n: u64,
     column_sum: Vec<f64>,
     column_n: Vec<u64>,
-    /// Left edge and width of the box (m), for the profile's abscissa.
-    lo: f64,
-    width: f64,
 }
 
 impl Convection {
@@ -43,8 +41,6 @@ impl Convection {
             edge_n: 0,
             column_sum: vec![0.0; COLUMNS],
             column_n: vec![0; COLUMNS],
-            lo: 0.0,
-            width: 0.0,
         }
     }
 
@@ -54,7 +50,6 @@ impl Convection {
         let lo = D::get(md.domain.lo, 0);
         let l = md.domain.length(0);
         let up = D::vertical();
-        (self.lo, self.width) = (lo, l);
         for i in 0..p.n_owned() {
             if p.frozen[i] {
                 continue;
@@ -84,12 +79,13 @@ impl Convection {
         }
     }
 
-    /// Mean vertical velocity per column across the box: (column centre in
-    /// m, mean v_z in m/s, samples); NaN for a column no grain visited.
-    pub fn profile(&self) -> Vec<(f64, f64, u64)> {
+    /// Mean vertical velocity per column across the box whose x runs from
+    /// `lo` over `width`: (column centre in m, mean v_z in m/s, samples);
+    /// NaN for a column no grain visited.
+    fn profile(&self, lo: f64, width: f64) -> Vec<(f64, f64, u64)> {
         (0..COLUMNS)
             .map(|k| {
-                let x = self.lo + (k as f64 + 0.5) / COLUMNS as f64 * self.width;
+                let x = lo + (k as f64 + 0.5) / COLUMNS as f64 * width;
                 let n = self.column_n[k];
                 let v = if n == 0 {
                     f64::NAN
@@ -102,8 +98,8 @@ impl Convection {
     }
 
     /// Writes `convection_profile.csv` and `convection_profile.png`.
-    pub fn write(&self, dir: &Path) -> Result<()> {
-        let rows = self.profile();
+    pub fn write<D: Dim>(&self, dir: &Path, domain: &Domain<D>) -> Result<()> {
+        let rows = self.profile(D::get(domain.lo, 0), domain.length(0));
         let mut csv = String::from("x,mean_vz,samples\n");
         for (x, v, n) in &rows {
             let _ = writeln!(csv, "{x},{v},{n}");
@@ -140,8 +136,6 @@ impl Convection {
         e.u64(self.center_n);
         e.f64(self.edge_sum);
         e.u64(self.edge_n);
-        e.f64(self.lo);
-        e.f64(self.width);
         for k in 0..COLUMNS {
             e.f64(self.column_sum[k]);
             e.u64(self.column_n[k]);
@@ -154,8 +148,6 @@ impl Convection {
         c.center_n = d.u64("convection count")?;
         c.edge_sum = d.f64("convection sum")?;
         c.edge_n = d.u64("convection count")?;
-        c.lo = d.f64("convection box edge")?;
-        c.width = d.f64("convection box width")?;
         for k in 0..COLUMNS {
             c.column_sum[k] = d.f64("convection column sum")?;
             c.column_n[k] = d.u64("convection column count")?;

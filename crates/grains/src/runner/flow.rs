@@ -178,6 +178,9 @@ pub struct FlowRun<D: Dim> {
     fill_top: Option<f64>,
     /// Mobile grains when settling ended.
     settled_grains: usize,
+    /// Simulated time at which settling ended (kept apart from the stage:
+    /// a tilt after a wall removal starts later).
+    settled_at: Option<f64>,
     hopper: Option<Recycler>,
     repose: Option<SurfaceSpec>,
     drum: Option<(SurfaceSpec, Vec<f64>)>,
@@ -252,6 +255,7 @@ impl<D: Dim> FlowRun<D> {
             d0,
             fill_top: None,
             settled_grains: 0,
+            settled_at: None,
             hopper,
             repose: s.measure.repose.clone(),
             drum: s.measure.surface_angle.clone().map(|m| (m, Vec::new())),
@@ -286,6 +290,7 @@ impl<D: Dim> FlowRun<D> {
                 if look && md.time >= e.settle_min && self.energy(md) < e.settle_energy =>
             {
                 self.stage = Stage::Settled(md.time);
+                self.settled_at = Some(md.time);
                 self.fill_top = Some(top_of_pile(md));
                 self.settled_grains = md.particles.n_mobile();
                 if let Some(name) = &e.remove_wall {
@@ -410,9 +415,9 @@ impl<D: Dim> FlowRun<D> {
                 Stage::Settling => {
                     summary.insert("settled".into(), json!(0));
                 }
-                Stage::Settled(t) | Stage::Tilting { since: t, .. } => {
+                Stage::Settled(_) | Stage::Tilting { .. } => {
                     summary.insert("settled".into(), json!(1));
-                    summary.insert("settle_time".into(), json!(t));
+                    summary.insert("settle_time".into(), json!(self.settled_at));
                     if let Stage::Tilting { base, .. } = self.stage {
                         // Never failed: the angle reached is a lower bound.
                         summary.insert(

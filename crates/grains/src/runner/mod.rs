@@ -279,7 +279,7 @@ impl Measurements {
 
     fn write<D: Dim>(&self, dir: &Path, md: &Md<D>, last: &Frame) -> Result<()> {
         if let Some(c) = &self.convection {
-            c.write(dir)?;
+            c.write(dir, &md.domain)?;
         }
         if let Some(p) = &self.phases {
             p.write(dir, &md.walls)?;
