@@ -171,6 +171,16 @@ impl VtkSeries {
         })
     }
 
+    /// Continues the series of a resumed run: the collection lists the
+    /// frames written before the checkpoint (`entries`) and is rewritten so
+    /// that frames written after it are dropped.
+    pub fn resume(out_dir: &Path, entries: &[(f64, String)]) -> Result<Self> {
+        let mut series = Self::new(out_dir)?;
+        series.collection.entries = entries.to_vec();
+        series.collection.write()?;
+        Ok(series)
+    }
+
     /// Number of frames written so far.
     pub fn len(&self) -> usize {
         self.collection.entries.len()

@@ -449,10 +449,7 @@ impl Outputs {
             .open(&path)
             .map_err(|e| Error::io(&path, e))?;
         let frames = if frames {
-            let mut series = VtkSeries::new(dir)?;
-            series.collection.entries = state.frames.clone();
-            series.collection.write()?;
-            Some(series)
+            Some(VtkSeries::resume(dir, &state.frames)?)
         } else {
             None
         };

@@ -153,10 +153,7 @@ impl Outputs {
             _ => None,
         };
         let frames = if spec.frames {
-            let mut series = VtkSeries::new(dir)?;
-            series.collection.entries = state.frames.clone();
-            series.collection.write()?;
-            Some(series)
+            Some(VtkSeries::resume(dir, &state.frames)?)
         } else {
             None
         };
