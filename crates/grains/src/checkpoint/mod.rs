@@ -32,8 +32,8 @@ pub const MAGIC: &[u8; 8] = b"GRAINSCK";
 /// Version of the layout; a file of another version is refused. Version 2
 /// added the measurement section; version 3 dropped the DSMC index sort
 /// (the DSMC store itself is kept in cell order) and added the convection
-/// column profile.
-pub const VERSION: u32 = 3;
+/// column profile; version 4 added the surface height per column.
+pub const VERSION: u32 = 4;
 /// Checkpoints kept in a run directory (older ones are deleted).
 pub const KEEP: usize = 2;
 const HEADER: usize = 8 + 4 + 8 + 4;

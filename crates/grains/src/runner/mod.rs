@@ -304,6 +304,7 @@ impl Measurements {
                 "convection_strength".into(),
                 json!(c.center_vz() - c.edge_vz()),
             );
+            summary.insert("heap_height".into(), json!(c.heap_height()));
         }
         if let Some(t) = &self.tracer {
             summary.insert("tracer_rms".into(), json!(t.rms_spread()));
