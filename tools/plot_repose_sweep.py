@@ -6,7 +6,8 @@ usage: plot_repose_sweep.py out.png LABEL=SWEEP_CSV [LABEL=SWEEP_CSV ...]
 
 Runs without a fitted slope (no repose_angle_deg) are counted apart: the
 pile either flowed away entirely (few remaining grains: counted as 0°) or
-stood as a block (most grains stayed: left out of the mean and reported).
+stood as a block (most grains stayed: left out of the mean, drawn as a
+marker on the top edge with the number of seeds that stood).
 """
 import csv
 import sys
@@ -39,7 +40,7 @@ def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     out = sys.argv[1]
-    fig, ax = plt.subplots(figsize=(5.5, 4))
+    fig, ax = plt.subplots(figsize=(6, 5.2))
     for arg in sys.argv[2:]:
         label, path = arg.split("=", 1)
         t = table(path)
@@ -56,15 +57,28 @@ def main():
             else:  # some seeds stood as a block: show the others one by one
                 odd += [(mu, v) for v in ok]
         line = ax.errorbar(mus, means, yerr=sds, marker="o", capsize=3, label=label)
+        color = line[0].get_color()
         if odd:
-            ax.plot(*zip(*odd), "x", color=line[0].get_color(),
+            ax.plot(*zip(*odd), "x", color=color,
                     label=f"{label}: single runs where other seeds stood")
+        # Runs with no avalanche at all: a marker on the top edge, with the
+        # count of seeds whose pile stood as a block.
+        stood = [(mu, sum(v is None for v in vals), len(vals))
+                 for mu, vals in t.items() if any(v is None for v in vals)]
+        if stood:
+            top = 68.0
+            ax.plot([s[0] for s in stood], [top] * len(stood), "^", color=color,
+                    label=f"{label}: pile stood as a block (seeds shown)")
+            for mu, k, n in stood:
+                ax.annotate(f"{k}/{n}", (mu, top), textcoords="offset points",
+                            xytext=(0, -12), ha="center", fontsize=7, color=color)
     m = np.linspace(0, 1, 100)
     ax.plot(m, np.degrees(np.arctan(m)), "k--", label="tan θ = μ")
     ax.axhline(45, color="grey", lw=0.5)
     ax.set_xlabel("friction coefficient μ")
     ax.set_ylabel("angle of repose θ_r (deg)")
-    ax.legend(fontsize=8, loc="center right")
+    ax.set_ylim(-2, 72)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2)
     fig.tight_layout()
     fig.savefig(out, dpi=100)
 
