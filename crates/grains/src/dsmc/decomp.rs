@@ -12,10 +12,14 @@
 //! The result is the serial engine's bit for bit, on any rank count. Each
 //! cell draws from its own stream (seed, step, global cell), and collides
 //! its particles in the order of the serial store: every particle carries
-//! its index in the serial store (`keys`), a rank keeps its particles in
-//! that order (arrivals are merged in by key), and at each physical
+//! its index in the serial store (`keys`), and a cell's particles are put
+//! in that order when the rank sorts them into cells; at each physical
 //! re-sort the serial store is cell-ordered, so the new index is the
-//! number of particles on lower ranks plus the local position. Streaming
+//! number of particles on lower ranks plus the local position. Between
+//! re-sorts the local store stays in key order except where particles left
+//! (the last record fills the hole) or arrived (appended): only the cells
+//! holding such records need their lists sorted by key, so migration costs
+//! in proportion to the migrants, not to the store. Streaming
 //! depends on nothing but the particle, so the order in which the ranks
 //! fly theirs does not matter.
 //!
@@ -42,8 +46,11 @@ pub struct Decomposed<'c, D: GasDim> {
     /// This rank's particles; grid, cells and settings are the whole run's.
     pub sim: Dsmc<D>,
     comm: &'c dyn Comm,
-    /// Index of each local particle in the serial store (increasing).
+    /// Index of each local particle in the serial store.
     keys: Vec<u64>,
+    /// Store positions whose record may be out of key order (filled by a
+    /// leaver's replacement or by an arrival) since the last re-sort.
+    moved: Vec<u32>,
     /// First layer of each rank, then the number of layers (size + 1).
     bounds: Vec<usize>,
     /// Particles in the whole run.
@@ -141,6 +148,7 @@ impl<'c, D: GasDim> Decomposed<'c, D> {
             sim: full,
             comm,
             keys: (a as u64..b as u64).collect(),
+            moved: Vec::new(),
             bounds,
             total,
             threshold: DEFAULT_THRESHOLD,
@@ -161,11 +169,13 @@ impl<'c, D: GasDim> Decomposed<'c, D> {
     /// perhaps move the boundaries), collide and stream cell by cell, then
     /// send the particles that flew into another rank's slab there.
     pub fn step(&mut self) {
-        self.sim.sort_cells();
+        self.sort_cells();
         if self.sim.resort_due() {
-            // The local store is in serial order and the slabs are runs of
-            // cells in rank order, so this is the serial re-sort's slice.
+            // Each cell lists its particles in serial order and the slabs
+            // are runs of cells in rank order, so this is the serial
+            // re-sort's slice.
             gather_in_place(&mut self.sim.store.p, &mut self.sim.order);
+            self.moved.clear();
             self.renumber();
             self.imbalance = self.measure_imbalance();
             if self.imbalance > self.threshold {
@@ -193,9 +203,38 @@ impl<'c, D: GasDim> Decomposed<'c, D> {
         }
     }
 
-    /// Sends every particle whose cell (in `key`) another rank owns there and
-    /// merges the arrivals in by serial index; touches the store only when
-    /// particles come or go. The next sort sees the new slab.
+    /// Sorts the particles into cells (counting sort, stable in store
+    /// position), then puts the lists of the cells that hold a moved record
+    /// in key order: every cell lists its particles as the serial store
+    /// would.
+    fn sort_cells(&mut self) {
+        self.sim.sort_cells();
+        if self.moved.is_empty() {
+            return;
+        }
+        let sim = &mut self.sim;
+        let n = sim.store.len();
+        let mut cells: Vec<u32> = self
+            .moved
+            .iter()
+            .filter(|&&i| (i as usize) < n)
+            .map(|&i| sim.key[i as usize])
+            .collect();
+        cells.sort_unstable();
+        cells.dedup();
+        let keys = &self.keys;
+        for c in cells {
+            let (a, b) = (
+                sim.start[c as usize] as usize,
+                sim.start[c as usize + 1] as usize,
+            );
+            sim.order[a..b].sort_unstable_by_key(|&i| keys[i as usize]);
+        }
+    }
+
+    /// Sends every particle whose cell (in `key`) another rank owns there:
+    /// the store's last record fills its place. Arrivals are appended. Both
+    /// kinds of place are remembered in `moved`, for the next sort.
     fn migrate(&mut self) {
         let per = self.sim.grid.cells_per_layer() as u32;
         let me = self.comm.rank();
@@ -203,62 +242,31 @@ impl<'c, D: GasDim> Decomposed<'c, D> {
         let hi = self.bounds[me + 1] as u32 * per;
         let mut out = vec![Writer::default(); self.comm.size()];
         let sim = &mut self.sim;
-        let mut kept = 0;
-        for i in 0..sim.store.len() {
+        let mut i = 0;
+        while i < sim.store.len() {
             let c = sim.key[i];
-            if c < lo || c >= hi {
-                let r = self.bounds.partition_point(|&b| b as u32 * per <= c) - 1;
-                put(&mut out[r], self.keys[i], &sim.store.p[i]);
-            } else {
-                if kept != i {
-                    sim.store.p[kept] = sim.store.p[i];
-                    sim.key[kept] = c;
-                    self.keys[kept] = self.keys[i];
-                }
-                kept += 1;
+            if c >= lo && c < hi {
+                i += 1;
+                continue;
             }
+            let r = self.bounds.partition_point(|&b| b as u32 * per <= c) - 1;
+            put(&mut out[r], self.keys[i], &sim.store.p[i]);
+            sim.store.p.swap_remove(i);
+            sim.key.swap_remove(i);
+            self.keys.swap_remove(i);
+            // Position i now holds the former last record (checked next).
+            self.moved.push(i as u32);
         }
-        sim.store.p.truncate(kept);
-        sim.key.truncate(kept);
-        self.keys.truncate(kept);
         let out: Vec<Vec<u8>> = out.into_iter().map(|w| w.buf).collect();
-        let mut arrived: Vec<(u64, Particle<D>)> = Vec::new();
         for blob in self.comm.exchange(&out) {
             let mut r = Reader::new(&blob);
             while !r.done() {
-                arrived.push(get::<D>(&mut r));
+                let (k, q) = get::<D>(&mut r);
+                self.moved.push(sim.store.len() as u32);
+                sim.key.push(sim.grid.cell_of::<D>(q.x));
+                sim.store.p.push(q);
+                self.keys.push(k);
             }
-        }
-        if !arrived.is_empty() {
-            arrived.sort_unstable_by_key(|a| a.0);
-            self.merge(arrived);
-        }
-    }
-
-    /// Merges particles sorted by serial index into the store (also sorted),
-    /// from the back, in place, moving the residents in whole blocks (the
-    /// arrivals from one neighbour all fall before or after the residents).
-    fn merge(&mut self, arrived: Vec<(u64, Particle<D>)>) {
-        let sim = &mut self.sim;
-        let (a, b) = (sim.store.len(), arrived.len());
-        sim.store.p.resize(a + b, Particle::default());
-        sim.key.resize(a + b, 0);
-        self.keys.resize(a + b, 0);
-        let (mut i, mut w) = (a, a + b);
-        for (k, q) in arrived.into_iter().rev() {
-            // Residents [at, i) come after this arrival.
-            let at = self.keys[..i].partition_point(|&x| x < k);
-            let len = i - at;
-            if len > 0 {
-                sim.store.p.copy_within(at..i, w - len);
-                sim.key.copy_within(at..i, w - len);
-                self.keys.copy_within(at..i, w - len);
-            }
-            w -= len + 1;
-            i = at;
-            sim.store.p[w] = q;
-            sim.key[w] = sim.grid.cell_of::<D>(q.x);
-            self.keys[w] = k;
         }
     }
 
@@ -313,9 +321,8 @@ impl<'c, D: GasDim> Decomposed<'c, D> {
             sim.key[a..b].fill(c as u32);
         }
         self.migrate();
-        // Residents and arrivals both in serial order, which after the
-        // re-sort is cell order: the collisions need the new slab's sort.
-        self.sim.sort_cells();
+        // The collisions need the new slab's sort.
+        self.sort_cells();
         self.imbalance = self.measure_imbalance();
     }
 
