@@ -283,6 +283,16 @@ impl<D: Dim> Particles<D> {
         r
     }
 
+    /// Keeps the owned particles at `keep` (ascending indices), in that
+    /// order, and drops the rest: the particles that migrated to another
+    /// domain. Ghosts must have been cleared first.
+    pub fn retain_owned(&mut self, keep: &[u32]) {
+        assert_eq!(self.n_owned, self.len(), "clear ghosts before migrating");
+        self.permute(keep);
+        self.truncate(keep.len());
+        self.n_owned = keep.len();
+    }
+
     /// Makes room for the Gear history: `orders` derivative arrays each.
     pub fn ensure_gear_history(&mut self, orders: usize, ang_orders: usize) {
         let n = self.len();
