@@ -19,9 +19,10 @@
 use grains::comm::{Comm, ThreadComm};
 use grains::md::decomp::{index_by_id, DecomposedMd};
 use grains::md::Md;
+use grains::runner::{distributed, run, RunOptions, Silent};
 use grains::scenario::{build_md, load_str, Loaded};
 use grains::{Dim, D2, D3};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 fn gas_2d() -> String {
     r#"name = "md-gas-2d"
@@ -272,4 +273,106 @@ fn too_many_ranks_for_the_box_is_a_clear_error() {
     });
     let e = errs[0].as_deref().unwrap_or("");
     assert!(e.contains("run on fewer ranks"), "{e}");
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("grains-dist-md-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn thermo(dir: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(dir.join("thermo.csv")).unwrap();
+    let mut lines = text.lines();
+    let head = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    (head, rows)
+}
+
+#[test]
+fn distributed_md_run_writes_the_serial_run_to_rounding() {
+    let text = format!(
+        "{}\n[output]\nevery = 0.002\nframes = true\npicture = false\n",
+        bed_3d()
+    );
+    let l = loaded(&text);
+    let serial_dir = scratch("serial");
+    let opts = RunOptions {
+        out_dir: serial_dir.clone(),
+        ..Default::default()
+    };
+    let s0 = run(&l, &opts, &mut Silent).unwrap();
+    let (head, rows0) = thermo(&serial_dir);
+    assert!(rows0.len() > 5);
+    for ranks in [2, 4] {
+        let dir = scratch(&format!("r{ranks}"));
+        let opts = RunOptions {
+            out_dir: dir.clone(),
+            ..Default::default()
+        };
+        let out = ThreadComm::run(ranks, |c| {
+            distributed::run(&l, &opts, &mut Silent, c as &dyn Comm).unwrap()
+        });
+        assert!(out[1..].iter().all(|v| v.is_null()));
+        let s = &out[0];
+        assert_eq!(s["ranks"], ranks);
+        assert!(s["migrations"].as_u64().unwrap() > 0);
+        for key in ["steps", "particles", "time"] {
+            assert_eq!(s[key], s0[key], "{ranks} ranks: {key}");
+        }
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1e-300);
+        for key in [
+            "kinetic_energy",
+            "rotational_energy",
+            "granular_temperature",
+        ] {
+            let (a, b) = (s[key].as_f64().unwrap(), s0[key].as_f64().unwrap());
+            assert!(close(a, b), "{ranks} ranks: {key} {a} vs {b}");
+        }
+        let (h, rows) = thermo(&dir);
+        assert_eq!(h, head);
+        assert_eq!(rows.len(), rows0.len());
+        for (r, r0) in rows.iter().zip(&rows0) {
+            for (k, name) in head.iter().enumerate() {
+                // Contacts across a slab boundary count on both ranks.
+                if name != "contacts" {
+                    assert!(
+                        close(r[k], r0[k]),
+                        "{ranks} ranks: {name} {} vs {}",
+                        r[k],
+                        r0[k]
+                    );
+                }
+            }
+        }
+        let count = |d: &Path| std::fs::read_dir(d.join("frames")).unwrap().count();
+        assert_eq!(count(&dir), count(&serial_dir));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    let _ = std::fs::remove_dir_all(&serial_dir);
+}
+
+#[test]
+fn undecomposable_features_are_refused_by_name() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/hopper-2d.toml"),
+    )
+    .unwrap();
+    let l = load_str(&text, "hopper-2d.toml", PathBuf::from("."), &[]).unwrap();
+    let opts = RunOptions {
+        out_dir: scratch("hopper"),
+        ..Default::default()
+    };
+    let out = ThreadComm::run(2, |c| {
+        distributed::run(&l, &opts, &mut Silent, c as &dyn Comm)
+            .unwrap_err()
+            .to_string()
+    });
+    assert!(
+        out[0].contains("[hopper]") && out[0].contains("2 MPI ranks"),
+        "{}",
+        out[0]
+    );
 }
