@@ -152,6 +152,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         // Leaving grains travel with their springs.
         let mut out = vec![Writer::default(); size];
         let mut leaving: HashMap<u64, usize> = HashMap::new();
+        let mut records: Vec<Vec<_>> = vec![Vec::new(); size];
         let mut keep = Vec::with_capacity(p.n_owned());
         for i in 0..p.n_owned() {
             let dest = self.slabs.owner(D::get(p.pos[i], a));
@@ -159,25 +160,23 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
                 keep.push(i as u32);
             } else {
                 leaving.insert(p.id[i], dest);
-            }
-        }
-        let mut records: Vec<Vec<_>> = vec![Vec::new(); size];
-        for i in 0..p.n_owned() {
-            if let Some(&dest) = leaving.get(&p.id[i]) {
                 records[dest].push(p.pack(i));
             }
         }
         let mut pair_out: Vec<Vec<PairSpring<D>>> = vec![Vec::new(); size];
-        for (&key, &s) in &saved {
-            // A pair whose two grains leave for different ranks goes to both.
-            let d0 = leaving.get(&key.0);
-            let d1 = leaving.get(&key.1);
-            if let Some(&d) = d0 {
-                pair_out[d].push((key, s));
-            }
-            if let Some(&d) = d1 {
-                if d0 != Some(&d) {
+        // Nothing to look up when no grain leaves (most rebuilds of a dense bed).
+        if !leaving.is_empty() {
+            for (&key, &s) in &saved {
+                // A pair whose two grains leave for different ranks goes to both.
+                let d0 = leaving.get(&key.0);
+                let d1 = leaving.get(&key.1);
+                if let Some(&d) = d0 {
                     pair_out[d].push((key, s));
+                }
+                if let Some(&d) = d1 {
+                    if d0 != Some(&d) {
+                        pair_out[d].push((key, s));
+                    }
                 }
             }
         }
