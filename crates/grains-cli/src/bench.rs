@@ -213,7 +213,7 @@ pub fn run_ranks(args: BenchArgs, comm: &dyn Comm) -> Result<()> {
         loaded: &Loaded,
         steps: u64,
         comm: &dyn Comm,
-    ) -> Result<(usize, &'static str, f64, usize)> {
+    ) -> Result<(usize, &'static str, f64, usize, u64)> {
         let (md, _) = build_md::<D>(loaded)?;
         let integrator = md.settings.integrator.name();
         let particles = md.particles.n_mobile();
@@ -222,16 +222,18 @@ pub fn run_ranks(args: BenchArgs, comm: &dyn Comm) -> Result<()> {
         let start = Instant::now();
         grains::parallel::on_pool(|| (0..steps).try_for_each(|_| dec.step()))?;
         comm.barrier();
+        let wall = start.elapsed().as_secs_f64();
         let mut ghosts = [dec.n_ghosts() as u64];
         comm.sum_u64(&mut ghosts);
         Ok((
             particles,
             integrator,
-            start.elapsed().as_secs_f64(),
+            wall,
             ghosts[0] as usize,
+            dec.neighbor_builds(),
         ))
     }
-    let (particles, integrator, wall, ghosts) = if loaded.scenario.dimension.axes() == 2 {
+    let (particles, integrator, wall, ghosts, builds) = if loaded.scenario.dimension.axes() == 2 {
         go::<D2>(&loaded, steps, comm)?
     } else {
         go::<D3>(&loaded, steps, comm)?
@@ -247,7 +249,7 @@ pub fn run_ranks(args: BenchArgs, comm: &dyn Comm) -> Result<()> {
             "{}",
             json!({
                 "workload": args.workload, "particles": particles, "steps": steps, "threads": threads,
-                "ranks": ranks, "ghosts": ghosts,
+                "ranks": ranks, "ghosts": ghosts, "neighbor_builds": builds,
                 "integrator": integrator, "wall_seconds": wall, "ns_per_particle_step": ns,
                 "peak_rss_bytes_rank0": rss,
             })

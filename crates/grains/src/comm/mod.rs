@@ -49,6 +49,33 @@ pub trait Comm: Send + Sync {
             })
             .collect()
     }
+    /// A neighbour exchange whose sizes both ends know: sends `outgoing[r]`
+    /// to every rank r in `peers` (even when empty) and receives exactly
+    /// `recv_len[r]` bytes from each; the result holds them by rank (empty
+    /// for ranks not in `peers`). The peer relation must be symmetric. Every
+    /// rank calls it at the same point; MPI overrides it with point-to-point
+    /// messages, so ranks wait only for their neighbours.
+    fn exchange_with(
+        &self,
+        peers: &[usize],
+        outgoing: &[Vec<u8>],
+        recv_len: &[usize],
+    ) -> Vec<Vec<u8>> {
+        let got = self.exchange(outgoing);
+        for &p in peers {
+            assert_eq!(
+                got[p].len(),
+                recv_len[p],
+                "neighbour message of another size"
+            );
+        }
+        got
+    }
+    /// Every rank's `bytes`, all of the same length, in rank order, on every
+    /// rank (one collective where [`Comm::all_gather_bytes`] needs two).
+    fn all_gather_same(&self, bytes: &[u8]) -> Vec<Vec<u8>> {
+        self.all_gather_bytes(bytes)
+    }
     /// Element-wise sum over ranks, in place.
     fn sum_f64(&self, v: &mut [f64]) {
         self.reduce_f64(v, |a, b| a + b)

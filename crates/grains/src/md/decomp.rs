@@ -116,9 +116,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         self.md.step += 1;
         let comm = self.comm;
         self.halo
-            .refresh(self.slabs.axis, &mut self.md.particles, |out| {
-                comm.exchange(out)
-            });
+            .refresh(self.slabs.axis, &mut self.md.particles, comm);
         let mut rebuild = [self.md.neighbors.needs_rebuild(&self.md.particles.pos) as u64];
         comm.sum_u64(&mut rebuild);
         if rebuild[0] > 0 {
@@ -309,14 +307,12 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         w.u64(s.worst_pair.1.map_or(u64::MAX, |b| b + 1));
         w.u64(s.contacts as u64);
         w.f64(s.max_overlap);
-        match &local {
-            Ok(()) => w.bytes(&[]),
-            Err(Error::Unstable(m)) => w.bytes(m.as_bytes()),
-            Err(e) => w.bytes(e.to_string().as_bytes()),
-        }
-        let all = self.comm.all_gather_bytes(&w.buf);
+        w.u64(local.is_err() as u64);
+        // Fixed size: one collective per step; the messages travel only
+        // when some rank failed.
+        let all = self.comm.all_gather_same(&w.buf);
         let mut total = MdStats::default();
-        let mut failure = None;
+        let mut failed = false;
         for blob in &all {
             let mut rd = Reader::new(blob);
             let frac = rd.f64();
@@ -327,12 +323,19 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
                 total.max_overlap_fraction = frac;
                 total.worst_pair = (a, b.checked_sub(1));
             }
-            let msg = rd.bytes();
-            if failure.is_none() && !msg.is_empty() {
-                failure = Some(String::from_utf8_lossy(&msg).into_owned());
-            }
+            failed |= rd.u64() != 0;
         }
         self.md.stats = total;
+        let failure = failed.then(|| {
+            let mine = match &local {
+                Ok(()) => String::new(),
+                Err(Error::Unstable(m)) => m.clone(),
+                Err(e) => e.to_string(),
+            };
+            let all = self.comm.all_gather_bytes(mine.as_bytes());
+            let first = all.into_iter().find(|m| !m.is_empty()).unwrap_or_default();
+            String::from_utf8_lossy(&first).into_owned()
+        });
         match failure {
             // Every rank returns the first failing rank's message.
             Some(m) => Err(Error::Unstable(m)),

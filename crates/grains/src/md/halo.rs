@@ -11,7 +11,7 @@
 //! reaches wide, so only adjacent ranks exchange ghosts and a grain is
 //! never a ghost twice on one rank.
 
-use crate::comm::{Reader, Writer};
+use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
@@ -290,12 +290,7 @@ impl Halo {
 
     /// Refreshes every ghost's position, velocity and spin from its owner
     /// (called once per step, after the integrator's prediction).
-    pub fn refresh<D: Dim>(
-        &self,
-        axis: usize,
-        p: &mut Particles<D>,
-        exchange: impl FnOnce(&[Vec<u8>]) -> Vec<Vec<u8>>,
-    ) {
+    pub fn refresh<D: Dim>(&self, axis: usize, p: &mut Particles<D>, comm: &dyn Comm) {
         let mut out = vec![Vec::new(); self.recv_counts.len()];
         for (dest, shift, list) in &self.sends {
             let mut w = Writer { buf: Vec::new() };
@@ -312,7 +307,12 @@ impl Halo {
             }
             out[*dest] = w.buf;
         }
-        let got = exchange(&out);
+        // Only neighbours talk, and each knows how much the other sends.
+        let per_ghost = 8 * (2 * D::D + if D::D == 2 { 1 } else { 3 });
+        let mut peers: Vec<usize> = self.sends.iter().map(|s| s.0).collect();
+        peers.dedup();
+        let recv_len: Vec<usize> = self.recv_counts.iter().map(|&c| c * per_ghost).collect();
+        let got = comm.exchange_with(&peers, &out, &recv_len);
         let mut g = p.n_owned();
         for (buf, &count) in got.iter().zip(&self.recv_counts) {
             let mut rd = Reader::new(buf);
