@@ -112,10 +112,11 @@ fn peak_rss_bytes() -> u64 {
         .map_or(0, |kb| kb * 1024)
 }
 
-fn time_steps<D: Dim>(md: &mut Md<D>, steps: u64) -> Result<f64> {
-    let start = Instant::now();
+/// Wall and CPU seconds of `steps` steps.
+fn time_steps<D: Dim>(md: &mut Md<D>, steps: u64) -> Result<(f64, f64)> {
+    let (start, cpu0) = (Instant::now(), cpu_seconds());
     md.run(steps)?;
-    Ok(start.elapsed().as_secs_f64())
+    Ok((start.elapsed().as_secs_f64(), cpu_seconds() - cpu0))
 }
 
 /// The scenario of an MD workload and its default step count.
@@ -163,7 +164,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     let (loaded, default_steps) = md_workload(&args)?;
     let steps = args.steps.unwrap_or(default_steps);
-    let (particles, integrator, wall) = if loaded.scenario.dimension.axes() == 2 {
+    let (particles, integrator, (wall, cpu)) = if loaded.scenario.dimension.axes() == 2 {
         let (mut md, _) = build_md::<D2>(&loaded)?;
         let w = time_steps(&mut md, steps)?;
         (md.particles.n_mobile(), md.settings.integrator, w)
@@ -181,7 +182,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             json!({
                 "workload": args.workload, "particles": particles, "steps": steps, "threads": threads,
                 "integrator": integrator.name(), "wall_seconds": wall, "ns_per_particle_step": ns,
-                "peak_rss_bytes": rss,
+                "cpu_seconds": cpu, "peak_rss_bytes": rss,
             })
         );
     } else {
@@ -213,31 +214,39 @@ pub fn run_ranks(args: BenchArgs, comm: &dyn Comm) -> Result<()> {
         loaded: &Loaded,
         steps: u64,
         comm: &dyn Comm,
-    ) -> Result<(usize, &'static str, f64, usize, u64)> {
+    ) -> Result<(usize, &'static str, f64, usize, u64, f64, f64)> {
         let (md, _) = build_md::<D>(loaded)?;
         let integrator = md.settings.integrator.name();
         let particles = md.particles.n_mobile();
         let mut dec = DecomposedMd::new(md, comm)?;
         comm.barrier();
-        let start = Instant::now();
+        let (start, cpu0) = (Instant::now(), cpu_seconds());
         grains::parallel::on_pool(|| (0..steps).try_for_each(|_| dec.step()))?;
+        let mut cpu = [cpu_seconds() - cpu0];
         comm.barrier();
         let wall = start.elapsed().as_secs_f64();
+        comm.max_f64(&mut cpu);
         let mut ghosts = [dec.n_ghosts() as u64];
         comm.sum_u64(&mut ghosts);
+        // The busiest rank's work: the loop without its messages and waits.
+        let mut work = [wall - dec.comm_seconds];
+        comm.max_f64(&mut work);
         Ok((
             particles,
             integrator,
             wall,
             ghosts[0] as usize,
             dec.neighbor_builds(),
+            work[0],
+            cpu[0],
         ))
     }
-    let (particles, integrator, wall, ghosts, builds) = if loaded.scenario.dimension.axes() == 2 {
-        go::<D2>(&loaded, steps, comm)?
-    } else {
-        go::<D3>(&loaded, steps, comm)?
-    };
+    let (particles, integrator, wall, ghosts, builds, work, cpu) =
+        if loaded.scenario.dimension.axes() == 2 {
+            go::<D2>(&loaded, steps, comm)?
+        } else {
+            go::<D3>(&loaded, steps, comm)?
+        };
     if comm.rank() != 0 {
         return Ok(());
     }
@@ -250,13 +259,14 @@ pub fn run_ranks(args: BenchArgs, comm: &dyn Comm) -> Result<()> {
             json!({
                 "workload": args.workload, "particles": particles, "steps": steps, "threads": threads,
                 "ranks": ranks, "ghosts": ghosts, "neighbor_builds": builds,
+                "max_rank_work_seconds": work, "max_rank_cpu_seconds": cpu,
                 "integrator": integrator, "wall_seconds": wall, "ns_per_particle_step": ns,
                 "peak_rss_bytes_rank0": rss,
             })
         );
     } else {
         println!(
-            "{}: {particles} mobile particles, {steps} steps, {ranks} ranks × {threads} thread(s), {integrator}: {wall:.3} s, {ns:.1} ns per particle-step, {ghosts} ghosts, peak RSS of rank 0 {:.1} MiB",
+            "{}: {particles} mobile particles, {steps} steps, {ranks} ranks × {threads} thread(s), {integrator}: {wall:.3} s, {ns:.1} ns per particle-step, {ghosts} ghosts, busiest rank's work {work:.3} s, peak RSS of rank 0 {:.1} MiB",
             args.workload,
             rss as f64 / 1048576.0
         );

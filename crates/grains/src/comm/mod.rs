@@ -189,6 +189,30 @@ mod tests {
     }
 
     #[test]
+    fn neighbour_exchange_and_fixed_gather_on_a_ring_of_three() {
+        let out = ThreadComm::run(3, |c| {
+            let (r, n) = (c.rank(), c.size());
+            let peers = [(r + n - 1) % n, (r + 1) % n];
+            let mut send = vec![Vec::new(); n];
+            let mut len = vec![0; n];
+            for &p in &peers {
+                // r sends r + 1 bytes of value r to each neighbour.
+                send[p] = vec![r as u8; r + 1];
+                len[p] = p + 1;
+            }
+            let got = c.exchange_with(&peers, &send, &len);
+            (got, c.all_gather_same(&[r as u8, 7]))
+        });
+        for (r, (got, all)) in out.into_iter().enumerate() {
+            for (p, b) in got.iter().enumerate() {
+                let want = if p == r { vec![] } else { vec![p as u8; p + 1] };
+                assert_eq!(b, &want);
+            }
+            assert_eq!(all, vec![vec![0, 7], vec![1, 7], vec![2, 7]]);
+        }
+    }
+
+    #[test]
     fn single_process_is_the_identity() {
         let c = SingleProcess;
         let mut v = [1.5, 2.0];

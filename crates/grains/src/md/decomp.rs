@@ -34,6 +34,7 @@ use crate::error::{Error, Result};
 use crate::neighbors::{spatial_sort_order, NeighborList};
 use crate::particles::Particles;
 use std::collections::{HashMap, HashSet};
+use std::time::Instant;
 
 /// Pair springs keyed by (smaller id, larger id), oriented as the smaller id's.
 type PairSprings<D> = HashMap<(u64, u64), <D as Dim>::V>;
@@ -51,6 +52,10 @@ pub struct DecomposedMd<'c, D: Dim> {
     halo: Halo,
     /// Grains that changed rank, over the whole run (all ranks).
     pub migrations: u64,
+    /// Seconds this rank spent in the per-step messages and collectives
+    /// (ghost refresh, rebuild vote, statistics), waiting for others
+    /// included: what the decomposition costs beyond the work itself.
+    pub comm_seconds: f64,
 }
 
 impl<'c, D: Dim> DecomposedMd<'c, D> {
@@ -68,6 +73,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             global,
             halo: Halo::default(),
             migrations: 0,
+            comm_seconds: 0.0,
         };
         if comm.size() > 1 {
             dec.split()?;
@@ -115,10 +121,14 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         self.md.time = (self.md.step + 1) as f64 * self.md.settings.dt;
         self.md.step += 1;
         let comm = self.comm;
+        let t = Instant::now();
         self.halo
             .refresh(self.slabs.axis, &mut self.md.particles, comm);
+        self.comm_seconds += t.elapsed().as_secs_f64();
         let mut rebuild = [self.md.neighbors.needs_rebuild(&self.md.particles.pos) as u64];
+        let t = Instant::now();
         comm.sum_u64(&mut rebuild);
+        self.comm_seconds += t.elapsed().as_secs_f64();
         if rebuild[0] > 0 {
             self.rebuild()?;
         }
@@ -310,7 +320,9 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         w.u64(local.is_err() as u64);
         // Fixed size: one collective per step; the messages travel only
         // when some rank failed.
+        let t = Instant::now();
         let all = self.comm.all_gather_same(&w.buf);
+        self.comm_seconds += t.elapsed().as_secs_f64();
         let mut total = MdStats::default();
         let mut failed = false;
         for blob in &all {
