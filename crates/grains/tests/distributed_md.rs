@@ -376,3 +376,34 @@ fn undecomposable_features_are_refused_by_name() {
         out[0]
     );
 }
+
+#[test]
+fn an_unstable_step_stops_every_rank_with_one_message() {
+    // dt far above the contact time: grains sink into each other.
+    let l = load_str(
+        &gas_2d(),
+        "test",
+        PathBuf::from("."),
+        &["run.dt=0.01".into()],
+    )
+    .unwrap();
+    let (mut serial, _) = build_md::<D2>(&l).unwrap();
+    let serial_err = (0..200)
+        .find_map(|_| serial.step().err())
+        .unwrap()
+        .to_string();
+    let out = ThreadComm::run(3, |c| {
+        let (full, _) = build_md::<D2>(&l).unwrap();
+        let mut dec = DecomposedMd::new(full, c as &dyn Comm).unwrap();
+        (0..200)
+            .find_map(|_| dec.step().err())
+            .map(|e| (e.to_string(), dec.md.step))
+    });
+    let (msg, step) = out[0].clone().expect("the decomposed run must stop");
+    assert!(msg.contains("overlaps"), "{msg}");
+    assert!(out.iter().all(|o| o.as_ref() == Some(&(msg.clone(), step))));
+    assert!(
+        serial_err.contains(&format!("at step {step} ")),
+        "{serial_err} vs {msg}"
+    );
+}

@@ -1,8 +1,9 @@
 //! Communication between the ranks of a distributed run.
 //!
 //! The engines talk to their peers only through [`Comm`]: reductions,
-//! a gather of bytes to rank 0 and a sparse exchange of byte buffers
-//! (halos and migrating particles). [`SingleProcess`] is the one-rank
+//! a gather of bytes to rank 0, a sparse exchange of byte buffers
+//! (migrating particles, new ghost shells) and a neighbour exchange of
+//! sizes known at both ends (the MD ghost refresh of every step). [`SingleProcess`] is the one-rank
 //! case: the decomposed code on it is the serial run; [`ThreadComm`] runs several ranks as
 //! threads of one process (the tests check decompositions with it without
 //! MPI); `MpiComm` (cargo feature `mpi`) is the real thing.
