@@ -466,6 +466,18 @@ mod tests {
     }
 
     #[test]
+    fn retain_owned_keeps_the_chosen_grains_with_their_history() {
+        let mut p = store(5);
+        let kept: Vec<_> = [1, 3, 4].iter().map(|&i| p.pack(i)).collect();
+        p.retain_owned(&[1, 3, 4]);
+        assert_eq!((p.len(), p.n_owned()), (3, 3));
+        for (k, r) in kept.iter().enumerate() {
+            assert_eq!(&p.pack(k), r);
+        }
+        assert!(p.gear.iter().all(|g| g.len() == 3));
+    }
+
+    #[test]
     fn sphere_and_disk_masses() {
         let d = 2.0;
         assert!((MassModel::Sphere.mass(3.0, d) - 3.0 * PI * 8.0 / 6.0).abs() < 1e-12);
