@@ -11,8 +11,10 @@
 //! untimed warm-up steps, then the timed ones.
 
 use clap::Args;
+use grains::comm::Comm;
+use grains::md::decomp::DecomposedMd;
 use grains::md::Md;
-use grains::scenario::{build_md, load_file, load_str};
+use grains::scenario::{build_md, load_file, load_str, Loaded};
 use grains::{Dim, Error, Result, D2, D3};
 use serde_json::json;
 use std::path::PathBuf;
@@ -110,24 +112,15 @@ fn peak_rss_bytes() -> u64 {
         .map_or(0, |kb| kb * 1024)
 }
 
-fn time_steps<D: Dim>(md: &mut Md<D>, steps: u64) -> Result<f64> {
-    let start = Instant::now();
+/// Wall and CPU seconds of `steps` steps.
+fn time_steps<D: Dim>(md: &mut Md<D>, steps: u64) -> Result<(f64, f64)> {
+    let (start, cpu0) = (Instant::now(), cpu_seconds());
     md.run(steps)?;
-    Ok(start.elapsed().as_secs_f64())
+    Ok((start.elapsed().as_secs_f64(), cpu_seconds() - cpu0))
 }
 
-pub fn run(args: BenchArgs) -> Result<()> {
-    crate::set_threads(args.threads)?;
-    if let Some(dim) = args.workload.strip_prefix("gas") {
-        return match dim {
-            "2d" => gas::<grains::D2>(&args),
-            "3d" => gas::<grains::D3>(&args),
-            _ => Err(Error::input(format!(
-                "unknown workload `{}`: choose chute, vib2d, bed3d, gas2d or gas3d",
-                args.workload
-            ))),
-        };
-    }
+/// The scenario of an MD workload and its default step count.
+fn md_workload(args: &BenchArgs) -> Result<(Loaded, u64)> {
     let mut sets = Vec::new();
     if let Some(i) = &args.integrator {
         sets.push(format!("run.integrator={i}"));
@@ -154,8 +147,24 @@ pub fn run(args: BenchArgs) -> Result<()> {
             )))
         }
     };
+    Ok((loaded, default_steps))
+}
+
+pub fn run(args: BenchArgs) -> Result<()> {
+    crate::set_threads(args.threads)?;
+    if let Some(dim) = args.workload.strip_prefix("gas") {
+        return match dim {
+            "2d" => gas::<grains::D2>(&args),
+            "3d" => gas::<grains::D3>(&args),
+            _ => Err(Error::input(format!(
+                "unknown workload `{}`: choose chute, vib2d, bed3d, gas2d or gas3d",
+                args.workload
+            ))),
+        };
+    }
+    let (loaded, default_steps) = md_workload(&args)?;
     let steps = args.steps.unwrap_or(default_steps);
-    let (particles, integrator, wall) = if loaded.scenario.dimension.axes() == 2 {
+    let (particles, integrator, (wall, cpu)) = if loaded.scenario.dimension.axes() == 2 {
         let (mut md, _) = build_md::<D2>(&loaded)?;
         let w = time_steps(&mut md, steps)?;
         (md.particles.n_mobile(), md.settings.integrator, w)
@@ -173,7 +182,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             json!({
                 "workload": args.workload, "particles": particles, "steps": steps, "threads": threads,
                 "integrator": integrator.name(), "wall_seconds": wall, "ns_per_particle_step": ns,
-                "peak_rss_bytes": rss,
+                "cpu_seconds": cpu, "peak_rss_bytes": rss,
             })
         );
     } else {
@@ -181,6 +190,84 @@ pub fn run(args: BenchArgs) -> Result<()> {
             "{}: {particles} mobile particles, {steps} steps, {threads} thread(s), {}: {wall:.3} s, {ns:.1} ns per particle-step, peak RSS {:.1} MiB",
             args.workload,
             integrator.name(),
+            rss as f64 / 1048576.0
+        );
+    }
+    Ok(())
+}
+
+/// `grains bench` as one rank of `mpirun`: an MD workload decomposed over
+/// the ranks ([`grains::md::decomp`]). Every rank builds the whole
+/// workload and keeps its slab; the timed loop runs between two barriers,
+/// so the time is the slowest rank's. Rank 0 reports.
+pub fn run_ranks(args: BenchArgs, comm: &dyn Comm) -> Result<()> {
+    crate::set_threads(args.threads)?;
+    if args.workload.starts_with("gas") {
+        return Err(Error::input(format!(
+            "`grains bench {}` runs on one process; time a distributed DSMC run with bench/mpi_scaling.sh",
+            args.workload
+        )));
+    }
+    let (loaded, default_steps) = md_workload(&args)?;
+    let steps = args.steps.unwrap_or(default_steps);
+    fn go<D: Dim>(
+        loaded: &Loaded,
+        steps: u64,
+        comm: &dyn Comm,
+    ) -> Result<(usize, &'static str, f64, usize, u64, f64, f64)> {
+        let (md, _) = build_md::<D>(loaded)?;
+        let integrator = md.settings.integrator.name();
+        let particles = md.particles.n_mobile();
+        let mut dec = DecomposedMd::new(md, comm)?;
+        comm.barrier();
+        let (start, cpu0) = (Instant::now(), cpu_seconds());
+        grains::parallel::on_pool(|| (0..steps).try_for_each(|_| dec.step()))?;
+        let mut cpu = [cpu_seconds() - cpu0];
+        comm.barrier();
+        let wall = start.elapsed().as_secs_f64();
+        comm.max_f64(&mut cpu);
+        let mut ghosts = [dec.n_ghosts() as u64];
+        comm.sum_u64(&mut ghosts);
+        // The busiest rank's work: the loop without its messages and waits.
+        let mut work = [wall - dec.comm_seconds];
+        comm.max_f64(&mut work);
+        Ok((
+            particles,
+            integrator,
+            wall,
+            ghosts[0] as usize,
+            dec.neighbor_builds(),
+            work[0],
+            cpu[0],
+        ))
+    }
+    let (particles, integrator, wall, ghosts, builds, work, cpu) =
+        if loaded.scenario.dimension.axes() == 2 {
+            go::<D2>(&loaded, steps, comm)?
+        } else {
+            go::<D3>(&loaded, steps, comm)?
+        };
+    if comm.rank() != 0 {
+        return Ok(());
+    }
+    let (ranks, threads) = (comm.size(), rayon::current_num_threads());
+    let ns = 1e9 * wall / (steps as f64 * particles.max(1) as f64);
+    let rss = peak_rss_bytes();
+    if args.json {
+        println!(
+            "{}",
+            json!({
+                "workload": args.workload, "particles": particles, "steps": steps, "threads": threads,
+                "ranks": ranks, "ghosts": ghosts, "neighbor_builds": builds,
+                "max_rank_work_seconds": work, "max_rank_cpu_seconds": cpu,
+                "integrator": integrator, "wall_seconds": wall, "ns_per_particle_step": ns,
+                "peak_rss_bytes_rank0": rss,
+            })
+        );
+    } else {
+        println!(
+            "{}: {particles} mobile particles, {steps} steps, {ranks} ranks × {threads} thread(s), {integrator}: {wall:.3} s, {ns:.1} ns per particle-step, {ghosts} ghosts, busiest rank's work {work:.3} s, peak RSS of rank 0 {:.1} MiB",
+            args.workload,
             rss as f64 / 1048576.0
         );
     }

@@ -175,8 +175,9 @@ fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
                 let args = (scenario, out, sets, steps, threads, quiet);
                 run_distributed(args, comm)
             }
+            Command::Bench(args) => bench::run_ranks(args, comm).map(|_| ExitCode::SUCCESS),
             _ => Err(Error::input(format!(
-                "only `grains run` runs on several MPI ranks ({} here); start other commands without mpirun",
+                "only `grains run` and `grains bench` run on several MPI ranks ({} here); start other commands without mpirun",
                 comm.size()
             ))),
         };

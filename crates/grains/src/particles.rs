@@ -283,6 +283,16 @@ impl<D: Dim> Particles<D> {
         r
     }
 
+    /// Keeps the owned particles at `keep` (ascending indices), in that
+    /// order, and drops the rest: the particles that migrated to another
+    /// domain. Ghosts must have been cleared first.
+    pub fn retain_owned(&mut self, keep: &[u32]) {
+        assert_eq!(self.n_owned, self.len(), "clear ghosts before migrating");
+        self.permute(keep);
+        self.truncate(keep.len());
+        self.n_owned = keep.len();
+    }
+
     /// Makes room for the Gear history: `orders` derivative arrays each.
     pub fn ensure_gear_history(&mut self, orders: usize, ang_orders: usize) {
         let n = self.len();
@@ -453,6 +463,18 @@ mod tests {
         assert_eq!(p.id, vec![2, 1]);
         p.push_record(r.clone());
         assert_eq!(p.pack(2), r);
+    }
+
+    #[test]
+    fn retain_owned_keeps_the_chosen_grains_with_their_history() {
+        let mut p = store(5);
+        let kept: Vec<_> = [1, 3, 4].iter().map(|&i| p.pack(i)).collect();
+        p.retain_owned(&[1, 3, 4]);
+        assert_eq!((p.len(), p.n_owned()), (3, 3));
+        for (k, r) in kept.iter().enumerate() {
+            assert_eq!(&p.pack(k), r);
+        }
+        assert!(p.gear.iter().all(|g| g.len() == 3));
     }
 
     #[test]

@@ -270,22 +270,3 @@ fn distributed_run_writes_the_serial_files() {
     }
     let _ = std::fs::remove_dir_all(&serial_dir);
 }
-
-#[test]
-fn md_scenario_is_refused_on_several_ranks() {
-    let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/bench-chute.toml"),
-    )
-    .unwrap();
-    let l = load_str(&text, "bench-chute.toml", PathBuf::from("."), &[]).unwrap();
-    let opts = RunOptions {
-        out_dir: scratch("md"),
-        ..Default::default()
-    };
-    let out = ThreadComm::run(2, |c| {
-        distributed::run(&l, &opts, &mut Silent, c as &dyn Comm)
-            .unwrap_err()
-            .to_string()
-    });
-    assert!(out[0].contains("method = \"md\""), "{}", out[0]);
-}

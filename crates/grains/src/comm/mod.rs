@@ -1,8 +1,9 @@
 //! Communication between the ranks of a distributed run.
 //!
 //! The engines talk to their peers only through [`Comm`]: reductions,
-//! a gather of bytes to rank 0 and a sparse exchange of byte buffers
-//! (halos and migrating particles). [`SingleProcess`] is the one-rank
+//! a gather of bytes to rank 0, a sparse exchange of byte buffers
+//! (migrating particles, new ghost shells) and a neighbour exchange of
+//! sizes known at both ends (the MD ghost refresh of every step). [`SingleProcess`] is the one-rank
 //! case: the decomposed code on it is the serial run; [`ThreadComm`] runs several ranks as
 //! threads of one process (the tests check decompositions with it without
 //! MPI); `MpiComm` (cargo feature `mpi`) is the real thing.
@@ -48,6 +49,33 @@ pub trait Comm: Send + Sync {
                 (0..=me).map(|_| r.bytes()).last().unwrap_or_default()
             })
             .collect()
+    }
+    /// A neighbour exchange whose sizes both ends know: sends `outgoing[r]`
+    /// to every rank r in `peers` (even when empty) and receives exactly
+    /// `recv_len[r]` bytes from each; the result holds them by rank (empty
+    /// for ranks not in `peers`). The peer relation must be symmetric. Every
+    /// rank calls it at the same point; MPI overrides it with point-to-point
+    /// messages, so ranks wait only for their neighbours.
+    fn exchange_with(
+        &self,
+        peers: &[usize],
+        outgoing: &[Vec<u8>],
+        recv_len: &[usize],
+    ) -> Vec<Vec<u8>> {
+        let got = self.exchange(outgoing);
+        for &p in peers {
+            assert_eq!(
+                got[p].len(),
+                recv_len[p],
+                "neighbour message of another size"
+            );
+        }
+        got
+    }
+    /// Every rank's `bytes`, all of the same length, in rank order, on every
+    /// rank (one collective where [`Comm::all_gather_bytes`] needs two).
+    fn all_gather_same(&self, bytes: &[u8]) -> Vec<Vec<u8>> {
+        self.all_gather_bytes(bytes)
     }
     /// Element-wise sum over ranks, in place.
     fn sum_f64(&self, v: &mut [f64]) {
@@ -158,6 +186,30 @@ mod tests {
             if let Some(g) = g {
                 assert_eq!(g, vec![vec![0], vec![1], vec![2], vec![3]]);
             }
+        }
+    }
+
+    #[test]
+    fn neighbour_exchange_and_fixed_gather_on_a_ring_of_three() {
+        let out = ThreadComm::run(3, |c| {
+            let (r, n) = (c.rank(), c.size());
+            let peers = [(r + n - 1) % n, (r + 1) % n];
+            let mut send = vec![Vec::new(); n];
+            let mut len = vec![0; n];
+            for &p in &peers {
+                // r sends r + 1 bytes of value r to each neighbour.
+                send[p] = vec![r as u8; r + 1];
+                len[p] = p + 1;
+            }
+            let got = c.exchange_with(&peers, &send, &len);
+            (got, c.all_gather_same(&[r as u8, 7]))
+        });
+        for (r, (got, all)) in out.into_iter().enumerate() {
+            for (p, b) in got.iter().enumerate() {
+                let want = if p == r { vec![] } else { vec![p as u8; p + 1] };
+                assert_eq!(b, &want);
+            }
+            assert_eq!(all, vec![vec![0, 7], vec![1, 7], vec![2, 7]]);
         }
     }
 

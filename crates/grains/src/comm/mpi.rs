@@ -2,6 +2,7 @@
 //! `mpirun -np N grains run scenario.toml`.
 
 use super::Comm;
+use mpi::collective::SystemOperation;
 use mpi::datatype::{Partition, PartitionMut};
 use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
@@ -135,6 +136,64 @@ impl Comm for MpiComm {
             self.world.all_to_all_varcount_into(&part, &mut rpart);
         }
         split(&buf, &recv_counts)
+    }
+    fn exchange_with(
+        &self,
+        peers: &[usize],
+        outgoing: &[Vec<u8>],
+        recv_len: &[usize],
+    ) -> Vec<Vec<u8>> {
+        let mut got = vec![Vec::new(); self.size()];
+        let mut bufs: Vec<Vec<u8>> = peers.iter().map(|&p| recv_buffer(recv_len[p])).collect();
+        mpi::request::scope(|scope| {
+            let mut recvs = Vec::with_capacity(peers.len());
+            for (&p, buf) in peers.iter().zip(bufs.iter_mut()) {
+                let from = self.world.process_at_rank(p as i32);
+                recvs.push(from.immediate_receive_into(scope, &mut buf[..]));
+            }
+            let mut sends = Vec::with_capacity(peers.len());
+            for &p in peers {
+                let to = self.world.process_at_rank(p as i32);
+                sends.push(to.immediate_send(scope, real(&outgoing[p])));
+            }
+            for r in recvs {
+                r.wait();
+            }
+            for r in sends {
+                r.wait();
+            }
+        });
+        for (&p, buf) in peers.iter().zip(bufs) {
+            got[p] = buf;
+        }
+        got
+    }
+    fn all_gather_same(&self, bytes: &[u8]) -> Vec<Vec<u8>> {
+        let mut buf = recv_buffer(bytes.len() * self.size());
+        self.world.all_gather_into(real(bytes), &mut buf[..]);
+        buf.chunks(bytes.len().max(1))
+            .map(<[u8]>::to_vec)
+            .chain(std::iter::repeat(Vec::new()))
+            .take(self.size())
+            .collect()
+    }
+    fn sum_u64(&self, v: &mut [u64]) {
+        let mut out = vec![0u64; v.len()];
+        self.world
+            .all_reduce_into(&v[..], &mut out[..], SystemOperation::sum());
+        v.copy_from_slice(&out);
+    }
+    fn max_f64(&self, v: &mut [f64]) {
+        let mut out = vec![0.0; v.len()];
+        self.world
+            .all_reduce_into(&v[..], &mut out[..], SystemOperation::max());
+        v.copy_from_slice(&out);
+    }
+    fn min_f64(&self, v: &mut [f64]) {
+        let mut out = vec![0.0; v.len()];
+        self.world
+            .all_reduce_into(&v[..], &mut out[..], SystemOperation::min());
+        v.copy_from_slice(&out);
     }
     fn barrier(&self) {
         self.world.barrier();

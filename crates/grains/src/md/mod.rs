@@ -13,7 +13,9 @@
 //! Measurements and output are not part of the step: the caller runs them
 //! between steps (see the scenario runner).
 
+pub mod decomp;
 mod field_forces;
+pub mod halo;
 mod pair_forces;
 mod wall_springs;
 

@@ -103,6 +103,20 @@ impl<D: Dim> WallSprings<D> {
         self.springs = entries.iter().map(|e| e.1).collect();
     }
 
+    /// Every stretched spring as ((grain, wall), spring), in key order.
+    pub fn entries(&self) -> impl Iterator<Item = ((u32, u32), D::V)> + '_ {
+        self.keys.iter().copied().zip(self.springs.iter().copied())
+    }
+
+    /// From ((grain, wall), spring) entries in any order (distinct keys).
+    pub fn from_entries(mut entries: Vec<((u32, u32), D::V)>) -> Self {
+        entries.sort_unstable_by_key(|e| e.0);
+        Self {
+            keys: entries.iter().map(|e| e.0).collect(),
+            springs: entries.iter().map(|e| e.1).collect(),
+        }
+    }
+
     /// The dense layout of checkpoints: `dense[i * slots + w]` is grain i's
     /// spring against wall w, `slots` per grain.
     pub fn to_dense(&self, grains: usize, slots: usize) -> Vec<D::V> {

@@ -1,6 +1,7 @@
 //! Runs a scenario over several ranks (`mpirun -np N grains run ...`).
 //!
-//! DSMC only, for now: each rank steps its slab ([`crate::dsmc::decomp`]);
+//! MD scenarios go to [`super::distributed_md`]. DSMC: each rank steps its
+//! slab ([`crate::dsmc::decomp`]);
 //! at every sampling and output step the ranks gather the whole state on
 //! rank 0, into an engine of the same run, and rank 0 measures and writes
 //! it with the serial runner's code. The files are therefore the serial
@@ -9,8 +10,8 @@
 //! large runs choose `output.every` and `dsmc.profile_bins` with that in
 //! mind.
 //!
-//! Not supported yet, with a clear error: MD scenarios, checkpoints and
-//! resume. A stop signal ends the run without a checkpoint.
+//! Not supported yet, with a clear error: checkpoints and resume (and the
+//! MD features listed in [`super::distributed_md`]). A stop signal ends the run without a checkpoint.
 
 use super::dsmc::{build, describe, frame, gas_summary, spec, Measure, Outputs};
 use super::{prepare, Progress, RunOptions};
@@ -34,13 +35,6 @@ pub fn run(
     progress: &mut dyn Progress,
     comm: &dyn Comm,
 ) -> Result<Value> {
-    if loaded.scenario.method != Method::Dsmc {
-        return Err(Error::input(format!(
-            "{}: method = \"md\" cannot run on {} MPI ranks yet (only method = \"dsmc\" is decomposed); run it on one rank with --threads",
-            loaded.origin,
-            comm.size()
-        )));
-    }
     if opts.checkpoint_every.is_some() {
         return Err(Error::input(
             "--checkpoint-every is not supported in a distributed run yet",
@@ -49,7 +43,10 @@ pub fn run(
     // Not on rayon's pool here (unlike `super::run`): ranks that are
     // threads of one process would each hold a pool worker while waiting
     // for the others. The command line puts its single rank on the pool.
+    let md = loaded.scenario.method != Method::Dsmc;
     match loaded.scenario.dimension {
+        Dimension::Two if md => super::distributed_md::run::<D2>(loaded, opts, progress, comm),
+        Dimension::Three if md => super::distributed_md::run::<D3>(loaded, opts, progress, comm),
         Dimension::Two => run_dim::<D2>(loaded, opts, progress, comm),
         Dimension::Three => run_dim::<D3>(loaded, opts, progress, comm),
     }

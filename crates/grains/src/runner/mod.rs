@@ -7,6 +7,7 @@
 
 pub mod checkpointing;
 pub mod distributed;
+mod distributed_md;
 pub mod dsmc;
 pub mod flow;
 mod output;

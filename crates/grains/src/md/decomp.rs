@@ -1,0 +1,469 @@
+//! MD over the ranks of a [`Comm`]: slabs along the longest axis, ghost
+//! shells refreshed every step, migration at neighbour rebuilds.
+//!
+//! Each rank runs an [`Md`] on its own grains followed by ghost copies of
+//! its neighbours' grains within reach (see [`super::halo`]). A pair of an
+//! owned grain and a ghost is evaluated on both ranks that hold it, and
+//! each keeps only its own grain's force ("newton off" across ranks), so no
+//! force is sent back. Pairs of two ghosts are dropped from the list. The
+//! tangential spring of a pair is keyed by the ids of its grains, so both
+//! ranks evolve the same spring, and a grain that changes rank carries its
+//! pair springs (keyed by partner id) and wall springs with it, its Gear
+//! history inside its record.
+//!
+//! One step on every rank:
+//! 1. predict (owned grains);
+//! 2. refresh the ghosts' position, velocity and spin from their owners;
+//! 3. if any rank's grain moved more than skin/2: wrap, migrate the grains
+//!    that left the slab, sort, send new ghost shells, rebuild the list;
+//! 4. forces: pairs (owned and ghosts), walls and gravity (owned only, walls
+//!    evaluated at the same time on every rank);
+//! 5. correct (owned grains);
+//! 6. stability statistics reduced over the ranks; all ranks stop together.
+//!
+//! On one rank this is [`Md::step`] itself. On several, the result agrees
+//! with the serial run to rounding: forces on a grain are summed in another
+//! order (the list order differs), never a different physics.
+
+use super::halo::{get_record, put_record, Halo, Slabs};
+use super::{Md, MdStats};
+use crate::comm::{Comm, Reader, Writer};
+use crate::dim::Dim;
+use crate::domain::Domain;
+use crate::error::{Error, Result};
+use crate::neighbors::{spatial_sort_order, NeighborList};
+use crate::particles::Particles;
+use std::collections::{HashMap, HashSet};
+use std::time::Instant;
+
+/// Pair springs keyed by (smaller id, larger id), oriented as the smaller id's.
+type PairSprings<D> = HashMap<(u64, u64), <D as Dim>::V>;
+/// One pair spring in a migration message.
+type PairSpring<D> = ((u64, u64), <D as Dim>::V);
+
+/// One rank's part of a decomposed MD run.
+pub struct DecomposedMd<'c, D: Dim> {
+    /// This rank's engine: owned grains first, ghosts after.
+    pub md: Md<D>,
+    comm: &'c dyn Comm,
+    slabs: Slabs,
+    /// The whole box (the engine holds this rank's list box).
+    global: Domain<D>,
+    halo: Halo,
+    /// Grains that changed rank, over the whole run (all ranks).
+    pub migrations: u64,
+    /// Seconds this rank spent in the per-step messages and collectives
+    /// (ghost refresh, rebuild vote, statistics), waiting for others
+    /// included: what the decomposition costs beyond the work itself.
+    pub comm_seconds: f64,
+}
+
+impl<'c, D: Dim> DecomposedMd<'c, D> {
+    /// Splits a whole engine (the same on every rank, as built from the
+    /// scenario at t = 0) into this rank's part.
+    pub fn new(full: Md<D>, comm: &'c dyn Comm) -> Result<Self> {
+        let global = full.domain.clone();
+        let reach = 2.0 * full.particles.max_radius() + full.settings.skin;
+        let n = full.particles.n_owned();
+        let slabs = Slabs::by_count(&global, &full.particles.pos[..n], comm.size(), reach)?;
+        let mut dec = Self {
+            md: full,
+            comm,
+            slabs,
+            global,
+            halo: Halo::default(),
+            migrations: 0,
+            comm_seconds: 0.0,
+        };
+        if comm.size() > 1 {
+            dec.split()?;
+        }
+        Ok(dec)
+    }
+
+    /// Keeps this rank's grains of the whole engine, with their springs,
+    /// then builds the ghosts and the list and evaluates the forces at t = 0
+    /// again (the springs are read, not stretched, as at any start).
+    fn split(&mut self) -> Result<()> {
+        let saved = self.md.save_springs();
+        let walls = self.wall_springs_by_id();
+        let r = self.comm.rank();
+        let a = self.slabs.axis;
+        let p = &mut self.md.particles;
+        for i in 0..p.n_owned() {
+            p.pos[i] = self.global.wrap(p.pos[i]);
+        }
+        let keep: Vec<u32> = (0..p.n_owned() as u32)
+            .filter(|&i| self.slabs.owner(D::get(p.pos[i as usize], a)) == r)
+            .collect();
+        p.retain_owned(&keep);
+        let mine: HashSet<u64> = p.id.iter().copied().collect();
+        let saved: PairSprings<D> = saved
+            .into_iter()
+            .filter(|((x, y), _)| mine.contains(x) || mine.contains(y))
+            .collect();
+        let walls: Vec<_> = walls
+            .into_iter()
+            .filter(|(id, _, _)| mine.contains(id))
+            .collect();
+        self.md.domain = self.slabs.local_domain(&self.global, r);
+        self.finish_rebuild(saved, walls, false)?;
+        self.md.compute_forces(false);
+        Ok(())
+    }
+
+    /// Advances one time step on every rank.
+    pub fn step(&mut self) -> Result<()> {
+        if self.comm.size() == 1 {
+            return self.md.step();
+        }
+        self.md.predict();
+        self.md.time = (self.md.step + 1) as f64 * self.md.settings.dt;
+        self.md.step += 1;
+        let comm = self.comm;
+        let t = Instant::now();
+        self.halo
+            .refresh(self.slabs.axis, &mut self.md.particles, comm);
+        self.comm_seconds += t.elapsed().as_secs_f64();
+        let mut rebuild = [self.md.neighbors.needs_rebuild(&self.md.particles.pos) as u64];
+        let t = Instant::now();
+        comm.sum_u64(&mut rebuild);
+        self.comm_seconds += t.elapsed().as_secs_f64();
+        if rebuild[0] > 0 {
+            self.rebuild()?;
+        }
+        self.md.compute_forces(true);
+        self.md.correct();
+        self.check_stability()
+    }
+
+    /// Wall springs as (grain id, wall, spring).
+    fn wall_springs_by_id(&self) -> Vec<(u64, u32, D::V)> {
+        let id = &self.md.particles.id;
+        self.md
+            .wall_springs
+            .entries()
+            .map(|((g, w), s)| (id[g as usize], w, s))
+            .collect()
+    }
+
+    /// Wraps, migrates, and rebuilds ghosts and list (step 3).
+    fn rebuild(&mut self) -> Result<()> {
+        let saved = self.md.save_springs();
+        let mut walls = self.wall_springs_by_id();
+        let (r, a, size) = (self.comm.rank(), self.slabs.axis, self.comm.size());
+        let p = &mut self.md.particles;
+        p.clear_ghosts();
+        for i in 0..p.n_owned() {
+            p.pos[i] = self.global.wrap(p.pos[i]);
+        }
+        // Leaving grains travel with their springs.
+        let mut out = vec![Writer::default(); size];
+        let mut leaving: HashMap<u64, usize> = HashMap::new();
+        let mut records: Vec<Vec<_>> = vec![Vec::new(); size];
+        let mut keep = Vec::with_capacity(p.n_owned());
+        for i in 0..p.n_owned() {
+            let dest = self.slabs.owner(D::get(p.pos[i], a));
+            if dest == r {
+                keep.push(i as u32);
+            } else {
+                leaving.insert(p.id[i], dest);
+                records[dest].push(p.pack(i));
+            }
+        }
+        let mut pair_out: Vec<Vec<PairSpring<D>>> = vec![Vec::new(); size];
+        // Nothing to look up when no grain leaves (most rebuilds of a dense bed).
+        if !leaving.is_empty() {
+            for (&key, &s) in &saved {
+                // A pair whose two grains leave for different ranks goes to both.
+                let d0 = leaving.get(&key.0);
+                let d1 = leaving.get(&key.1);
+                if let Some(&d) = d0 {
+                    pair_out[d].push((key, s));
+                }
+                if let Some(&d) = d1 {
+                    if d0 != Some(&d) {
+                        pair_out[d].push((key, s));
+                    }
+                }
+            }
+        }
+        let mut wall_out: Vec<Vec<(u64, u32, D::V)>> = vec![Vec::new(); size];
+        walls.retain(|&(id, w, s)| match leaving.get(&id) {
+            Some(&d) => {
+                wall_out[d].push((id, w, s));
+                false
+            }
+            None => true,
+        });
+        for d in 0..size {
+            let w = &mut out[d];
+            if records[d].is_empty() {
+                continue;
+            }
+            w.u64(records[d].len() as u64);
+            for rec in &records[d] {
+                put_record(w, rec, a, 0.0);
+            }
+            w.u64(pair_out[d].len() as u64);
+            // Sorted so that the message does not depend on hash order.
+            pair_out[d].sort_unstable_by_key(|e| e.0);
+            for &((x, y), s) in &pair_out[d] {
+                w.u64(x);
+                w.u64(y);
+                put_vec::<D>(w, s);
+            }
+            w.u64(wall_out[d].len() as u64);
+            for &(id, wall, s) in &wall_out[d] {
+                w.u64(id);
+                w.u32(wall);
+                put_vec::<D>(w, s);
+            }
+        }
+        p.retain_owned(&keep);
+        let mut saved = saved;
+        saved.retain(|k, _| !(leaving.contains_key(&k.0) && leaving.contains_key(&k.1)));
+        let bufs: Vec<Vec<u8>> = out.into_iter().map(|w| w.buf).collect();
+        let got = self.comm.exchange(&bufs);
+        let mut arrived = 0u64;
+        for buf in &got {
+            if buf.is_empty() {
+                continue;
+            }
+            let mut rd = Reader::new(buf);
+            for _ in 0..rd.u64() {
+                p.push_record(get_record::<D>(&mut rd));
+                arrived += 1;
+            }
+            for _ in 0..rd.u64() {
+                let key = (rd.u64(), rd.u64());
+                saved.insert(key, get_vec::<D>(&mut rd));
+            }
+            for _ in 0..rd.u64() {
+                walls.push((rd.u64(), rd.u32(), get_vec::<D>(&mut rd)));
+            }
+            assert!(rd.done(), "migration message longer than its layout");
+        }
+        let mut moved = [arrived];
+        self.comm.sum_u64(&mut moved);
+        self.migrations += moved[0];
+        self.finish_rebuild(saved, walls, true)
+    }
+
+    /// With this rank's owned grains in place: sort (every few rebuilds),
+    /// send the ghost shells, build the list without ghost–ghost pairs, and
+    /// put the springs back by id.
+    fn finish_rebuild(
+        &mut self,
+        saved: PairSprings<D>,
+        walls: Vec<(u64, u32, D::V)>,
+        count_rebuild: bool,
+    ) -> Result<()> {
+        let md = &mut self.md;
+        let n = md.particles.n_owned();
+        let sort_every = md.settings.sort_every;
+        if sort_every > 0 && md.rebuilds_since_sort.is_multiple_of(sort_every) {
+            let cell = 2.0 * md.particles.max_radius() + md.settings.skin;
+            let order = spatial_sort_order(&md.particles.pos[..n], &md.domain, cell);
+            md.particles.permute(&order);
+        }
+        if count_rebuild {
+            md.rebuilds_since_sort = md.rebuilds_since_sort.wrapping_add(1);
+        }
+        let comm = self.comm;
+        self.halo = Halo::build(&self.slabs, comm.rank(), &mut md.particles, |out| {
+            comm.exchange(out)
+        });
+        let p = &md.particles;
+        let built = md.neighbors.build(&p.pos, &p.radius, &p.frozen, &md.domain);
+        // Every rank stops when one cannot build (a NaN grain, say).
+        let mut failed = [built.is_err() as u64];
+        comm.sum_u64(&mut failed);
+        if failed[0] > 0 {
+            built?;
+            return Err(Error::Unstable(
+                "another rank could not build its neighbour list".into(),
+            ));
+        }
+        drop_ghost_pairs(&mut md.neighbors, n);
+        md.blocks = super::PairBlocks::build(&md.neighbors.pairs, p.len());
+        md.restore_springs(saved);
+        // Wall springs by index again (owned grains only have them).
+        let wanted: HashMap<u64, Vec<(u32, D::V)>> =
+            walls.into_iter().fold(HashMap::new(), |mut m, (id, w, s)| {
+                m.entry(id).or_default().push((w, s));
+                m
+            });
+        let mut entries = Vec::new();
+        if !wanted.is_empty() {
+            for (i, id) in md.particles.id[..n].iter().enumerate() {
+                if let Some(list) = wanted.get(id) {
+                    entries.extend(list.iter().map(|&(w, s)| ((i as u32, w), s)));
+                }
+            }
+        }
+        md.wall_springs = super::wall_springs::WallSprings::from_entries(entries);
+        Ok(())
+    }
+
+    /// Reduces the step's contact statistics over the ranks and stops every
+    /// rank when one of them finds the state unstable.
+    fn check_stability(&mut self) -> Result<()> {
+        let local = self.md.check_stability();
+        let s = &self.md.stats;
+        let mut w = Writer::default();
+        w.f64(s.max_overlap_fraction);
+        w.u64(s.worst_pair.0);
+        w.u64(s.worst_pair.1.map_or(u64::MAX, |b| b + 1));
+        w.u64(s.contacts as u64);
+        w.f64(s.max_overlap);
+        w.u64(local.is_err() as u64);
+        // Fixed size: one collective per step; the messages travel only
+        // when some rank failed.
+        let t = Instant::now();
+        let all = self.comm.all_gather_same(&w.buf);
+        self.comm_seconds += t.elapsed().as_secs_f64();
+        let mut total = MdStats::default();
+        let mut failed = false;
+        for blob in &all {
+            let mut rd = Reader::new(blob);
+            let frac = rd.f64();
+            let (a, b) = (rd.u64(), rd.u64());
+            total.contacts += rd.u64() as usize;
+            total.max_overlap = total.max_overlap.max(rd.f64());
+            if frac > total.max_overlap_fraction {
+                total.max_overlap_fraction = frac;
+                total.worst_pair = (a, b.checked_sub(1));
+            }
+            failed |= rd.u64() != 0;
+        }
+        self.md.stats = total;
+        let failure = failed.then(|| {
+            let mine = match &local {
+                Ok(()) => String::new(),
+                Err(Error::Unstable(m)) => m.clone(),
+                Err(e) => e.to_string(),
+            };
+            let all = self.comm.all_gather_bytes(mine.as_bytes());
+            let first = all.into_iter().find(|m| !m.is_empty()).unwrap_or_default();
+            String::from_utf8_lossy(&first).into_owned()
+        });
+        match failure {
+            // Every rank returns the first failing rank's message.
+            Some(m) => Err(Error::Unstable(m)),
+            None => Ok(()),
+        }
+    }
+
+    /// The owned grains' total kinetic energy ½Σmv², summed over ranks.
+    pub fn kinetic_energy(&self) -> f64 {
+        let mut e = [self.md.particles.kinetic_energy()];
+        self.comm.sum_f64(&mut e);
+        e[0]
+    }
+
+    /// Total momentum of the mobile grains, summed over ranks.
+    pub fn momentum(&self) -> D::V {
+        let m = D::to_xyz(self.md.particles.momentum());
+        let mut v = m;
+        self.comm.sum_f64(&mut v);
+        D::from_xyz(v)
+    }
+
+    /// Grains owned by this rank.
+    pub fn n_owned(&self) -> usize {
+        self.md.particles.n_owned()
+    }
+
+    /// Ghost copies held by this rank.
+    pub fn n_ghosts(&self) -> usize {
+        self.halo.ghosts()
+    }
+
+    /// Neighbour-list builds so far (the same on every rank).
+    pub fn neighbor_builds(&self) -> u64 {
+        self.md.neighbor_builds()
+    }
+
+    /// The slab axis and the slab bounds.
+    pub fn slabs(&self) -> &Slabs {
+        &self.slabs
+    }
+
+    /// Puts every rank's owned grains (position, velocity, spin) into
+    /// `whole` on rank 0, an engine of the same run holding every grain
+    /// (found by id); also its time and step. All ranks call this.
+    pub fn gather(&self, whole: Option<&mut Md<D>>, index_of: &HashMap<u64, usize>) {
+        let p = &self.md.particles;
+        let mut w = Writer::default();
+        for i in 0..p.n_owned() {
+            w.u64(p.id[i]);
+            put_vec::<D>(&mut w, p.pos[i]);
+            put_vec::<D>(&mut w, p.vel[i]);
+            put_ang::<D>(&mut w, p.omega[i]);
+        }
+        let Some(all) = self.comm.gather_bytes(&w.buf) else {
+            return;
+        };
+        let Some(whole) = whole else { return };
+        whole.time = self.md.time;
+        whole.step = self.md.step;
+        let q = &mut whole.particles;
+        for blob in &all {
+            let mut rd = Reader::new(blob);
+            while !rd.done() {
+                let i = index_of[&rd.u64()];
+                q.pos[i] = get_vec::<D>(&mut rd);
+                q.vel[i] = get_vec::<D>(&mut rd);
+                q.omega[i] = get_ang::<D>(&mut rd);
+            }
+        }
+    }
+
+    /// The ids of this rank's owned grains.
+    pub fn owned_ids(&self) -> &[u64] {
+        &self.md.particles.id[..self.n_owned()]
+    }
+}
+
+/// Keeps only pairs with at least one owned grain (index < `owned`).
+fn drop_ghost_pairs<D: Dim>(list: &mut NeighborList<D>, owned: usize) {
+    let owned = owned as u32;
+    let mut k = 0;
+    for j in 0..list.pairs.len() {
+        if list.pairs[j][0] < owned || list.pairs[j][1] < owned {
+            list.pairs[k] = list.pairs[j];
+            list.image[k] = list.image[j];
+            k += 1;
+        }
+    }
+    list.pairs.truncate(k);
+    list.image.truncate(k);
+}
+
+fn put_vec<D: Dim>(w: &mut Writer, v: D::V) {
+    D::to_xyz(v)[..D::D].iter().for_each(|&x| w.f64(x));
+}
+
+fn get_vec<D: Dim>(r: &mut Reader) -> D::V {
+    let mut x = [0.0; 3];
+    x.iter_mut().take(D::D).for_each(|c| *c = r.f64());
+    D::from_xyz(x)
+}
+
+fn put_ang<D: Dim>(w: &mut Writer, a: D::A) {
+    D::ang_to_xyz(a).iter().for_each(|&x| w.f64(x));
+}
+
+fn get_ang<D: Dim>(r: &mut Reader) -> D::A {
+    D::ang_from_xyz([r.f64(), r.f64(), r.f64()])
+}
+
+/// The whole engine's index of every grain id, for [`DecomposedMd::gather`].
+pub fn index_by_id<D: Dim>(p: &Particles<D>) -> HashMap<u64, usize> {
+    p.id[..p.n_owned()]
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| (id, i))
+        .collect()
+}

@@ -1,0 +1,409 @@
+//! MD decomposed over 1 to 4 ranks (threads standing in for MPI processes,
+//! `grains::comm::ThreadComm`) against the serial engine.
+//!
+//! A decomposed rank sums a grain's contact forces in another order than
+//! the serial engine (its list holds other indices), so the runs agree to
+//! rounding, not bit for bit: every step the total kinetic energy must
+//! match within 1e-9 relative and the total momentum within 1e-9 of Σm|v|
+//! (its natural scale; the momentum of a periodic gas is near zero), and
+//! at the end every grain's position within 1e-9 grain diameters. Rounding
+//! differences grow at most by the dynamics' Lyapunov factor over the
+//! 100–200 steps here (a few contact times), far from 1e-9. Every step the
+//! ranks together must hold each grain exactly once. Cases: a periodic 2D
+//! gas (Gear 5: the history migrates), a 3D bed on a vibrating plate
+//! (periodic sides, Velocity Verlet), and a closed 2D box with side walls,
+//! a vibrating floor and frozen grains (the slab axis is not periodic).
+//! Speeds are high enough that grains cross slab boundaries and the
+//! neighbour list is rebuilt many times.
+
+use grains::comm::{Comm, ThreadComm};
+use grains::md::decomp::{index_by_id, DecomposedMd};
+use grains::md::Md;
+use grains::runner::{distributed, run, RunOptions, Silent};
+use grains::scenario::{build_md, load_str, Loaded};
+use grains::{Dim, D2, D3};
+use std::path::{Path, PathBuf};
+
+fn gas_2d() -> String {
+    r#"name = "md-gas-2d"
+dimension = "2d"
+seed = 3
+[domain]
+lo = [0.0, 0.0]
+hi = [24.0, 12.0]
+periodic = [true, true]
+[particles]
+placement = "random"
+count = 160
+d0 = 1.0
+width = 0.2
+density = 1.9098593
+random_velocity = 40.0
+[contact]
+preset = "lammps-hooke-history"
+[run]
+integrator = "gear5"
+dt = 1.0e-4
+duration = 0.02
+skin = 0.1
+"#
+    .into()
+}
+
+fn bed_3d() -> String {
+    r#"name = "md-bed-3d"
+dimension = "3d"
+seed = 4
+gravity = [0.0, 0.0, -1000.0]
+[domain]
+lo = [0.0, 0.0, 0.0]
+hi = [16.0, 5.0, 10.0]
+periodic = [true, true, false]
+[particles]
+placement = "random"
+count = 180
+d0 = 1.0
+width = 0.2
+density = 1.9098593
+random_velocity = 30.0
+region = { lo = [0.0, 0.0, 0.6], hi = [16.0, 5.0, 6.0] }
+[contact]
+preset = "lammps-hooke-history"
+[[walls]]
+name = "plate"
+shape = { type = "plane", point = [0.0, 0.0, 0.0], normal = [0.0, 0.0, 1.0] }
+motion = { type = "vibrate", amplitude = 0.5, frequency = 40.0 }
+[run]
+integrator = "verlet"
+dt = 1.0e-4
+duration = 0.02
+skin = 0.1
+"#
+    .into()
+}
+
+fn box_2d() -> String {
+    r#"name = "md-box-2d"
+dimension = "2d"
+seed = 5
+gravity = [0.0, -1000.0]
+[domain]
+lo = [0.0, 0.0]
+hi = [20.0, 16.0]
+periodic = [false, false]
+[particles]
+placement = "random"
+count = 80
+d0 = 1.0
+width = 0.2
+density = 1.9098593
+random_velocity = 30.0
+region = { lo = [0.0, 1.5], hi = [20.0, 15.0] }
+[[particles.add]]
+position = [5.0, 0.6]
+frozen = true
+[[particles.add]]
+position = [10.0, 0.6]
+frozen = true
+[[particles.add]]
+position = [15.0, 0.6]
+frozen = true
+[contact]
+preset = "lammps-hooke-history"
+[[walls]]
+name = "floor"
+shape = { type = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }
+motion = { type = "vibrate", amplitude = 0.3, frequency = 50.0 }
+[[walls]]
+name = "left"
+shape = { type = "plane", point = [0.0, 0.0], normal = [1.0, 0.0] }
+[[walls]]
+name = "right"
+shape = { type = "plane", point = [20.0, 0.0], normal = [-1.0, 0.0] }
+[run]
+integrator = "gear5"
+dt = 1.0e-4
+duration = 0.02
+skin = 0.1
+"#
+    .into()
+}
+
+fn loaded(text: &str) -> Loaded {
+    load_str(text, "test", PathBuf::from("."), &[]).unwrap()
+}
+
+fn scale<D: Dim>(md: &Md<D>) -> f64 {
+    let p = &md.particles;
+    (0..p.n_owned())
+        .filter(|&i| !p.frozen[i])
+        .map(|i| p.mass[i] * D::norm(p.vel[i]))
+        .sum()
+}
+
+/// What a decomposed run did, for checks that the test was not vacuous.
+struct Activity {
+    migrations: u64,
+    ghosts: usize,
+    builds: u64,
+    contacts: bool,
+}
+
+/// Steps the serial engine and a decomposition on `ranks` side by side.
+fn compare<D: Dim>(l: &Loaded, ranks: usize, steps: u64) -> Activity {
+    let out = ThreadComm::run(ranks, |c| {
+        let root = c.rank() == 0;
+        let (full, _) = build_md::<D>(l).unwrap();
+        let n = full.particles.n_owned();
+        let mut all_ids: Vec<u64> = full.particles.id.clone();
+        all_ids.sort_unstable();
+        let mut serial = root.then(|| build_md::<D>(l).unwrap().0);
+        let mut mirror = root.then(|| build_md::<D>(l).unwrap().0);
+        let index = mirror
+            .as_ref()
+            .map(|m| index_by_id(&m.particles))
+            .unwrap_or_default();
+        let mut dec = DecomposedMd::new(full, c as &dyn Comm).unwrap();
+        let mut ghosts = 0;
+        let mut contacts = false;
+        for step in 1..=steps {
+            dec.step().unwrap();
+            ghosts = ghosts.max(dec.n_ghosts());
+            let mut ids_bytes = Vec::new();
+            for id in dec.owned_ids() {
+                ids_bytes.extend_from_slice(&id.to_le_bytes());
+            }
+            let ke = dec.kinetic_energy();
+            let mom = D::to_xyz(dec.momentum());
+            if let Some(all) = c.gather_bytes(&ids_bytes) {
+                let mut ids: Vec<u64> = all
+                    .concat()
+                    .chunks(8)
+                    .map(|b| u64::from_le_bytes(b.try_into().unwrap()))
+                    .collect();
+                ids.sort_unstable();
+                assert_eq!(
+                    ids, all_ids,
+                    "{ranks} ranks, step {step}: grains lost or duplicated"
+                );
+            }
+            if let Some(s) = serial.as_mut() {
+                s.step().unwrap();
+                contacts |= s.stats.contacts > 0;
+                let (ke0, mom0) = (
+                    s.particles.kinetic_energy(),
+                    D::to_xyz(s.particles.momentum()),
+                );
+                assert!(
+                    (ke - ke0).abs() <= 1e-9 * ke0,
+                    "{ranks} ranks, step {step}: kinetic energy {ke} vs serial {ke0}"
+                );
+                let sc = scale(s);
+                for a in 0..3 {
+                    assert!(
+                        (mom[a] - mom0[a]).abs() <= 1e-9 * sc,
+                        "{ranks} ranks, step {step}: momentum {mom:?} vs serial {mom0:?}"
+                    );
+                }
+            }
+        }
+        dec.gather(mirror.as_mut(), &index);
+        if let (Some(s), Some(m)) = (serial.as_ref(), mirror.as_ref()) {
+            assert_eq!((m.step, m.time), (s.step, s.time));
+            let at = index_by_id(&s.particles);
+            let mut worst: f64 = 0.0;
+            for i in 0..n {
+                let j = at[&m.particles.id[i]];
+                let d = s
+                    .domain
+                    .minimum_image(m.particles.pos[i] - s.particles.pos[j]);
+                worst = worst.max(D::norm(d));
+            }
+            assert!(
+                worst < 1e-9,
+                "{ranks} ranks: a grain is {worst} from its serial place"
+            );
+        }
+        Activity {
+            migrations: dec.migrations,
+            ghosts,
+            builds: dec.neighbor_builds(),
+            contacts,
+        }
+    });
+    out.into_iter().next().unwrap()
+}
+
+fn all_rank_counts<D: Dim>(text: &str, steps: u64) {
+    let l = loaded(text);
+    for ranks in 1..=4 {
+        let a = compare::<D>(&l, ranks, steps);
+        assert!(a.builds > 5, "{ranks} ranks: only {} list builds", a.builds);
+        assert!(a.contacts);
+        if ranks > 1 {
+            assert!(a.ghosts > 0, "{ranks} ranks: no ghosts");
+            assert!(a.migrations > 0, "{ranks} ranks: no grain changed rank");
+        }
+    }
+}
+
+#[test]
+fn decomposed_md_matches_serial_2d_periodic_gas() {
+    all_rank_counts::<D2>(&gas_2d(), 100);
+}
+
+#[test]
+fn decomposed_md_matches_serial_3d_vibrated_bed() {
+    all_rank_counts::<D3>(&bed_3d(), 200);
+}
+
+#[test]
+fn decomposed_md_matches_serial_2d_closed_box_with_frozen_grains() {
+    all_rank_counts::<D2>(&box_2d(), 200);
+}
+
+#[test]
+fn too_many_ranks_for_the_box_is_a_clear_error() {
+    let l = loaded(&gas_2d());
+    let errs = ThreadComm::run(12, |c| {
+        let (full, _) = build_md::<D2>(&l).unwrap();
+        DecomposedMd::new(full, c as &dyn Comm)
+            .err()
+            .map(|e| e.to_string())
+    });
+    let e = errs[0].as_deref().unwrap_or("");
+    assert!(e.contains("run on fewer ranks"), "{e}");
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("grains-dist-md-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn thermo(dir: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(dir.join("thermo.csv")).unwrap();
+    let mut lines = text.lines();
+    let head = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    (head, rows)
+}
+
+#[test]
+fn distributed_md_run_writes_the_serial_run_to_rounding() {
+    let text = format!(
+        "{}\n[output]\nevery = 0.002\nframes = true\npicture = false\n",
+        bed_3d()
+    );
+    let l = loaded(&text);
+    let serial_dir = scratch("serial");
+    let opts = RunOptions {
+        out_dir: serial_dir.clone(),
+        ..Default::default()
+    };
+    let s0 = run(&l, &opts, &mut Silent).unwrap();
+    let (head, rows0) = thermo(&serial_dir);
+    assert!(rows0.len() > 5);
+    for ranks in [2, 4] {
+        let dir = scratch(&format!("r{ranks}"));
+        let opts = RunOptions {
+            out_dir: dir.clone(),
+            ..Default::default()
+        };
+        let out = ThreadComm::run(ranks, |c| {
+            distributed::run(&l, &opts, &mut Silent, c as &dyn Comm).unwrap()
+        });
+        assert!(out[1..].iter().all(|v| v.is_null()));
+        let s = &out[0];
+        assert_eq!(s["ranks"], ranks);
+        assert!(s["migrations"].as_u64().unwrap() > 0);
+        for key in ["steps", "particles", "time"] {
+            assert_eq!(s[key], s0[key], "{ranks} ranks: {key}");
+        }
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1e-300);
+        for key in [
+            "kinetic_energy",
+            "rotational_energy",
+            "granular_temperature",
+        ] {
+            let (a, b) = (s[key].as_f64().unwrap(), s0[key].as_f64().unwrap());
+            assert!(close(a, b), "{ranks} ranks: {key} {a} vs {b}");
+        }
+        let (h, rows) = thermo(&dir);
+        assert_eq!(h, head);
+        assert_eq!(rows.len(), rows0.len());
+        for (r, r0) in rows.iter().zip(&rows0) {
+            for (k, name) in head.iter().enumerate() {
+                // Contacts across a slab boundary count on both ranks.
+                if name != "contacts" {
+                    assert!(
+                        close(r[k], r0[k]),
+                        "{ranks} ranks: {name} {} vs {}",
+                        r[k],
+                        r0[k]
+                    );
+                }
+            }
+        }
+        let count = |d: &Path| std::fs::read_dir(d.join("frames")).unwrap().count();
+        assert_eq!(count(&dir), count(&serial_dir));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    let _ = std::fs::remove_dir_all(&serial_dir);
+}
+
+#[test]
+fn undecomposable_features_are_refused_by_name() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/hopper-2d.toml"),
+    )
+    .unwrap();
+    let l = load_str(&text, "hopper-2d.toml", PathBuf::from("."), &[]).unwrap();
+    let opts = RunOptions {
+        out_dir: scratch("hopper"),
+        ..Default::default()
+    };
+    let out = ThreadComm::run(2, |c| {
+        distributed::run(&l, &opts, &mut Silent, c as &dyn Comm)
+            .unwrap_err()
+            .to_string()
+    });
+    assert!(
+        out[0].contains("[hopper]") && out[0].contains("2 MPI ranks"),
+        "{}",
+        out[0]
+    );
+}
+
+#[test]
+fn an_unstable_step_stops_every_rank_with_one_message() {
+    // dt far above the contact time: grains sink into each other.
+    let l = load_str(
+        &gas_2d(),
+        "test",
+        PathBuf::from("."),
+        &["run.dt=0.01".into()],
+    )
+    .unwrap();
+    let (mut serial, _) = build_md::<D2>(&l).unwrap();
+    let serial_err = (0..200)
+        .find_map(|_| serial.step().err())
+        .unwrap()
+        .to_string();
+    let out = ThreadComm::run(3, |c| {
+        let (full, _) = build_md::<D2>(&l).unwrap();
+        let mut dec = DecomposedMd::new(full, c as &dyn Comm).unwrap();
+        (0..200)
+            .find_map(|_| dec.step().err())
+            .map(|e| (e.to_string(), dec.md.step))
+    });
+    let (msg, step) = out[0].clone().expect("the decomposed run must stop");
+    assert!(msg.contains("overlaps"), "{msg}");
+    assert!(out.iter().all(|o| o.as_ref() == Some(&(msg.clone(), step))));
+    assert!(
+        serial_err.contains(&format!("at step {step} ")),
+        "{serial_err} vs {msg}"
+    );
+}
