@@ -1,7 +1,8 @@
 //! The MD engine and its step pipeline.
 //!
 //! One step, each phase a method you can find by name:
-//! 1. [`Md::predict`]: the integrator's part before the forces;
+//! 1. [`Md::predict`]: the integrator's part before the forces, which also
+//!    measures every grain's displacement since the last neighbour build;
 //! 2. [`Md::refresh_neighbors`]: when a grain has moved more than half the
 //!    skin, wrap periodic positions, sort spatially (every few rebuilds),
 //!    rebuild the Verlet list and carry the tangential springs over by grain
@@ -24,13 +25,12 @@ use crate::contact::ContactLaw;
 use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
-use crate::integrate::{gear5, velocity_verlet, Integrator};
+use crate::integrate::{gear5, velocity_verlet, Integrator, SkinCheck};
 use crate::io::Frame;
 use crate::neighbors::{spatial_sort_order, NeighborList};
 use crate::particles::Particles;
 use field_forces::{field_forces, FieldInput};
 use pair_forces::{pair_forces, Deferred, PairBlocks, PairInput};
-use rayon::prelude::*;
 use std::collections::HashMap;
 use wall_springs::WallSprings;
 
@@ -267,10 +267,12 @@ impl<D: Dim> Md<D> {
 
     /// Advances one time step.
     pub fn step(&mut self) -> Result<()> {
-        self.predict();
+        let moved = self.predict_checked();
         self.time = (self.step + 1) as f64 * self.settings.dt;
         self.step += 1;
-        self.refresh_neighbors()?;
+        if moved {
+            self.rebuild_neighbors()?;
+        }
         self.compute_forces(true);
         self.correct();
         self.check_stability()
@@ -291,9 +293,35 @@ impl<D: Dim> Md<D> {
     pub fn predict(&mut self) {
         let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
         match self.settings.integrator {
-            Integrator::Gear5 => gear5::predict(&mut self.particles, dt, rot),
-            Integrator::Verlet => velocity_verlet::predict(&mut self.particles, dt, rot),
-        }
+            Integrator::Gear5 => gear5::predict(&mut self.particles, dt, rot, None),
+            Integrator::Verlet => velocity_verlet::predict(&mut self.particles, dt, rot, None),
+        };
+    }
+
+    /// [`Md::predict`] with the neighbour list's displacement test in the
+    /// same pass over the grains: whether the list must be rebuilt (the
+    /// answer of [`NeighborList::needs_rebuild`] after the move).
+    fn predict_checked(&mut self) -> bool {
+        let p = &mut self.particles;
+        let n = p.n_owned();
+        let Some((reference, limit2)) = self.neighbors.skin_reference(p.len()) else {
+            self.predict();
+            return true;
+        };
+        let skin = Some(SkinCheck {
+            reference: &reference[..n],
+            limit2,
+        });
+        let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
+        let far = match self.settings.integrator {
+            Integrator::Gear5 => gear5::predict(p, dt, rot, skin),
+            Integrator::Verlet => velocity_verlet::predict(p, dt, rot, skin),
+        };
+        // Ghosts are not integrated here, but their owner may have moved them.
+        far || p.pos[n..]
+            .iter()
+            .zip(&reference[n..])
+            .any(|(&a, &b)| D::norm2(a - b) > limit2)
     }
 
     /// The integrator's part after the forces.
@@ -376,15 +404,10 @@ impl<D: Dim> Md<D> {
         }
     }
 
-    /// Zeroes and recomputes every force and torque. `update_history` is
+    /// Recomputes every force and torque (the pair loop starts the sums). `update_history` is
     /// false when no time has passed (the start of a run): springs are then
     /// read but not stretched.
     pub fn compute_forces(&mut self, update_history: bool) {
-        let p = &mut self.particles;
-        p.force.par_chunks_mut(8192).for_each(|f| f.fill(D::zero()));
-        p.torque
-            .par_chunks_mut(8192)
-            .for_each(|t| t.fill(D::A::default()));
         self.stats.contacts = 0;
         self.stats.max_overlap = 0.0;
         self.stats.max_overlap_fraction = 0.0;
