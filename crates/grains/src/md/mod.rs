@@ -16,6 +16,7 @@
 
 mod field_forces;
 mod pair_forces;
+mod pair_hash;
 mod wall_springs;
 
 use crate::boundary::Wall;
@@ -31,6 +32,8 @@ use crate::neighbors::{spatial_sort_order, NeighborList};
 use crate::particles::Particles;
 use field_forces::{field_forces, FieldInput};
 use pair_forces::{pair_forces, Deferred, PairBlocks, PairInput};
+use pair_hash::PairHash;
+use rayon::prelude::*;
 use std::collections::HashMap;
 use wall_springs::WallSprings;
 
@@ -370,38 +373,48 @@ impl<D: Dim> Md<D> {
 
     /// The stretched springs, keyed by the ids of their pair (smaller first)
     /// and oriented as the displacement of the smaller id.
-    fn save_springs(&self) -> HashMap<(u64, u64), D::V> {
-        let mut saved = HashMap::new();
-        for (k, &[i, j]) in self.neighbors.pairs.iter().enumerate() {
-            let s = self.springs[k];
-            if s != D::zero() {
-                let (a, b) = (self.particles.id[i as usize], self.particles.id[j as usize]);
+    fn save_springs(&self) -> HashMap<(u64, u64), D::V, PairHash> {
+        let id = &self.particles.id;
+        let stretched: Vec<((u64, u64), D::V)> = self
+            .neighbors
+            .pairs
+            .par_iter()
+            .zip(self.springs.par_iter())
+            .filter(|(_, &s)| s != D::zero())
+            .map(|(&[i, j], &s)| {
+                let (a, b) = (id[i as usize], id[j as usize]);
                 if a < b {
-                    saved.insert((a, b), s);
+                    ((a, b), s)
                 } else {
-                    saved.insert((b, a), -s);
+                    ((b, a), -s)
                 }
-            }
-        }
+            })
+            .collect();
+        let mut saved = HashMap::with_capacity_and_hasher(stretched.len(), PairHash::default());
+        saved.extend(stretched);
         saved
     }
 
-    fn restore_springs(&mut self, saved: HashMap<(u64, u64), D::V>) {
+    fn restore_springs(&mut self, saved: HashMap<(u64, u64), D::V, PairHash>) {
         self.springs.clear();
         self.springs.resize(self.neighbors.pairs.len(), D::zero());
         if saved.is_empty() {
             return;
         }
-        for (k, &[i, j]) in self.neighbors.pairs.iter().enumerate() {
-            let (a, b) = (self.particles.id[i as usize], self.particles.id[j as usize]);
-            if a < b {
-                if let Some(&s) = saved.get(&(a, b)) {
-                    self.springs[k] = s;
+        let id = &self.particles.id;
+        self.springs
+            .par_iter_mut()
+            .zip(self.neighbors.pairs.par_iter())
+            .for_each(|(spring, &[i, j])| {
+                let (a, b) = (id[i as usize], id[j as usize]);
+                if a < b {
+                    if let Some(&s) = saved.get(&(a, b)) {
+                        *spring = s;
+                    }
+                } else if let Some(&s) = saved.get(&(b, a)) {
+                    *spring = -s;
                 }
-            } else if let Some(&s) = saved.get(&(b, a)) {
-                self.springs[k] = -s;
-            }
-        }
+            });
     }
 
     /// Recomputes every force and torque (the pair loop starts the sums). `update_history` is
