@@ -351,9 +351,10 @@ impl<D: Dim> Md<D> {
 
     fn rebuild_neighbors(&mut self) -> Result<()> {
         let n = self.particles.n_owned();
-        for i in 0..n {
-            self.particles.pos[i] = self.domain.wrap(self.particles.pos[i]);
-        }
+        let domain = &self.domain;
+        self.particles.pos[..n]
+            .par_iter_mut()
+            .for_each(|x| *x = domain.wrap(*x));
         let saved = self.save_springs();
         let sort_every = self.settings.sort_every;
         if sort_every > 0 && self.rebuilds_since_sort.is_multiple_of(sort_every) {
@@ -476,8 +477,11 @@ impl<D: Dim> Md<D> {
         let every = self.settings.nan_check_every.max(1);
         if self.step.is_multiple_of(every) {
             let p = &self.particles;
-            if let Some(i) =
-                (0..p.n_owned()).find(|&i| !(D::is_finite(p.pos[i]) && D::is_finite(p.vel[i])))
+            // The first such grain, whatever the threads.
+            if let Some(i) = (0..p.n_owned())
+                .into_par_iter()
+                .with_min_len(4096)
+                .find_first(|&i| !(D::is_finite(p.pos[i]) && D::is_finite(p.vel[i])))
             {
                 return Err(Error::Unstable(format!(
                     "at step {} (t = {:.6e} s) grain {} has a non-finite position or velocity; {}",
