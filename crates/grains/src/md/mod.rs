@@ -1,8 +1,9 @@
 //! The MD engine and its step pipeline.
 //!
 //! One step, each phase a method you can find by name:
-//! 1. [`Md::predict`]: the integrator's part before the forces, which also
-//!    measures every grain's displacement since the last neighbour build;
+//! 1. [`Md::predict`]: the integrator's part before the forces; within a
+//!    step the same pass also measures every grain's displacement since the
+//!    last neighbour build (the test of step 2);
 //! 2. [`Md::refresh_neighbors`]: when a grain has moved more than half the
 //!    skin, wrap periodic positions, sort spatially (every few rebuilds),
 //!    rebuild the Verlet list and carry the tangential springs over by grain
