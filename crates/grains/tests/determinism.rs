@@ -78,13 +78,62 @@ fn huge_time_step_is_reported_as_unstable() {
     let _ = Md::<D2>::contact_time;
 }
 
+/// The first grain whose state is not finite is named, on any thread count.
+#[test]
+fn non_finite_grain_is_named_on_any_thread_count() {
+    let law = hooke(1.0e6, 0.0, MassScaling::Reduced);
+    let grains: Vec<_> = (0..20_000u64)
+        .map(|k| {
+            grain::<D2>(
+                k + 1,
+                DVec2::new((k % 100) as f64 * 2.0, (k / 100) as f64 * 2.0),
+                1.0,
+            )
+        })
+        .collect();
+    for threads in [1, 2, 4] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut md = pool.install(|| {
+            engine(
+                grains.clone(),
+                open_box(1e3),
+                MdSettings::new(1e-4, law.clone(), 0.1),
+            )
+        });
+        md.particles.vel[19_000].y = f64::NAN;
+        md.particles.pos[12_345].x = f64::INFINITY;
+        let err = pool
+            .install(|| md.check_stability())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("grain 12346 has a non-finite"),
+            "{threads}: {err}"
+        );
+    }
+}
+
 /// The vib2d benchmark (3700 grains, several force blocks, a vibrating wall,
-/// friction and rotation) ends in the same bits on 1, 2 and 4 threads.
+/// friction and rotation) ends in the same bits on 1, 2 and 4 threads, with
+/// either integrator.
 #[test]
 fn final_state_does_not_depend_on_thread_count() {
+    final_state_on_1_2_4_threads("verlet");
+}
+
+#[test]
+fn gear5_final_state_does_not_depend_on_thread_count() {
+    final_state_on_1_2_4_threads("gear5");
+}
+
+fn final_state_on_1_2_4_threads(integrator: &str) {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/bench-vib2d.toml");
-    let loaded = grains::scenario::load_file(&path, &[]).unwrap();
+    let sets = [format!("run.integrator={integrator}")];
+    let loaded = grains::scenario::load_file(&path, &sets).unwrap();
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)

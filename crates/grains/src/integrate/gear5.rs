@@ -11,8 +11,10 @@
 //! the five-value Gear scheme for first-order equations:
 //! w_k = dt^k/k! · d^k ω/dt^k for k = 0..4, c = (251/720, 1, 11/12, 1/3, 1/24).
 
+use super::{SkinCheck, CHUNK};
 use crate::dim::Dim;
 use crate::particles::Particles;
+use rayon::prelude::*;
 
 const C_POS: [f64; 6] = [
     3.0 / 20.0,
@@ -39,110 +41,189 @@ pub fn initialize<D: Dim>(p: &mut Particles<D>, dt: f64) {
     }
 }
 
-/// Taylor prediction of positions, velocities and their derivatives.
-pub fn predict<D: Dim>(p: &mut Particles<D>, dt: f64, rotation: bool) {
-    let inv_dt = 1.0 / dt;
+/// One chunk of grains: its slices of the state and of the history.
+struct Chunk<'a, D: Dim> {
+    first: usize,
+    pos: &'a mut [D::V],
+    vel: &'a mut [D::V],
+    g: [&'a mut [D::V]; 4],
+    omega: &'a mut [D::A],
+    w: [&'a mut [D::A]; 4],
+}
+
+/// Read-only per-grain inputs.
+struct Inputs<'a, D: Dim> {
+    frozen: &'a [bool],
+    force: &'a [D::V],
+    torque: &'a [D::A],
+    inv_mass: &'a [f64],
+    inv_inertia: &'a [f64],
+}
+
+/// Cuts the owned grains into fixed chunks (the cut depends on the grain
+/// count only, so any thread count does the same arithmetic per grain).
+fn split<D: Dim>(p: &mut Particles<D>) -> (Vec<Chunk<'_, D>>, Inputs<'_, D>) {
     let n = p.n_owned();
     let [g2, g3, g4, g5] = &mut p.gear[..] else {
         panic!("gear5::initialize was not called");
     };
-    // Zipped slices: no bounds checks in this memory-bound loop.
-    let grains = p.pos[..n]
-        .iter_mut()
-        .zip(&mut p.vel[..n])
-        .zip(&p.frozen[..n])
-        .zip(g2[..n].iter_mut().zip(&mut g3[..n]))
-        .zip(g4[..n].iter_mut().zip(&g5[..n]));
-    for ((((pos, vel), &frozen), (g2, g3)), (g4, &r5)) in grains {
-        if frozen {
-            continue;
-        }
-        let (r2, r3, r4) = (*g2, *g3, *g4);
-        *pos += *vel * dt + r2 + r3 + r4 + r5;
-        *vel += (r2 * 2.0 + r3 * 3.0 + r4 * 4.0 + r5 * 5.0) * inv_dt;
-        *g2 = r2 + r3 * 3.0 + r4 * 6.0 + r5 * 10.0;
-        *g3 = r3 + r4 * 4.0 + r5 * 10.0;
-        *g4 = r4 + r5 * 5.0;
-    }
-    if rotation {
-        let [w1, w2, w3, w4] = &mut p.gear_ang[..] else {
-            panic!("gear5::initialize was not called");
-        };
-        let grains = p.omega[..n]
-            .iter_mut()
-            .zip(&p.frozen[..n])
-            .zip(w1[..n].iter_mut().zip(&mut w2[..n]))
-            .zip(w3[..n].iter_mut().zip(&w4[..n]));
-        for (((omega, &frozen), (w1, w2)), (w3, &a4)) in grains {
-            if frozen {
-                continue;
+    let [w1, w2, w3, w4] = &mut p.gear_ang[..] else {
+        panic!("gear5::initialize was not called");
+    };
+    let mut vel = p.vel[..n].chunks_mut(CHUNK);
+    let mut omega = p.omega[..n].chunks_mut(CHUNK);
+    let mut g = [g2, g3, g4, g5].map(|g| g[..n].chunks_mut(CHUNK));
+    let mut w = [w1, w2, w3, w4].map(|w| w[..n].chunks_mut(CHUNK));
+    let mut next = move || {
+        (
+            vel.next().unwrap(),
+            omega.next().unwrap(),
+            g.each_mut().map(|g| g.next().unwrap()),
+            w.each_mut().map(|w| w.next().unwrap()),
+        )
+    };
+    let chunks = p.pos[..n]
+        .chunks_mut(CHUNK)
+        .enumerate()
+        .map(|(c, pos)| {
+            let (vel, omega, g, w) = next();
+            Chunk {
+                first: c * CHUNK,
+                pos,
+                vel,
+                g,
+                omega,
+                w,
             }
-            let (a1, a2, a3) = (*w1, *w2, *w3);
-            *omega += a1 + a2 + a3 + a4;
-            *w1 = a1 + a2 * 2.0 + a3 * 3.0 + a4 * 4.0;
-            *w2 = a2 + a3 * 3.0 + a4 * 6.0;
-            *w3 = a3 + a4 * 4.0;
+        })
+        .collect();
+    let inputs = Inputs {
+        frozen: &p.frozen[..n],
+        force: &p.force[..n],
+        torque: &p.torque[..n],
+        inv_mass: &p.inv_mass[..n],
+        inv_inertia: &p.inv_inertia[..n],
+    };
+    (chunks, inputs)
+}
+
+/// Taylor prediction of positions, velocities and their derivatives, in
+/// parallel chunks, translation and rotation in one pass over each grain.
+/// With `skin`, also the neighbour list's displacement test: returns whether
+/// a grain moved beyond it (false without `skin`).
+pub fn predict<D: Dim>(
+    p: &mut Particles<D>,
+    dt: f64,
+    rotation: bool,
+    skin: Option<SkinCheck<D::V>>,
+) -> bool {
+    let (chunks, inputs) = split(p);
+    chunks
+        .into_par_iter()
+        .map(|c| match skin {
+            Some(s) => predict_chunk::<D, true>(c, &inputs, dt, rotation, s.reference, s.limit2),
+            None => predict_chunk::<D, false>(c, &inputs, dt, rotation, &[], 0.0),
+        })
+        .reduce(|| false, |a, b| a || b)
+}
+
+/// One chunk of [`predict`]; `CHECK` compiles the displacement test in.
+#[inline(always)]
+fn predict_chunk<D: Dim, const CHECK: bool>(
+    c: Chunk<D>,
+    inputs: &Inputs<D>,
+    dt: f64,
+    rotation: bool,
+    reference: &[D::V],
+    limit2: f64,
+) -> bool {
+    let inv_dt = 1.0 / dt;
+    let len = c.pos.len();
+    let frozen = &inputs.frozen[c.first..c.first + len];
+    let reference = if CHECK {
+        &reference[c.first..c.first + len]
+    } else {
+        reference
+    };
+    let [g2, g3, g4, g5] = c.g;
+    let [w1, w2, w3, w4] = c.w;
+    let (g2, g3, g4, g5) = (&mut g2[..len], &mut g3[..len], &mut g4[..len], &g5[..len]);
+    let (pos, vel, omega) = (c.pos, &mut c.vel[..len], &mut c.omega[..len]);
+    let (w1, w2, w3, w4) = (&mut w1[..len], &mut w2[..len], &mut w3[..len], &w4[..len]);
+    let mut far = false;
+    for k in 0..len {
+        if !frozen[k] {
+            let (r2, r3, r4, r5) = (g2[k], g3[k], g4[k], g5[k]);
+            pos[k] += vel[k] * dt + r2 + r3 + r4 + r5;
+            vel[k] += (r2 * 2.0 + r3 * 3.0 + r4 * 4.0 + r5 * 5.0) * inv_dt;
+            g2[k] = r2 + r3 * 3.0 + r4 * 6.0 + r5 * 10.0;
+            g3[k] = r3 + r4 * 4.0 + r5 * 10.0;
+            g4[k] = r4 + r5 * 5.0;
+            if rotation {
+                let (a1, a2, a3, a4) = (w1[k], w2[k], w3[k], w4[k]);
+                omega[k] += a1 + a2 + a3 + a4;
+                w1[k] = a1 + a2 * 2.0 + a3 * 3.0 + a4 * 4.0;
+                w2[k] = a2 + a3 * 3.0 + a4 * 6.0;
+                w3[k] = a3 + a4 * 4.0;
+            }
+        }
+        // Every grain, frozen ones too: something else may have moved them.
+        if CHECK {
+            far |= D::norm2(pos[k] - reference[k]) > limit2;
         }
     }
+    far
 }
 
 /// Corrects the prediction with the forces evaluated at the predicted state.
 pub fn correct<D: Dim>(p: &mut Particles<D>, dt: f64, rotation: bool) {
     let half_dt2 = 0.5 * dt * dt;
     let inv_dt = 1.0 / dt;
-    let n = p.n_owned();
-    let [g2, g3, g4, g5] = &mut p.gear[..] else {
-        panic!("gear5::initialize was not called");
-    };
-    let grains = p.pos[..n]
-        .iter_mut()
-        .zip(&mut p.vel[..n])
-        .zip(
-            p.frozen[..n]
-                .iter()
-                .zip(&p.force[..n])
-                .zip(&p.inv_mass[..n]),
-        )
-        .zip(g2[..n].iter_mut().zip(&mut g3[..n]))
-        .zip(g4[..n].iter_mut().zip(&mut g5[..n]));
-    for ((((pos, vel), ((&frozen, &force), &inv_mass)), (g2, g3)), (g4, g5)) in grains {
-        if frozen {
-            continue;
-        }
-        let delta = force * (half_dt2 * inv_mass) - *g2;
-        *pos += delta * C_POS[0];
-        *vel += delta * (C_POS[1] * inv_dt);
-        *g2 += delta;
-        *g3 += delta * C_POS[3];
-        *g4 += delta * C_POS[4];
-        *g5 += delta * C_POS[5];
-    }
-    if rotation {
-        let [w1, w2, w3, w4] = &mut p.gear_ang[..] else {
-            panic!("gear5::initialize was not called");
-        };
-        let grains = p.omega[..n]
-            .iter_mut()
-            .zip(
-                p.frozen[..n]
-                    .iter()
-                    .zip(&p.torque[..n])
-                    .zip(&p.inv_inertia[..n]),
-            )
-            .zip(w1[..n].iter_mut().zip(&mut w2[..n]))
-            .zip(w3[..n].iter_mut().zip(&mut w4[..n]));
-        for (((omega, ((&frozen, &torque), &inv_i)), (w1, w2)), (w3, w4)) in grains {
-            if frozen {
+    let (chunks, inputs) = split(p);
+    chunks.into_par_iter().for_each(|c| {
+        let len = c.pos.len();
+        let range = c.first..c.first + len;
+        let frozen = &inputs.frozen[range.clone()];
+        let force = &inputs.force[range.clone()];
+        let torque = &inputs.torque[range.clone()];
+        let inv_mass = &inputs.inv_mass[range.clone()];
+        let inv_inertia = &inputs.inv_inertia[range];
+        let [g2, g3, g4, g5] = c.g;
+        let [w1, w2, w3, w4] = c.w;
+        let (g2, g3, g4, g5) = (
+            &mut g2[..len],
+            &mut g3[..len],
+            &mut g4[..len],
+            &mut g5[..len],
+        );
+        let (vel, omega) = (&mut c.vel[..len], &mut c.omega[..len]);
+        let (w1, w2, w3, w4) = (
+            &mut w1[..len],
+            &mut w2[..len],
+            &mut w3[..len],
+            &mut w4[..len],
+        );
+        for k in 0..len {
+            if frozen[k] {
                 continue;
             }
-            let delta = torque * (dt * inv_i) - *w1;
-            *omega += delta * C_ANG[0];
-            *w1 += delta;
-            *w2 += delta * C_ANG[2];
-            *w3 += delta * C_ANG[3];
-            *w4 += delta * C_ANG[4];
+            let delta = force[k] * (half_dt2 * inv_mass[k]) - g2[k];
+            c.pos[k] += delta * C_POS[0];
+            vel[k] += delta * (C_POS[1] * inv_dt);
+            g2[k] += delta;
+            g3[k] += delta * C_POS[3];
+            g4[k] += delta * C_POS[4];
+            g5[k] += delta * C_POS[5];
+            if rotation {
+                let delta = torque[k] * (dt * inv_inertia[k]) - w1[k];
+                omega[k] += delta * C_ANG[0];
+                w1[k] += delta;
+                w2[k] += delta * C_ANG[2];
+                w3[k] += delta * C_ANG[3];
+                w4[k] += delta * C_ANG[4];
+            }
         }
-    }
+    });
 }
 
 #[cfg(test)]
@@ -162,7 +243,7 @@ mod tests {
         let dt = 2.0 * std::f64::consts::PI / steps as f64;
         initialize(&mut p, dt);
         for _ in 0..steps {
-            predict(&mut p, dt, false);
+            predict(&mut p, dt, false, None);
             p.force[0] = -p.pos[0];
             correct(&mut p, dt, false);
         }

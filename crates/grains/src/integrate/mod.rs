@@ -12,6 +12,16 @@ pub mod velocity_verlet;
 /// Grains per parallel chunk of the integrators.
 const CHUNK: usize = 4096;
 
+/// The neighbour list's displacement test, done by the integrator while it
+/// moves the grains (one pass over the positions instead of two): has any
+/// grain, frozen or not, moved more than `sqrt(limit2)` from where it stood
+/// at the last build (`reference`, one entry per owned grain)?
+#[derive(Clone, Copy, Debug)]
+pub struct SkinCheck<'a, V> {
+    pub reference: &'a [V],
+    pub limit2: f64,
+}
+
 use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -30,6 +40,69 @@ impl Integrator {
         match self {
             Integrator::Gear5 => "gear5",
             Integrator::Verlet => "verlet",
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dim::D3;
+    use crate::particles::{ParticleRecord, Particles};
+    use glam::DVec3;
+
+    /// Grain k moves along x at speed k (no force), grain 0 is frozen.
+    fn line(n: u64) -> Particles<D3> {
+        let mut p = Particles::new();
+        for k in 0..n {
+            let mut r = ParticleRecord::new(k, DVec3::new(2.0 * k as f64, 0.0, 0.0), 0.5, 1.0, 0.1);
+            r.vel = DVec3::new(k as f64, 0.0, 0.0);
+            r.frozen = k == 0;
+            p.push_record(r);
+        }
+        p
+    }
+
+    /// The displacement test done in the predictor answers as the neighbour
+    /// list's separate pass would: a grain beyond sqrt(limit2) of its
+    /// reference, frozen or not, and nothing else.
+    #[test]
+    fn predictors_report_grains_beyond_the_skin() {
+        for integrator in [Integrator::Verlet, Integrator::Gear5] {
+            let predict = |p: &mut Particles<D3>, skin: Option<SkinCheck<DVec3>>| match integrator {
+                Integrator::Verlet => velocity_verlet::predict(p, 0.1, true, skin),
+                Integrator::Gear5 => gear5::predict(p, 0.1, true, skin),
+            };
+            let mut p = line(10_000);
+            if integrator == Integrator::Gear5 {
+                gear5::initialize(&mut p, 0.1);
+            }
+            let reference = p.pos.clone();
+            // After one step of 0.1 the fastest grain has moved 999.9: a
+            // limit just below its displacement finds it, one at it does not.
+            let moved = 0.1 * 9999.0;
+            let check = |limit: f64| {
+                Some(SkinCheck {
+                    reference: &reference,
+                    limit2: limit * limit,
+                })
+            };
+            let mut q = p.clone();
+            assert!(
+                predict(&mut q, check(moved * (1.0 - 1e-9))),
+                "{integrator:?}"
+            );
+            let mut q = p.clone();
+            assert!(
+                !predict(&mut q, check(moved * (1.0 + 1e-9))),
+                "{integrator:?}"
+            );
+            assert!(!predict(&mut p.clone(), None));
+            // A frozen grain moved by someone else is seen too.
+            let mut q = p.clone();
+            q.pos[0].y += 2e3;
+            assert!(predict(&mut q, check(1e3)), "{integrator:?}");
+            assert_eq!(q.pos[0], DVec3::new(0.0, 2e3, 0.0), "frozen grains stay");
         }
     }
 }

@@ -37,7 +37,7 @@ use std::collections::{HashMap, HashSet};
 use std::time::Instant;
 
 /// Pair springs keyed by (smaller id, larger id), oriented as the smaller id's.
-type PairSprings<D> = HashMap<(u64, u64), <D as Dim>::V>;
+type PairSprings<D> = HashMap<(u64, u64), <D as Dim>::V, super::pair_hash::PairHash>;
 /// One pair spring in a migration message.
 type PairSpring<D> = ((u64, u64), <D as Dim>::V);
 

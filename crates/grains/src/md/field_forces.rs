@@ -12,6 +12,9 @@ use rayon::prelude::*;
 
 /// Grains per parallel chunk.
 const CHUNK: usize = 2048;
+/// Fewest chunks handed to one parallel job (as many grains as the pair
+/// loop's smallest job).
+const MIN_CHUNKS_PER_JOB: usize = 2;
 
 pub struct FieldInput<'a, D: Dim> {
     pub law: &'a ContactLaw,
@@ -52,6 +55,8 @@ pub fn field_forces<D: Dim>(
     let chunks: Vec<(ChunkStats, ChunkSprings<D>)> = p.force[..n]
         .par_chunks_mut(CHUNK)
         .zip(p.torque[..n].par_chunks_mut(CHUNK))
+        // A small system stays on one thread rather than wake another.
+        .with_min_len(MIN_CHUNKS_PER_JOB)
         .enumerate()
         .map(|(c, (force, torque))| {
             let mut s = ChunkStats::default();

@@ -1,7 +1,9 @@
 //! The MD engine and its step pipeline.
 //!
 //! One step, each phase a method you can find by name:
-//! 1. [`Md::predict`]: the integrator's part before the forces;
+//! 1. [`Md::predict`]: the integrator's part before the forces; within a
+//!    step the same pass also measures every grain's displacement since the
+//!    last neighbour build (the test of step 2);
 //! 2. [`Md::refresh_neighbors`]: when a grain has moved more than half the
 //!    skin, wrap periodic positions, sort spatially (every few rebuilds),
 //!    rebuild the Verlet list and carry the tangential springs over by grain
@@ -17,6 +19,7 @@ pub mod decomp;
 mod field_forces;
 pub mod halo;
 mod pair_forces;
+mod pair_hash;
 mod wall_springs;
 
 use crate::boundary::Wall;
@@ -26,12 +29,13 @@ use crate::contact::ContactLaw;
 use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
-use crate::integrate::{gear5, velocity_verlet, Integrator};
+use crate::integrate::{gear5, velocity_verlet, Integrator, SkinCheck};
 use crate::io::Frame;
 use crate::neighbors::{spatial_sort_order, NeighborList};
 use crate::particles::Particles;
 use field_forces::{field_forces, FieldInput};
 use pair_forces::{pair_forces, Deferred, PairBlocks, PairInput};
+use pair_hash::PairHash;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use wall_springs::WallSprings;
@@ -269,10 +273,12 @@ impl<D: Dim> Md<D> {
 
     /// Advances one time step.
     pub fn step(&mut self) -> Result<()> {
-        self.predict();
+        let moved = self.predict_checked();
         self.time = (self.step + 1) as f64 * self.settings.dt;
         self.step += 1;
-        self.refresh_neighbors()?;
+        if moved {
+            self.rebuild_neighbors()?;
+        }
         self.compute_forces(true);
         self.correct();
         self.check_stability()
@@ -293,9 +299,35 @@ impl<D: Dim> Md<D> {
     pub fn predict(&mut self) {
         let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
         match self.settings.integrator {
-            Integrator::Gear5 => gear5::predict(&mut self.particles, dt, rot),
-            Integrator::Verlet => velocity_verlet::predict(&mut self.particles, dt, rot),
-        }
+            Integrator::Gear5 => gear5::predict(&mut self.particles, dt, rot, None),
+            Integrator::Verlet => velocity_verlet::predict(&mut self.particles, dt, rot, None),
+        };
+    }
+
+    /// [`Md::predict`] with the neighbour list's displacement test in the
+    /// same pass over the grains: whether the list must be rebuilt (the
+    /// answer of [`NeighborList::needs_rebuild`] after the move).
+    fn predict_checked(&mut self) -> bool {
+        let p = &mut self.particles;
+        let n = p.n_owned();
+        let Some((reference, limit2)) = self.neighbors.skin_reference(p.len()) else {
+            self.predict();
+            return true;
+        };
+        let skin = Some(SkinCheck {
+            reference: &reference[..n],
+            limit2,
+        });
+        let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
+        let far = match self.settings.integrator {
+            Integrator::Gear5 => gear5::predict(p, dt, rot, skin),
+            Integrator::Verlet => velocity_verlet::predict(p, dt, rot, skin),
+        };
+        // Ghosts are not integrated here, but their owner may have moved them.
+        far || p.pos[n..]
+            .iter()
+            .zip(&reference[n..])
+            .any(|(&a, &b)| D::norm2(a - b) > limit2)
     }
 
     /// The integrator's part after the forces.
@@ -322,9 +354,10 @@ impl<D: Dim> Md<D> {
 
     fn rebuild_neighbors(&mut self) -> Result<()> {
         let n = self.particles.n_owned();
-        for i in 0..n {
-            self.particles.pos[i] = self.domain.wrap(self.particles.pos[i]);
-        }
+        let domain = &self.domain;
+        self.particles.pos[..n]
+            .par_iter_mut()
+            .for_each(|x| *x = domain.wrap(*x));
         let saved = self.save_springs();
         let sort_every = self.settings.sort_every;
         if sort_every > 0 && self.rebuilds_since_sort.is_multiple_of(sort_every) {
@@ -344,49 +377,54 @@ impl<D: Dim> Md<D> {
 
     /// The stretched springs, keyed by the ids of their pair (smaller first)
     /// and oriented as the displacement of the smaller id.
-    fn save_springs(&self) -> HashMap<(u64, u64), D::V> {
-        let mut saved = HashMap::new();
-        for (k, &[i, j]) in self.neighbors.pairs.iter().enumerate() {
-            let s = self.springs[k];
-            if s != D::zero() {
-                let (a, b) = (self.particles.id[i as usize], self.particles.id[j as usize]);
+    fn save_springs(&self) -> HashMap<(u64, u64), D::V, PairHash> {
+        let id = &self.particles.id;
+        let stretched: Vec<((u64, u64), D::V)> = self
+            .neighbors
+            .pairs
+            .par_iter()
+            .zip(self.springs.par_iter())
+            .filter(|(_, &s)| s != D::zero())
+            .map(|(&[i, j], &s)| {
+                let (a, b) = (id[i as usize], id[j as usize]);
                 if a < b {
-                    saved.insert((a, b), s);
+                    ((a, b), s)
                 } else {
-                    saved.insert((b, a), -s);
+                    ((b, a), -s)
                 }
-            }
-        }
+            })
+            .collect();
+        let mut saved = HashMap::with_capacity_and_hasher(stretched.len(), PairHash::default());
+        saved.extend(stretched);
         saved
     }
 
-    fn restore_springs(&mut self, saved: HashMap<(u64, u64), D::V>) {
+    fn restore_springs(&mut self, saved: HashMap<(u64, u64), D::V, PairHash>) {
         self.springs.clear();
         self.springs.resize(self.neighbors.pairs.len(), D::zero());
         if saved.is_empty() {
             return;
         }
-        for (k, &[i, j]) in self.neighbors.pairs.iter().enumerate() {
-            let (a, b) = (self.particles.id[i as usize], self.particles.id[j as usize]);
-            if a < b {
-                if let Some(&s) = saved.get(&(a, b)) {
-                    self.springs[k] = s;
+        let id = &self.particles.id;
+        self.springs
+            .par_iter_mut()
+            .zip(self.neighbors.pairs.par_iter())
+            .for_each(|(spring, &[i, j])| {
+                let (a, b) = (id[i as usize], id[j as usize]);
+                if a < b {
+                    if let Some(&s) = saved.get(&(a, b)) {
+                        *spring = s;
+                    }
+                } else if let Some(&s) = saved.get(&(b, a)) {
+                    *spring = -s;
                 }
-            } else if let Some(&s) = saved.get(&(b, a)) {
-                self.springs[k] = -s;
-            }
-        }
+            });
     }
 
-    /// Zeroes and recomputes every force and torque. `update_history` is
+    /// Recomputes every force and torque (the pair loop starts the sums). `update_history` is
     /// false when no time has passed (the start of a run): springs are then
     /// read but not stretched.
     pub fn compute_forces(&mut self, update_history: bool) {
-        let p = &mut self.particles;
-        p.force.par_chunks_mut(8192).for_each(|f| f.fill(D::zero()));
-        p.torque
-            .par_chunks_mut(8192)
-            .for_each(|t| t.fill(D::A::default()));
         self.stats.contacts = 0;
         self.stats.max_overlap = 0.0;
         self.stats.max_overlap_fraction = 0.0;
@@ -442,8 +480,11 @@ impl<D: Dim> Md<D> {
         let every = self.settings.nan_check_every.max(1);
         if self.step.is_multiple_of(every) {
             let p = &self.particles;
-            if let Some(i) =
-                (0..p.n_owned()).find(|&i| !(D::is_finite(p.pos[i]) && D::is_finite(p.vel[i])))
+            // The first such grain, whatever the threads.
+            if let Some(i) = (0..p.n_owned())
+                .into_par_iter()
+                .with_min_len(4096)
+                .find_first(|&i| !(D::is_finite(p.pos[i]) && D::is_finite(p.vel[i])))
             {
                 return Err(Error::Unstable(format!(
                     "at step {} (t = {:.6e} s) grain {} has a non-finite position or velocity; {}",

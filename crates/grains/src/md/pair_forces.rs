@@ -176,8 +176,10 @@ fn split_ranges<T>(mut v: &mut [T], lengths: impl Iterator<Item = usize>) -> Vec
     out
 }
 
-/// Adds all pair contact forces and torques to `p.force` / `p.torque`
-/// (which the caller has zeroed) and updates the springs.
+/// Sets `p.force` / `p.torque` to the sums of the pair contact forces and
+/// torques and updates the springs. Each block zeroes its own grains' sums
+/// just before it accumulates into them, while they are in its cache, instead
+/// of a separate pass over memory.
 pub fn pair_forces<D: Dim>(
     input: &PairInput<D>,
     p: &mut Particles<D>,
@@ -201,6 +203,11 @@ pub fn pair_forces<D: Dim>(
         "neighbour list and particle store disagree"
     );
 
+    // Grains beyond the blocks (none unless grains were added since the
+    // last build) get no contact.
+    let covered = (blocks.block * nb).min(n);
+    p.force[covered..].fill(D::zero());
+    p.torque[covered..].fill(D::A::default());
     let grain_lens = (0..nb).map(|b| (blocks.block * (b + 1)).min(n) - (blocks.block * b).min(n));
     let pair_lens = (0..nb).map(|b| blocks.pair_start[b + 1] - blocks.pair_start[b]);
     let slot_lens = (0..nb).map(|b| blocks.slot_start[b + 1] - blocks.slot_start[b]);
@@ -415,6 +422,8 @@ fn run_block<D: Dim, L: PairLaw>(
     // Pass 1: which listed pairs touch. Without a branch on the test (about
     // a third touch, in no predictable pattern): every index is written to a
     // small buffer and the count advances only for a contact.
+    t.force.fill(D::zero());
+    t.torque.fill(D::A::default());
     let [touching, was_touching] = t.touching;
     std::mem::swap(touching, was_touching);
     touching.clear();

@@ -226,6 +226,15 @@ impl<D: Dim> NeighborList<D> {
             .any(|(a, b)| a.iter().zip(b).any(|(&p, &q)| D::norm2(p - q) > limit))
     }
 
+    /// The positions of the last build and the squared displacement beyond
+    /// which a grain calls for a rebuild (the test of [`Self::needs_rebuild`]),
+    /// for an integrator that checks while it moves the grains; `None` when a
+    /// rebuild is due whatever the motion (no build yet, or `n` grains now).
+    pub fn skin_reference(&self, n: usize) -> Option<(&[D::V], f64)> {
+        (self.built && n == self.ref_pos.len())
+            .then(|| (&self.ref_pos[..], 0.25 * self.skin * self.skin))
+    }
+
     /// The shift to add to the partner's position for image `code`.
     #[inline]
     pub fn shift(&self, code: u8) -> D::V {
