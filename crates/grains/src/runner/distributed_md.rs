@@ -16,14 +16,14 @@
 //! `measure.phases` and `measure.trajectories`.
 
 use super::output::Outputs;
-use super::{flow, prepare, Measurements, Progress, RunOptions};
+use super::{flow, md_summary, prepare, Measurements, Progress, RunOptions};
 use crate::comm::Comm;
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::md::decomp::{index_by_id, DecomposedMd};
 use crate::measure::granular_temperature;
 use crate::scenario::{build_md, Loaded};
-use serde_json::{json, Map, Value};
+use serde_json::{json, Value};
 use std::time::Instant;
 
 /// The first scenario feature that the decomposed run cannot do yet.
@@ -145,32 +145,7 @@ pub fn run<D: Dim>(
     outputs.finish(&last, measurements.displacement.as_ref())?;
     measurements.write(&opts.out_dir, &md, &last)?;
     let steps = relax + measure;
-    let updates = (steps.max(1) as f64) * md.particles.n_mobile().max(1) as f64;
-    let mut summary = Map::new();
-    summary.insert("scenario".into(), json!(loaded.scenario.name));
-    summary.insert("dimension".into(), json!(D::NAME));
-    summary.insert("particles".into(), json!(md.particles.n_owned()));
-    summary.insert("steps".into(), json!(steps));
-    summary.insert("time".into(), json!(md.time));
-    summary.insert("dt".into(), json!(resolved.dt));
-    summary.insert("contact_time".into(), json!(resolved.contact_time));
-    summary.insert("wall_seconds".into(), json!(wall_seconds));
-    summary.insert(
-        "ns_per_particle_step".into(),
-        json!(1e9 * wall_seconds / updates),
-    );
-    summary.insert(
-        "kinetic_energy".into(),
-        json!(md.particles.kinetic_energy()),
-    );
-    summary.insert(
-        "rotational_energy".into(),
-        json!(md.particles.rotational_energy()),
-    );
-    summary.insert(
-        "granular_temperature".into(),
-        json!(granular_temperature(&md.particles)),
-    );
+    let mut summary = md_summary(loaded, &md, &resolved, steps, steps, wall_seconds);
     summary.insert("neighbor_builds".into(), json!(dec.neighbor_builds()));
     measurements.scalars(&mut summary);
     flow.finish(&opts.out_dir, &md, &mut summary)?;

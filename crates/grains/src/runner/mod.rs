@@ -102,6 +102,45 @@ pub fn prepare(dir: &Path) -> Result<()> {
     Ok(())
 }
 
+/// The summary scalars every MD run reports: what ran, how long it took
+/// (`stepped` steps of this process's timing) and the final energies.
+fn md_summary<D: Dim>(
+    loaded: &Loaded,
+    md: &Md<D>,
+    resolved: &Resolved,
+    steps: u64,
+    stepped: u64,
+    wall_seconds: f64,
+) -> Map<String, Value> {
+    let updates = (stepped.max(1) as f64) * md.particles.n_mobile().max(1) as f64;
+    let mut summary = Map::new();
+    summary.insert("scenario".into(), json!(loaded.scenario.name));
+    summary.insert("dimension".into(), json!(D::NAME));
+    summary.insert("particles".into(), json!(md.particles.n_owned()));
+    summary.insert("steps".into(), json!(steps));
+    summary.insert("time".into(), json!(md.time));
+    summary.insert("dt".into(), json!(resolved.dt));
+    summary.insert("contact_time".into(), json!(resolved.contact_time));
+    summary.insert("wall_seconds".into(), json!(wall_seconds));
+    summary.insert(
+        "ns_per_particle_step".into(),
+        json!(1e9 * wall_seconds / updates),
+    );
+    summary.insert(
+        "kinetic_energy".into(),
+        json!(md.particles.kinetic_energy()),
+    );
+    summary.insert(
+        "rotational_energy".into(),
+        json!(md.particles.rotational_energy()),
+    );
+    summary.insert(
+        "granular_temperature".into(),
+        json!(granular_temperature(&md.particles)),
+    );
+    summary
+}
+
 fn resolved_json<D: Dim>(loaded: &Loaded, md: &Md<D>, r: &Resolved) -> Value {
     let law = &r.law;
     json!({
@@ -420,31 +459,13 @@ fn run_loop<D: Dim>(
     outputs.finish(&last, measurements.displacement.as_ref())?;
     measurements.write(&opts.out_dir, &md, &last)?;
     let steps = relax + measure;
-    let updates = ((md.step - first_step).max(1) as f64) * md.particles.n_mobile().max(1) as f64;
-    let mut summary = Map::new();
-    summary.insert("scenario".into(), json!(loaded.scenario.name));
-    summary.insert("dimension".into(), json!(D::NAME));
-    summary.insert("particles".into(), json!(md.particles.n_owned()));
-    summary.insert("steps".into(), json!(steps));
-    summary.insert("time".into(), json!(md.time));
-    summary.insert("dt".into(), json!(resolved.dt));
-    summary.insert("contact_time".into(), json!(resolved.contact_time));
-    summary.insert("wall_seconds".into(), json!(wall_seconds));
-    summary.insert(
-        "ns_per_particle_step".into(),
-        json!(1e9 * wall_seconds / updates),
-    );
-    summary.insert(
-        "kinetic_energy".into(),
-        json!(md.particles.kinetic_energy()),
-    );
-    summary.insert(
-        "rotational_energy".into(),
-        json!(md.particles.rotational_energy()),
-    );
-    summary.insert(
-        "granular_temperature".into(),
-        json!(granular_temperature(&md.particles)),
+    let mut summary = md_summary(
+        loaded,
+        &md,
+        resolved,
+        steps,
+        md.step - first_step,
+        wall_seconds,
     );
     summary.insert("neighbor_builds".into(), json!(md.neighbor_builds()));
     measurements.scalars(&mut summary);
