@@ -167,17 +167,19 @@ fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
                 checkpoint_every,
                 quiet,
             } => {
-                if checkpoint_every.is_some() {
-                    return Err(Error::input(
-                        "--checkpoint-every is not supported under mpirun yet",
-                    ));
-                }
                 let args = (scenario, out, sets, steps, threads, quiet);
-                run_distributed(args, comm)
+                run_distributed(args, checkpoint_every, comm)
             }
+            Command::Resume {
+                run_dir,
+                steps,
+                checkpoint_every,
+                threads,
+                quiet,
+            } => resume_distributed(run_dir, steps, checkpoint_every, threads, quiet, comm),
             Command::Bench(args) => bench::run_ranks(args, comm).map(|_| ExitCode::SUCCESS),
             _ => Err(Error::input(format!(
-                "only `grains run` and `grains bench` run on several MPI ranks ({} here); start other commands without mpirun",
+                "only `grains run`, `grains resume` and `grains bench` run on several MPI ranks ({} here); start other commands without mpirun",
                 comm.size()
             ))),
         };
@@ -281,9 +283,55 @@ type DistributedArgs = (
     bool,
 );
 
+/// `grains resume` as one rank of `mpirun`: every rank reads the
+/// checkpoint and keeps its part; rank 0 reports and writes.
+fn resume_distributed(
+    run_dir: PathBuf,
+    steps: Option<u64>,
+    checkpoint_every: Option<String>,
+    threads: Option<usize>,
+    quiet: bool,
+    comm: &dyn grains::comm::Comm,
+) -> grains::Result<ExitCode> {
+    let root = comm.rank() == 0;
+    if steps == Some(0) {
+        return Err(Error::input("--steps must be at least 1"));
+    }
+    let every = checkpoint_every.as_deref().map(Every::parse).transpose()?;
+    let (found, skipped) = checkpointing::find(&run_dir)?;
+    set_threads(threads)?;
+    if root && !quiet {
+        for s in &skipped {
+            eprintln!("grains: skipped {s}");
+        }
+        eprintln!(
+            "grains: resuming from {} (step {}) on {} ranks",
+            found.path.display(),
+            found.step,
+            comm.size()
+        );
+    }
+    let opts = RunOptions {
+        checkpoint_every: every,
+        ..RunOptions::default()
+    };
+    let mut progress = progress::for_terminal(quiet || !root);
+    let summary = grains::parallel::on_pool(|| {
+        runner::distributed::resume(found, steps, opts, progress.as_mut(), comm)
+    })?;
+    if root {
+        report(&summary, quiet);
+        if !quiet {
+            eprintln!("grains: wrote {}", run_dir.display());
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
 /// `grains run` as one rank of `mpirun`: rank 0 reports and writes.
 fn run_distributed(
     (scenario, out, sets, steps, threads, quiet): DistributedArgs,
+    checkpoint_every: Option<String>,
     comm: &dyn grains::comm::Comm,
 ) -> grains::Result<ExitCode> {
     let root = comm.rank() == 0;
@@ -298,6 +346,7 @@ fn run_distributed(
     let opts = RunOptions {
         out_dir: out_dir.clone(),
         steps,
+        checkpoint_every: checkpoint_every.as_deref().map(Every::parse).transpose()?,
         ..RunOptions::default()
     };
     let mut progress = progress::for_terminal(quiet || !root);

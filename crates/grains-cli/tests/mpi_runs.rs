@@ -7,7 +7,8 @@
 //! thermo rows must agree to rounding on 1, 2 and 4 ranks, in 2D with
 //! walls and in 3D periodic; a scenario with a feature that is not
 //! decomposed yet (`[hopper]`) is refused with exit code 2 and a message
-//! naming it.
+//! naming it. MD checkpoints written under mpirun resume on one process
+//! and the reverse, continuing the straight run to rounding.
 #![cfg(feature = "mpi")]
 
 use std::path::{Path, PathBuf};
@@ -160,6 +161,27 @@ fn thermo(dir: &Path) -> (String, Vec<Vec<f64>>) {
     (head, rows)
 }
 
+/// The thermo rows of two MD runs agree: step and time exactly (parsed),
+/// the rest within 1e-9 relative but the contact count (see [`check_md`]).
+/// Rows of `dir` at steps that `reference` lacks are left out (a run that
+/// ends at a checkpoint writes a row there).
+fn same_thermo(dir: &Path, reference: &Path, what: &str) {
+    let (head, rows0) = thermo(reference);
+    assert!(rows0.len() > 3);
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+    let (h, mut rows) = thermo(dir);
+    rows.retain(|r| rows0.iter().any(|r0| r0[0] == r[0]));
+    assert_eq!(h, head);
+    assert_eq!(rows.len(), rows0.len(), "{what}");
+    for (r, r0) in rows.iter().zip(&rows0) {
+        for (k, col) in head.split(',').enumerate() {
+            if col != "contacts" {
+                assert!(close(r[k], r0[k]), "{what}: {col} {} vs {}", r[k], r0[k]);
+            }
+        }
+    }
+}
+
 /// An MD run on 1, 2 and 4 ranks against the plain run: the same rows of
 /// thermo.csv (step, time exactly; energies, temperature and the largest
 /// overlap within 1e-9 relative, since a rank sums a grain's contact
@@ -184,26 +206,9 @@ fn check_md(scenario: &Path, sets: &[&str], steps: &str) {
         dir
     };
     let serial = run(0);
-    let (head, rows0) = thermo(&serial);
-    assert!(rows0.len() > 3);
-    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
     for ranks in [1, 2, 4] {
         let dir = run(ranks);
-        let (h, rows) = thermo(&dir);
-        assert_eq!(h, head);
-        assert_eq!(rows.len(), rows0.len());
-        for (r, r0) in rows.iter().zip(&rows0) {
-            for (k, col) in head.split(',').enumerate() {
-                if col != "contacts" {
-                    assert!(
-                        close(r[k], r0[k]),
-                        "{ranks} ranks: {col} {} vs {}",
-                        r[k],
-                        r0[k]
-                    );
-                }
-            }
-        }
+        same_thermo(&dir, &serial, &format!("{ranks} ranks"));
         let summary: serde_json::Value =
             serde_json::from_slice(&read(&dir.join("summary.json"))).unwrap();
         if ranks > 1 {
@@ -295,4 +300,46 @@ fn md_hopper_on_several_ranks_is_refused_clearly() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("[hopper]"), "{err}");
     assert_eq!(err.matches("grains: error").count(), 1, "{err}");
+}
+
+#[test]
+fn md_checkpoints_cross_between_mpirun_and_one_process() {
+    // Seed 002's walled cell (Gear 5, wall springs): 1000 steps straight
+    // on one process, against 500 steps with a checkpoint on 2 ranks
+    // resumed on one process, and 500 on one process resumed on 2 ranks.
+    let path = repo().join("scenarios/seed-convection-walls.toml");
+    let path = path.to_str().unwrap();
+    let sets = [
+        "output.every=0.001",
+        "output.picture=false",
+        "particles.random_velocity=0.2",
+    ];
+    let run = |ranks: usize, dir: &Path, extra: &[&str]| {
+        let mut args = vec!["run", path, "--quiet", "--out", dir.to_str().unwrap()];
+        args.extend(extra);
+        for s in &sets {
+            args.extend(["--set", s]);
+        }
+        let out = grains(ranks, &args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{ranks} ranks: {err}");
+    };
+    let straight = scratch("ck-straight");
+    run(0, &straight, &["--steps", "1000"]);
+    for (before, after) in [(2, 0), (0, 2)] {
+        let dir = scratch(&format!("ck-{before}-{after}"));
+        run(
+            before,
+            &dir,
+            &["--steps", "500", "--checkpoint-every", "500steps"],
+        );
+        assert!(dir.join("checkpoint-000000000500.grck").exists());
+        let args = ["resume", dir.to_str().unwrap(), "--steps", "500", "--quiet"];
+        let out = grains(after, &args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "resume on {after} ranks: {err}");
+        same_thermo(&dir, &straight, &format!("{before} ranks, then {after}"));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    let _ = std::fs::remove_dir_all(&straight);
 }

@@ -19,6 +19,7 @@
 use grains::comm::{Comm, ThreadComm};
 use grains::md::decomp::{index_by_id, DecomposedMd};
 use grains::md::Md;
+use grains::runner::checkpointing::{self, Every};
 use grains::runner::{distributed, run, RunOptions, Silent};
 use grains::scenario::{build_md, load_str, Loaded};
 use grains::{Dim, D2, D3};
@@ -406,4 +407,125 @@ fn an_unstable_step_stops_every_rank_with_one_message() {
         serial_err.contains(&format!("at step {step} ")),
         "{serial_err} vs {msg}"
     );
+}
+
+// Checkpoints of decomposed runs. A checkpoint taken on 2 ranks is the
+// serial format: resumed on 2 ranks, or on one process, and a serial
+// checkpoint resumed on 2 ranks, each continues like the uninterrupted run
+// to rounding. The resumed run splits and builds its lists at the
+// checkpoint step instead of at the straight run's rebuild, so forces are
+// summed in another order: the same 1e-9 tolerances as above hold (the
+// rounding differences grow by the Lyapunov factor of ~100 steps only).
+
+/// `steps` measured steps (checkpoint every `every`) into `dir`, on `ranks`
+/// thread ranks (0: the serial runner).
+fn run_ranks(l: &Loaded, dir: &Path, ranks: usize, steps: u64, every: u64) {
+    let opts = RunOptions {
+        out_dir: dir.to_path_buf(),
+        steps: Some(steps),
+        checkpoint_every: Some(Every::Steps(every)),
+        ..Default::default()
+    };
+    if ranks == 0 {
+        run(l, &opts, &mut Silent).unwrap();
+        return;
+    }
+    ThreadComm::run(ranks, |c| {
+        distributed::run(l, &opts, &mut Silent, c as &dyn Comm).unwrap();
+    });
+}
+
+/// Resumes the newest checkpoint of `dir` for `steps` steps on `ranks`.
+fn resume_ranks(dir: &Path, ranks: usize, steps: u64) {
+    if ranks == 0 {
+        let (found, _) = checkpointing::find(dir).unwrap();
+        checkpointing::resume(found, Some(steps), RunOptions::default(), &mut Silent).unwrap();
+        return;
+    }
+    ThreadComm::run(ranks, |c| {
+        let (found, _) = checkpointing::find(dir).unwrap();
+        distributed::resume(found, Some(steps), RunOptions::default(), &mut Silent, c).unwrap();
+    });
+}
+
+/// The newest checkpoint of `dir` as an engine, with its step.
+fn newest<D: Dim>(dir: &Path) -> Md<D> {
+    checkpointing::find(dir)
+        .unwrap()
+        .0
+        .restore_md::<D>()
+        .unwrap()
+}
+
+/// Every grain (by id) within 1e-9 diameters and 1e-9 of Σm|v| in
+/// momentum, the kinetic energy within 1e-9 relative; the thermo tables
+/// equal to the same tolerance (contacts aside: both ranks count one
+/// across a slab boundary).
+fn same_run<D: Dim>(a_dir: &Path, b_dir: &Path, step: u64) {
+    let (a, b) = (newest::<D>(a_dir), newest::<D>(b_dir));
+    assert_eq!((a.step, b.step), (step, step));
+    let ib = index_by_id(&b.particles);
+    let (p, q) = (&a.particles, &b.particles);
+    assert_eq!(p.n_owned(), q.n_owned());
+    let d = 2.0 * p.max_radius();
+    let mv = scale(&a);
+    for i in 0..p.n_owned() {
+        let j = ib[&p.id[i]];
+        // One run may have wrapped a grain into the box since its last rebuild.
+        let dx = a.domain.minimum_image(p.pos[i] - q.pos[j]);
+        assert!(
+            D::norm(dx) <= 1e-9 * d,
+            "{}: grain {} off by {:e} diameters",
+            a_dir.display(),
+            p.id[i],
+            D::norm(dx) / d
+        );
+        let dv = D::norm(p.vel[i] - q.vel[j]) * p.mass[i];
+        assert!(dv <= 1e-9 * mv, "grain {} velocity", p.id[i]);
+    }
+    let (ea, eb) = (p.kinetic_energy(), q.kinetic_energy());
+    assert!((ea - eb).abs() <= 1e-9 * ea, "kinetic energy {ea} vs {eb}");
+    let ((ha, ra), (hb, rb)) = (thermo(a_dir), thermo(b_dir));
+    assert_eq!(ha, hb);
+    assert_eq!(ra.len(), rb.len());
+    for (x, y) in ra.iter().zip(&rb) {
+        for (k, name) in ha.iter().enumerate() {
+            let ok = (x[k] - y[k]).abs() <= 1e-9 * y[k].abs().max(1e-300);
+            assert!(name == "contacts" || ok, "{name}: {} vs {}", x[k], y[k]);
+        }
+    }
+}
+
+/// 2K steps straight on 2 ranks against K, checkpoint, resume K: on 2
+/// ranks, on one process, and from a serial checkpoint on 2 ranks.
+fn checkpoint_cases<D: Dim>(text: &str, k: u64, name: &str) {
+    let text = format!("{text}\n[output]\nevery = 0.001\nframes = false\npicture = false\n");
+    let l = loaded(&text);
+    let dir = |s: &str| scratch(&format!("ck-{name}-{s}"));
+    let (straight2, straight1) = (dir("straight2"), dir("straight1"));
+    run_ranks(&l, &straight2, 2, 2 * k, k);
+    run_ranks(&l, &straight1, 0, 2 * k, k);
+    // (ranks before the checkpoint, ranks after, the straight run to match)
+    for (before, after, reference) in [(2, 0, &straight1), (0, 2, &straight1), (2, 2, &straight2)] {
+        let d = dir(&format!("{before}-{after}"));
+        run_ranks(&l, &d, before, k, k);
+        assert_eq!(newest::<D>(&d).step, k);
+        resume_ranks(&d, after, k);
+        same_run::<D>(&d, reference, 2 * k);
+        let _ = std::fs::remove_dir_all(&d);
+    }
+    // The 2-rank and serial straight runs agree too (the decomposition).
+    same_run::<D>(&straight2, &straight1, 2 * k);
+    let _ = std::fs::remove_dir_all(&straight1);
+    let _ = std::fs::remove_dir_all(&straight2);
+}
+
+#[test]
+fn checkpoints_of_decomposed_runs_resume_anywhere_3d_verlet_bed() {
+    checkpoint_cases::<D3>(&bed_3d(), 60, "bed3d");
+}
+
+#[test]
+fn checkpoints_of_decomposed_runs_resume_anywhere_2d_gear_box() {
+    checkpoint_cases::<D2>(&box_2d(), 60, "box2d");
 }

@@ -189,7 +189,12 @@ impl Checkpointer {
         Ok(None)
     }
 
-    fn write<D: Dim>(
+    /// Whether the interval asks for a checkpoint at `step`.
+    pub(super) fn due(&self, step: u64) -> bool {
+        self.interval.is_some_and(|n| step.is_multiple_of(n))
+    }
+
+    pub(super) fn write<D: Dim>(
         &self,
         md: &Md<D>,
         out: &Outputs,
@@ -335,10 +340,10 @@ pub struct Found {
     pub path: PathBuf,
     pub step: u64,
     loaded: Loaded,
-    dim: usize,
+    pub(super) dim: usize,
     plan: (u64, u64),
     interval: u64,
-    outputs: OutputState,
+    pub(super) outputs: OutputState,
     engine: Vec<u8>,
     measurements: Option<Vec<u8>>,
 }
@@ -469,28 +474,40 @@ pub fn resume(
     crate::parallel::on_pool(move || resume_on_pool(found, steps, opts, progress))
 }
 
-fn resume_on_pool(
-    found: Found,
-    steps: Option<u64>,
-    mut opts: RunOptions,
-    progress: &mut dyn Progress,
-) -> Result<Value> {
+/// The options of a resumed run: its outputs go to the checkpoint's
+/// directory, and it keeps the checkpoint's interval unless given another.
+pub(super) fn resume_options(found: &Found, mut opts: RunOptions) -> RunOptions {
     let dir = found
         .path
         .parent()
         .map(Path::to_path_buf)
         .unwrap_or_default();
-    let dir = if dir.as_os_str().is_empty() {
+    opts.out_dir = if dir.as_os_str().is_empty() {
         PathBuf::from(".")
     } else {
         dir
     };
-    opts.out_dir = dir;
     if opts.checkpoint_every.is_none() && found.interval > 0 {
         opts.checkpoint_every = Some(Every::Steps(found.interval));
     }
+    opts
+}
+
+/// Rank 0's (or a single process's) preparation of a resumed run's directory.
+pub(super) fn prepare_resume(opts: &RunOptions) -> Result<()> {
     prepare(&opts.out_dir)?;
     checkpoint::remove_stale_temporaries(&opts.out_dir);
+    Ok(())
+}
+
+fn resume_on_pool(
+    found: Found,
+    steps: Option<u64>,
+    opts: RunOptions,
+    progress: &mut dyn Progress,
+) -> Result<Value> {
+    let opts = resume_options(&found, opts);
+    prepare_resume(&opts)?;
     if found.loaded.scenario.method == crate::dsmc::Method::Dsmc {
         let f = &found;
         return super::dsmc::resume(
@@ -503,67 +520,99 @@ fn resume_on_pool(
     }
 }
 
+/// What a resumed MD run starts from, every rank alike: the engine
+/// restored from the checkpoint, the scenario's resolved settings, the step
+/// plan, and the measurement accumulators when the checkpoint lies inside
+/// the measurement.
+pub(super) struct Restored<D: Dim> {
+    pub md: Md<D>,
+    pub resolved: crate::scenario::Resolved,
+    pub plan: (u64, u64),
+    pub measurements: Option<Measurements>,
+}
+
+impl Found {
+    /// The checkpoint's scenario.
+    pub fn loaded(&self) -> &Loaded {
+        &self.loaded
+    }
+
+    /// A fresh engine of the checkpoint's scenario with the checkpoint's MD
+    /// state in it.
+    pub fn restore_md<D: Dim>(&self) -> Result<Md<D>> {
+        if checkpoint::dsmc::is_dsmc(&self.engine) {
+            return Err(Error::input(format!(
+                "checkpoint {}: holds a DSMC engine state, but its scenario is an MD run \
+                 (method = \"dsmc\" is not set); the file cannot be resumed as MD",
+                self.path.display()
+            )));
+        }
+        let (mut md, _) = build_md::<D>(&self.loaded)?;
+        engine::restore(&mut md, &self.engine)
+            .map_err(|e| Error::input(format!("{}: {e}", self.path.display())))?;
+        if md.step != self.step {
+            return Err(Error::input(format!(
+                "checkpoint {}: header step {} but engine step {}",
+                self.path.display(),
+                self.step,
+                md.step
+            )));
+        }
+        Ok(md)
+    }
+
+    /// Everything a resumed MD run needs, checked; `steps`: `--steps`.
+    pub(super) fn restore<D: Dim>(&self, steps: Option<u64>) -> Result<Restored<D>> {
+        let loaded = &self.loaded;
+        let md = self.restore_md::<D>()?;
+        let (_, resolved) = build_md::<D>(loaded)?;
+        let path = self.path.display();
+        let (relax, measure) = resume_plan(self.plan, md.step, steps, &path.to_string())?;
+        let measurements = match &self.measurements {
+            Some(bytes) if md.step > relax => Some(
+                Measurements::load(loaded, bytes)
+                    .map_err(|e| Error::input(format!("checkpoint {path}: {e}")))?,
+            ),
+            Some(_) => {
+                return Err(Error::input(format!(
+                    "checkpoint {path}: measurement state at step {}, before the measurement begins",
+                    md.step
+                )))
+            }
+            None if md.step > relax => {
+                return Err(Error::input(format!(
+                    "checkpoint {path}: step {} lies in the measurement but carries no measurement state",
+                    md.step
+                )))
+            }
+            None => None,
+        };
+        Ok(Restored {
+            md,
+            resolved,
+            plan: (relax, measure),
+            measurements,
+        })
+    }
+}
+
 fn resume_dim<D: Dim>(
     found: Found,
     steps: Option<u64>,
     opts: &RunOptions,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
+    let r = found.restore::<D>(steps)?;
     let loaded = &found.loaded;
-    if checkpoint::dsmc::is_dsmc(&found.engine) {
-        return Err(Error::input(format!(
-            "checkpoint {}: holds a DSMC engine state, but its scenario is an MD run \
-             (method = \"dsmc\" is not set); the file cannot be resumed as MD",
-            found.path.display()
-        )));
-    }
-    let (mut md, resolved) = build_md::<D>(loaded)?;
-    engine::restore(&mut md, &found.engine)
-        .map_err(|e| Error::input(format!("{}: {e}", found.path.display())))?;
-    if md.step != found.step {
-        return Err(Error::input(format!(
-            "checkpoint {}: header step {} but engine step {}",
-            found.path.display(),
-            found.step,
-            md.step
-        )));
-    }
-    let (relax, measure) = resume_plan(
-        found.plan,
-        md.step,
-        steps,
-        &found.path.display().to_string(),
-    )?;
-    let restored = match &found.measurements {
-        Some(bytes) if md.step > relax => Some(
-            Measurements::load(loaded, bytes)
-                .map_err(|e| Error::input(format!("checkpoint {}: {e}", found.path.display())))?,
-        ),
-        Some(_) => {
-            return Err(Error::input(format!(
-                "checkpoint {}: measurement state at step {}, before the measurement begins",
-                found.path.display(),
-                md.step
-            )))
-        }
-        None if md.step > relax => {
-            return Err(Error::input(format!(
-                "checkpoint {}: step {} lies in the measurement but carries no measurement state",
-                found.path.display(),
-                md.step
-            )))
-        }
-        None => None,
-    };
     let outputs = Outputs::resume(&opts.out_dir, &loaded.scenario.output, &found.outputs)?;
     run_loop(
         loaded,
         opts,
-        md,
-        &resolved,
+        r.md,
+        &r.resolved,
         outputs,
-        (relax, measure),
-        restored,
+        r.plan,
+        r.measurements,
         progress,
     )
 }

@@ -10,9 +10,12 @@
 //! large runs choose `output.every` and `dsmc.profile_bins` with that in
 //! mind.
 //!
-//! Not supported yet, with a clear error: checkpoints and resume (and the
-//! MD features listed in [`super::distributed_md`]). A stop signal ends the run without a checkpoint.
+//! MD checkpoints and resume: see [`super::distributed_md`]. Not supported
+//! yet for DSMC, with a clear error: checkpoints and resume under mpirun
+//! (run or resume those on one process). A stop signal ends the run
+//! without a checkpoint.
 
+use super::checkpointing::{self, Found};
 use super::dsmc::{build, describe, frame, gas_summary, spec, Measure, Outputs};
 use super::{prepare, Progress, RunOptions};
 use crate::comm::Comm;
@@ -35,9 +38,11 @@ pub fn run(
     progress: &mut dyn Progress,
     comm: &dyn Comm,
 ) -> Result<Value> {
-    if opts.checkpoint_every.is_some() {
+    let md = loaded.scenario.method != Method::Dsmc;
+    if opts.checkpoint_every.is_some() && !md {
         return Err(Error::input(
-            "--checkpoint-every is not supported in a distributed run yet",
+            "--checkpoint-every is not supported for a DSMC run on several ranks yet; \
+             run it on one process to checkpoint it",
         ));
     }
     // Not on rayon's pool here (unlike `super::run`): ranks that are
@@ -49,6 +54,30 @@ pub fn run(
         Dimension::Three if md => super::distributed_md::run::<D3>(loaded, opts, progress, comm),
         Dimension::Two => run_dim::<D2>(loaded, opts, progress, comm),
         Dimension::Three => run_dim::<D3>(loaded, opts, progress, comm),
+    }
+}
+
+/// Continues a checkpoint (of a serial or a distributed MD run) on the
+/// ranks of `comm`; all of them call this with the same checkpoint. Outputs
+/// go to the checkpoint's directory, as with [`checkpointing::resume`].
+pub fn resume(
+    found: Found,
+    steps: Option<u64>,
+    opts: RunOptions,
+    progress: &mut dyn Progress,
+    comm: &dyn Comm,
+) -> Result<Value> {
+    if found.loaded().scenario.method == Method::Dsmc {
+        return Err(Error::input(format!(
+            "checkpoint {}: resuming a DSMC run on several ranks is not supported yet; \
+             resume it without mpirun",
+            found.path.display()
+        )));
+    }
+    let opts = checkpointing::resume_options(&found, opts);
+    match found.dim {
+        2 => super::distributed_md::resume::<D2>(&found, steps, &opts, progress, comm),
+        _ => super::distributed_md::resume::<D3>(&found, steps, &opts, progress, comm),
     }
 }
 

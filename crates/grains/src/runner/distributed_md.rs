@@ -10,19 +10,30 @@
 //! the sum over ranks, in which a contact across a slab boundary counts
 //! twice (both ranks evaluate it).
 //!
+//! Checkpoints (`--checkpoint-every`): at a checkpoint step every rank
+//! sends its grains (Gear history, force and torque included) and springs
+//! to rank 0, which writes the serial run's checkpoint format from the
+//! mirror ([`DecomposedMd::gather_state`]). So `grains resume` continues
+//! such a run on one process, and [`resume`] continues any checkpoint on
+//! several ranks: every rank restores the whole engine and keeps its slab.
+//! A stop signal under mpirun ends the run without a checkpoint (the ranks
+//! would have to agree on the step); the last interval's checkpoint stays.
+//!
 //! Refused with a clear error, because they change the grains or walls
 //! between steps or measure every step on the whole state: `[hopper]`
 //! recycling, `run.events` (settle, wall removal, tilt),
 //! `measure.phases` and `measure.trajectories`.
 
+use super::checkpointing::{self, Checkpointer, Found};
 use super::output::Outputs;
 use super::{flow, md_summary, prepare, Measurements, Progress, RunOptions};
 use crate::comm::Comm;
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::md::decomp::{index_by_id, DecomposedMd};
+use crate::md::Md;
 use crate::measure::granular_temperature;
-use crate::scenario::{build_md, Loaded};
+use crate::scenario::{build_md, Loaded, Resolved};
 use serde_json::{json, Value};
 use std::time::Instant;
 
@@ -42,6 +53,18 @@ fn unsupported(loaded: &Loaded) -> Option<&'static str> {
     }
 }
 
+/// Stops a scenario that the decomposed run cannot do, naming the feature.
+fn refuse(loaded: &Loaded, comm: &dyn Comm) -> Result<()> {
+    match unsupported(loaded) {
+        Some(feature) => Err(Error::input(format!(
+            "{}: {feature} is not supported on {} MPI ranks yet; run it on one rank with --threads",
+            loaded.origin,
+            comm.size()
+        ))),
+        None => Ok(()),
+    }
+}
+
 /// Runs `loaded` (method = "md") on the ranks of `comm`; the summary on
 /// rank 0, `Value::Null` elsewhere.
 pub fn run<D: Dim>(
@@ -50,67 +73,169 @@ pub fn run<D: Dim>(
     progress: &mut dyn Progress,
     comm: &dyn Comm,
 ) -> Result<Value> {
-    if let Some(feature) = unsupported(loaded) {
-        return Err(Error::input(format!(
-            "{}: {feature} is not supported on {} MPI ranks yet; run it on one rank with --threads",
-            loaded.origin,
-            comm.size()
-        )));
-    }
+    refuse(loaded, comm)?;
     let root = comm.rank() == 0;
     if root {
         prepare(&opts.out_dir)?;
     }
     let loaded = &*flow::expand(loaded)?;
     let (full, resolved) = build_md::<D>(loaded)?;
-    let mut mirror = if root {
-        Some(build_md::<D>(loaded)?.0)
-    } else {
-        None
+    let mirror = match root {
+        true => Some(build_md::<D>(loaded)?.0),
+        false => None,
     };
+    let outputs = match root {
+        true => Some(Outputs::create(&opts.out_dir, &loaded.scenario.output)?),
+        false => None,
+    };
+    let plan = match opts.steps {
+        Some(n) => (0, n),
+        None => (resolved.relax_steps, resolved.measure_steps),
+    };
+    let start = Start {
+        full,
+        mirror,
+        resolved,
+        outputs,
+        plan,
+        restored: None,
+    };
+    drive(loaded, opts, start, progress, comm)
+}
+
+/// Continues an MD checkpoint (written by a serial or a distributed run) on
+/// the ranks of `comm`: every rank reads it and keeps its slab. `opts` as
+/// given by [`checkpointing::resume_options`].
+pub(super) fn resume<D: Dim>(
+    found: &Found,
+    steps: Option<u64>,
+    opts: &RunOptions,
+    progress: &mut dyn Progress,
+    comm: &dyn Comm,
+) -> Result<Value> {
+    let loaded = found.loaded();
+    refuse(loaded, comm)?;
+    let r = found.restore::<D>(steps)?;
+    let root = comm.rank() == 0;
+    let (mirror, outputs) = match root {
+        true => {
+            checkpointing::prepare_resume(opts)?;
+            let spec = &loaded.scenario.output;
+            let out = Outputs::resume(&opts.out_dir, spec, &found.outputs)?;
+            (Some(found.restore_md::<D>()?), Some(out))
+        }
+        false => (None, None),
+    };
+    let start = Start {
+        full: r.md,
+        mirror,
+        resolved: r.resolved,
+        outputs,
+        plan: r.plan,
+        restored: r.measurements,
+    };
+    drive(loaded, opts, start, progress, comm)
+}
+
+/// What [`drive`] starts from: the whole engine (every rank), rank 0's
+/// mirror and outputs, the (relax, measured) plan, and the measurement
+/// accumulators of a checkpoint taken inside the measurement.
+struct Start<D: Dim> {
+    full: Md<D>,
+    mirror: Option<Md<D>>,
+    resolved: Resolved,
+    outputs: Option<Outputs>,
+    plan: (u64, u64),
+    restored: Option<Measurements>,
+}
+
+/// The run from `start.full.step` to the end of the plan (the serial
+/// `run_loop`'s course, decomposed).
+fn drive<D: Dim>(
+    loaded: &Loaded,
+    opts: &RunOptions,
+    start: Start<D>,
+    progress: &mut dyn Progress,
+    comm: &dyn Comm,
+) -> Result<Value> {
+    let Start {
+        full,
+        mut mirror,
+        resolved,
+        mut outputs,
+        plan: (relax, measure),
+        restored,
+    } = start;
+    // Every rank makes the checkpointer, so a scenario it refuses stops all.
+    let ckpt = Checkpointer::new(loaded, opts, &full, (relax, measure))?;
     let index = mirror
         .as_ref()
         .map(|m| index_by_id(&m.particles))
         .unwrap_or_default();
-    let mut dec = DecomposedMd::new(full, comm)?;
-    let mut outputs = match root {
-        true => Some(Outputs::create(&opts.out_dir, &loaded.scenario.output)?),
-        false => None,
-    };
-    let (relax, measure) = match opts.steps {
-        Some(n) => (0, n),
-        None => (resolved.relax_steps, resolved.measure_steps),
+    let first_step = full.step;
+    let mut dec = match first_step {
+        0 => DecomposedMd::new(full, comm)?,
+        _ => DecomposedMd::resume(full, comm)?,
     };
     let every = resolved.output_every;
     let sample_every = (every / 10).max(1);
     let started = Instant::now();
-    if relax > 0 {
+    // A checkpoint at `dec.md.step` when due (all ranks call this).
+    let checkpoint = |dec: &DecomposedMd<D>,
+                      mirror: &mut Option<Md<D>>,
+                      outputs: &Option<Outputs>,
+                      meas: Option<&Measurements>|
+     -> Result<()> {
+        if !ckpt.due(dec.md.step) {
+            return Ok(());
+        }
+        dec.gather_state(mirror.as_mut(), &index)?;
+        if let (Some(m), Some(out)) = (mirror.as_ref(), outputs.as_ref()) {
+            ckpt.write(m, out, meas)?;
+        }
+        // The checkpoint wrapped the mirror's grains into the box; the
+        // measurements follow the grains as the ranks hold them.
+        dec.gather(mirror.as_mut(), &index);
+        Ok(())
+    };
+    if first_step == 0 {
+        checkpoint(&dec, &mut mirror, &outputs, None)?;
+    }
+    let relax_done = dec.md.step.min(relax);
+    if relax > relax_done {
         progress.phase("relax", relax);
-        for k in 1..=relax {
+        for k in relax_done + 1..=relax {
             dec.step()?;
             if k % 256 == 0 || k == relax {
                 progress.advance(k, dec.md.time);
             }
+            checkpoint(&dec, &mut mirror, &outputs, None)?;
         }
     }
     progress.phase("run", measure);
-    let gather = |dec: &DecomposedMd<D>, mirror: &mut Option<crate::md::Md<D>>| {
+    let gather = |dec: &DecomposedMd<D>, mirror: &mut Option<Md<D>>| {
         dec.gather(mirror.as_mut(), &index);
         if let Some(m) = mirror.as_mut() {
             m.stats = dec.md.stats.clone();
         }
     };
+    let measure_done = dec.md.step - dec.md.step.min(relax);
     gather(&dec, &mut mirror);
     let mut state = match (mirror.as_ref(), outputs.as_mut()) {
         (Some(m), Some(out)) => {
-            let measurements = Measurements::begin(loaded, m, measure, resolved.dt)?;
+            let measurements = match restored {
+                Some(r) => r,
+                None => Measurements::begin(loaded, m, measure - measure_done, resolved.dt)?,
+            };
             let flow = flow::FlowRun::begin(loaded, m)?;
-            out.record(m, &m.frame(), granular_temperature(&m.particles))?;
+            if measure_done == 0 {
+                out.record(m, &m.frame(), granular_temperature(&m.particles))?;
+            }
             Some((measurements, flow))
         }
         _ => None,
     };
-    for k in 1..=measure {
+    for k in measure_done + 1..=measure {
         dec.step()?;
         let sample = k % sample_every == 0;
         let output = k % every == 0 || k == measure;
@@ -131,6 +256,8 @@ pub fn run<D: Dim>(
         if k % 256 == 0 || k == measure {
             progress.advance(k, dec.md.time);
         }
+        let meas = state.as_ref().map(|s| &s.0);
+        checkpoint(&dec, &mut mirror, &outputs, meas)?;
     }
     progress.finish();
     let wall_seconds = started.elapsed().as_secs_f64();
@@ -145,7 +272,14 @@ pub fn run<D: Dim>(
     outputs.finish(&last, measurements.displacement.as_ref())?;
     measurements.write(&opts.out_dir, &md, &last)?;
     let steps = relax + measure;
-    let mut summary = md_summary(loaded, &md, &resolved, steps, steps, wall_seconds);
+    let mut summary = md_summary(
+        loaded,
+        &md,
+        &resolved,
+        steps,
+        dec.md.step - first_step,
+        wall_seconds,
+    );
     summary.insert("neighbor_builds".into(), json!(dec.neighbor_builds()));
     measurements.scalars(&mut summary);
     flow.finish(&opts.out_dir, &md, &mut summary)?;
