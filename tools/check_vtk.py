@@ -6,6 +6,9 @@ Usage: python3 tools/check_vtk.py RUN_DIR
 Reads every RUN_DIR/frames/*.vtp with VTK's own XML PolyData reader (the
 `vtk` package from PyPI: `python3 -m pip install vtk`; meshio cannot read
 .vtp files) and RUN_DIR/frames.pvd, and checks that
+(frames in pieces, `output.frames_layout = "pieces"`: every
+RUN_DIR/frames/*.pvtp with VTK's parallel reader, which joins the pieces,
+and then the same checks on the whole frame, ids unique across pieces)
 
 * each frame parses without a VTK error or warning and has N points and N
   vertex cells (N > 0);
@@ -41,11 +44,11 @@ def load_vtk():
     try:
         # Only the modules needed: no rendering libraries (GL, X11) load.
         from vtkmodules.vtkCommonCore import vtkCommand
-        from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+        from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLPPolyDataReader
     except ImportError as e:
         sys.exit(f"check_vtk: the `vtk` Python package is needed "
                  f"(python3 -m pip install vtk): {e}")
-    return vtkCommand, vtkXMLPolyDataReader
+    return vtkCommand, vtkXMLPolyDataReader, vtkXMLPPolyDataReader
 
 
 class ErrorCatcher:
@@ -175,9 +178,13 @@ def main(argv):
     if not run_dir.is_dir():
         print(f"check_vtk: {run_dir}: not a directory", file=sys.stderr)
         return 2
-    vtk_command, reader_cls = load_vtk()
+    vtk_command, serial_reader, parallel_reader = load_vtk()
     problems = []
-    files = sorted((run_dir / "frames").glob("*.vtp"))
+    files = sorted((run_dir / "frames").glob("*.pvtp"))
+    reader_cls = parallel_reader
+    if not files:
+        files = sorted((run_dir / "frames").glob("*.vtp"))
+        reader_cls = serial_reader
     if not files:
         problems.append(f"{run_dir / 'frames'}: no .vtp files")
     frames = {}

@@ -529,3 +529,80 @@ fn checkpoints_of_decomposed_runs_resume_anywhere_3d_verlet_bed() {
 fn checkpoints_of_decomposed_runs_resume_anywhere_2d_gear_box() {
     checkpoint_cases::<D2>(&box_2d(), 60, "box2d");
 }
+
+/// The numbers of the DataArray `name` in a .vtp document.
+fn vtp_array(xml: &str, name: &str) -> Vec<f64> {
+    let at = xml
+        .find(&format!("Name=\"{name}\""))
+        .expect("array present");
+    let body = &xml[at..];
+    let open = body.find('>').unwrap() + 1;
+    let close = body.find("</DataArray>").unwrap();
+    let values = body[open..close].split_whitespace();
+    values.map(|t| t.parse().unwrap()).collect()
+}
+
+#[test]
+fn frames_in_pieces_hold_every_grain_once_across_ranks() {
+    let text = format!(
+        "{}\n[output]\nevery = 0.005\nframes = true\nframes_layout = \"pieces\"\npicture = false\n",
+        bed_3d()
+    );
+    let l = loaded(&text);
+    let (whole, _) = build_md::<D3>(&l).unwrap();
+    let mut all: Vec<u64> = whole.particles.id.clone();
+    all.sort_unstable();
+    for ranks in [1, 2, 3] {
+        let dir = scratch(&format!("pieces-{ranks}"));
+        run_ranks(&l, &dir, ranks, 200, 1000);
+        let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
+        let listed: Vec<&str> = pvd
+            .split("file=\"")
+            .skip(1)
+            .map(|s| &s[..s.find('"').unwrap()])
+            .collect();
+        // Step 0 and every 50 steps to 200.
+        assert_eq!(listed.len(), 5, "{pvd}");
+        for rel in listed {
+            assert!(rel.ends_with(".pvtp"), "{rel}");
+            let pvtp = std::fs::read_to_string(dir.join(rel)).unwrap();
+            let sources: Vec<&str> = pvtp
+                .split("Source=\"")
+                .skip(1)
+                .map(|s| &s[..s.find('"').unwrap()])
+                .collect();
+            assert_eq!(sources.len(), ranks);
+            let mut ids = Vec::new();
+            for s in sources {
+                let piece = std::fs::read_to_string(dir.join("frames").join(s)).unwrap();
+                let n = vtp_array(&piece, "id").len();
+                assert_eq!(vtp_array(&piece, "radius").len(), n);
+                assert_eq!(vtp_array(&piece, "Points").len(), 3 * n);
+                if ranks > 1 {
+                    assert!(n > 0 && n < all.len(), "a piece holds its rank's grains");
+                }
+                ids.extend(vtp_array(&piece, "id").into_iter().map(|x| x as u64));
+            }
+            ids.sort_unstable();
+            assert_eq!(ids, all, "{rel}: every grain once");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+#[test]
+fn an_unknown_frames_layout_is_refused_naming_key_and_choices() {
+    let text = format!("{}\n[output]\nframes_layout = \"tiles\"\n", bed_3d());
+    let err = load_str(&text, "bed.toml", PathBuf::from("."), &[])
+        .unwrap_err()
+        .to_string();
+    for part in [
+        "bed.toml",
+        "output.frames_layout",
+        "gathered",
+        "pieces",
+        "tiles",
+    ] {
+        assert!(err.contains(part), "{part} missing in: {err}");
+    }
+}

@@ -23,7 +23,7 @@ pub use picture::{
     draw_arrows, render_particles, viridis, world_rect, Image, PictureOptions, View,
 };
 pub use thermo::ThermoWriter;
-pub use vtk::{vtp_string, PvdCollection, VtkSeries};
+pub use vtk::{pvtp_string, vtp_string, write_piece, PvdCollection, VtkSeries};
 
 /// Displays an `f64` with full (round-trip) precision and compactly: plain
 /// decimals for moderate magnitudes, scientific notation (`1e-300`) otherwise.

@@ -4,6 +4,13 @@
 //! Layout under the output directory:
 //! `frames.pvd` and `frames/frame_000000.vtp`, `frames/frame_000001.vtp`, …
 //! Data arrays are written in the ASCII format with full `f64` precision.
+//!
+//! In pieces (`output.frames_layout = "pieces"`), a frame is a parallel
+//! PolyData file `frames/frame_NNNNNN.pvtp` that lists one piece per rank,
+//! `frames/piece_<step>_<rank>.vtp` (a `.vtp` as above holding that rank's
+//! own grains), and frames.pvd lists the `.pvtp` files. Each rank writes
+//! its piece, so no rank formats the whole frame; the ranks must share the
+//! output directory's file system.
 
 use super::atomic::write_atomic;
 use super::frame::Frame;
@@ -41,53 +48,75 @@ pub fn vtp_string(frame: &Frame) -> String {
         "    <Piece NumberOfPoints=\"{n}\" NumberOfVerts=\"{n}\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">"
     );
     s.push_str("      <PointData Scalars=\"radius\" Vectors=\"velocity\">\n");
-    array(
-        &mut s,
-        "Float64",
-        "radius",
-        1,
-        frame.radius.iter().map(|&v| Num(v)),
-    );
-    array(
-        &mut s,
-        "Float64",
-        "velocity",
-        3,
-        frame.vel.iter().flatten().map(|&v| Num(v)),
-    );
-    array(
-        &mut s,
-        "Float64",
-        "angular_velocity",
-        3,
-        frame.omega.iter().flatten().map(|&v| Num(v)),
-    );
-    array(&mut s, "Int64", "id", 1, frame.id.iter());
-    array(&mut s, "Int32", "type", 1, frame.kind.iter());
+    let [radius, vel, omega, id, kind] = POINT_ARRAYS;
+    let num = |v: &f64| Num(*v);
+    array(&mut s, radius, frame.radius.iter().map(num));
+    array(&mut s, vel, frame.vel.iter().flatten().map(num));
+    array(&mut s, omega, frame.omega.iter().flatten().map(num));
+    array(&mut s, id, frame.id.iter());
+    array(&mut s, kind, frame.kind.iter());
     s.push_str("      </PointData>\n");
     s.push_str("      <Points>\n");
-    array(
-        &mut s,
-        "Float64",
-        "Points",
-        3,
-        frame.pos.iter().flatten().map(|&v| Num(v)),
-    );
+    let points = ("Float64", "Points", 3);
+    array(&mut s, points, frame.pos.iter().flatten().map(num));
     s.push_str("      </Points>\n");
     s.push_str("      <Verts>\n");
-    array(&mut s, "Int64", "connectivity", 1, 0..n);
-    array(&mut s, "Int64", "offsets", 1, 1..=n);
+    array(&mut s, ("Int64", "connectivity", 1), 0..n);
+    array(&mut s, ("Int64", "offsets", 1), 1..=n);
     s.push_str("      </Verts>\n");
     s.push_str("    </Piece>\n  </PolyData>\n</VTKFile>\n");
+    s
+}
+
+/// The point arrays of a frame (type, name, components), in file order.
+const POINT_ARRAYS: [(&str, &str, usize); 5] = [
+    ("Float64", "radius", 1),
+    ("Float64", "velocity", 3),
+    ("Float64", "angular_velocity", 3),
+    ("Int64", "id", 1),
+    ("Int32", "type", 1),
+];
+
+/// The `.vtp` piece of `rank` for the frame at `step`, relative to frames/.
+pub fn piece_name(step: u64, rank: usize) -> String {
+    format!("piece_{step:012}_{rank:04}.vtp")
+}
+
+/// Writes `frame` (this rank's grains) as its piece of a parallel frame.
+pub fn write_piece(out_dir: &Path, frame: &Frame, rank: usize) -> Result<()> {
+    let path = out_dir.join("frames").join(piece_name(frame.step, rank));
+    write_atomic(&path, vtp_string(frame).as_bytes())
+}
+
+/// A parallel PolyData document (`.pvtp`) for the frame at `step` made of
+/// the pieces of `ranks` ranks, with the point arrays of [`vtp_string`].
+pub fn pvtp_string(step: u64, ranks: usize) -> String {
+    let mut s = String::from("<?xml version=\"1.0\"?>\n");
+    s.push_str(
+        "<VTKFile type=\"PPolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n",
+    );
+    s.push_str("  <PPolyData GhostLevel=\"0\">\n");
+    s.push_str("    <PPointData Scalars=\"radius\" Vectors=\"velocity\">\n");
+    for (ty, name, comps) in POINT_ARRAYS {
+        let _ = writeln!(
+            s,
+            "      <PDataArray type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{comps}\"/>"
+        );
+    }
+    s.push_str("    </PPointData>\n    <PPoints>\n");
+    s.push_str("      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n");
+    s.push_str("    </PPoints>\n");
+    for rank in 0..ranks {
+        let _ = writeln!(s, "    <Piece Source=\"{}\"/>", piece_name(step, rank));
+    }
+    s.push_str("  </PPolyData>\n</VTKFile>\n");
     s
 }
 
 /// Appends one ASCII `DataArray`, six values per line.
 fn array<T: std::fmt::Display>(
     s: &mut String,
-    ty: &str,
-    name: &str,
-    comps: usize,
+    (ty, name, comps): (&str, &str, usize),
     values: impl Iterator<Item = T>,
 ) {
     let _ = write!(
@@ -157,6 +186,8 @@ fn xml_escape(s: &str) -> String {
 pub struct VtkSeries {
     pub dir: PathBuf,
     pub collection: PvdCollection,
+    /// In pieces: the number of ranks (see the module notes).
+    pub pieces: Option<usize>,
 }
 
 impl VtkSeries {
@@ -168,7 +199,14 @@ impl VtkSeries {
         Ok(VtkSeries {
             dir: out_dir.to_path_buf(),
             collection: PvdCollection::new(out_dir.join("frames.pvd")),
+            pieces: None,
         })
+    }
+
+    /// Writes frames in pieces, one per rank of `ranks`.
+    pub fn in_pieces(mut self, ranks: usize) -> Self {
+        self.pieces = Some(ranks.max(1));
+        self
     }
 
     /// Continues the series of a resumed run: the collection lists the
@@ -196,9 +234,21 @@ impl VtkSeries {
     }
 
     /// Writes the next frame file atomically, then the updated `frames.pvd`.
+    /// In pieces: the `.pvtp`; on one rank also the single piece, from
+    /// `frame`; with several, each rank has written its own with
+    /// [`write_piece`] (`frame` then gives only the time and step).
     pub fn write(&mut self, frame: &Frame) -> Result<()> {
-        let rel = format!("frames/frame_{:06}.vtp", self.len());
-        write_atomic(&self.dir.join(&rel), vtp_string(frame).as_bytes())?;
+        let Some(ranks) = self.pieces else {
+            let rel = format!("frames/frame_{:06}.vtp", self.len());
+            write_atomic(&self.dir.join(&rel), vtp_string(frame).as_bytes())?;
+            return self.collection.add(frame.time, rel);
+        };
+        if ranks == 1 {
+            write_piece(&self.dir, frame, 0)?;
+        }
+        let rel = format!("frames/frame_{:06}.pvtp", self.len());
+        let text = pvtp_string(frame.step, ranks);
+        write_atomic(&self.dir.join(&rel), text.as_bytes())?;
         self.collection.add(frame.time, rel)
     }
 }
@@ -273,5 +323,28 @@ mod tests {
         );
         let names: Vec<_> = std::fs::read_dir(dir.join("frames")).unwrap().collect();
         assert_eq!(names.len(), 2, "no temporary files left behind");
+    }
+
+    #[test]
+    fn pieces_on_one_rank_are_a_pvtp_and_its_piece() {
+        let dir = scratch_dir("vtk-pieces");
+        let mut series = VtkSeries::new(&dir).unwrap().in_pieces(1);
+        let mut f = sample_2d();
+        f.step = 40;
+        series.write(&f).unwrap();
+        let pvtp = std::fs::read_to_string(dir.join("frames/frame_000000.pvtp")).unwrap();
+        assert!(pvtp.contains("<Piece Source=\"piece_000000000040_0000.vtp\"/>"));
+        assert_eq!(pvtp.matches("<Piece ").count(), 1);
+        // The parallel file declares every array the piece holds, alike.
+        let piece =
+            std::fs::read_to_string(dir.join("frames/piece_000000000040_0000.vtp")).unwrap();
+        assert_eq!(piece, vtp_string(&f));
+        for (ty, name, comps) in POINT_ARRAYS {
+            let decl = format!("type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{comps}\"");
+            assert!(pvtp.contains(&decl) && piece.contains(&decl), "{name}");
+        }
+        let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
+        assert!(pvd.contains("file=\"frames/frame_000000.pvtp\""));
+        assert_eq!(pvtp_string(40, 3).matches("<Piece ").count(), 3);
     }
 }

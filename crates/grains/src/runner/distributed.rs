@@ -25,7 +25,7 @@ use crate::dsmc::decomp::Decomposed;
 use crate::dsmc::Method;
 use crate::error::{Error, Result};
 use crate::io::{render_particles, PictureOptions};
-use crate::scenario::schema::Dimension;
+use crate::scenario::schema::{Dimension, FramesLayout};
 use crate::scenario::Loaded;
 use serde_json::{json, Map, Value};
 use std::time::Instant;
@@ -39,6 +39,14 @@ pub fn run(
     comm: &dyn Comm,
 ) -> Result<Value> {
     let md = loaded.scenario.method != Method::Dsmc;
+    let out = &loaded.scenario.output;
+    if !md && comm.size() > 1 && out.frames && out.frames_layout == FramesLayout::Pieces {
+        return Err(Error::input(format!(
+            "{}: output.frames_layout = \"pieces\" is not supported for a DSMC run on several \
+             ranks yet; use \"gathered\" (allowed: \"gathered\", \"pieces\")",
+            loaded.origin
+        )));
+    }
     if opts.checkpoint_every.is_some() && !md {
         return Err(Error::input(
             "--checkpoint-every is not supported for a DSMC run on several ranks yet; \
@@ -105,10 +113,7 @@ fn run_dim<D: GasDim>(
     };
     let mut dec = Decomposed::new(full, comm).map_err(Error::input)?;
     let mut outputs = match root {
-        true => Some(Outputs::create(
-            &opts.out_dir,
-            loaded.scenario.output.frames,
-        )?),
+        true => Some(Outputs::create(&opts.out_dir, &loaded.scenario.output)?),
         false => None,
     };
     let (relax, measure) = match opts.steps {

@@ -33,6 +33,7 @@ use crate::error::{Error, Result};
 use crate::md::decomp::{index_by_id, DecomposedMd};
 use crate::md::Md;
 use crate::measure::granular_temperature;
+use crate::scenario::schema::FramesLayout;
 use crate::scenario::{build_md, Loaded, Resolved};
 use serde_json::{json, Value};
 use std::time::Instant;
@@ -179,6 +180,16 @@ fn drive<D: Dim>(
     };
     let every = resolved.output_every;
     let sample_every = (every / 10).max(1);
+    if let Some(out) = outputs.as_mut() {
+        out.set_ranks(comm.size());
+    }
+    // Frames in pieces: each rank writes its own grains at an output step.
+    let spec = &loaded.scenario.output;
+    let pieces = spec.frames && spec.frames_layout == FramesLayout::Pieces && comm.size() > 1;
+    let write_piece = |dec: &DecomposedMd<D>| match pieces {
+        true => crate::io::write_piece(&opts.out_dir, &dec.md.frame(), comm.rank()),
+        false => Ok(()),
+    };
     let started = Instant::now();
     // A checkpoint at `dec.md.step` when due (all ranks call this).
     let checkpoint = |dec: &DecomposedMd<D>,
@@ -229,11 +240,17 @@ fn drive<D: Dim>(
             };
             let flow = flow::FlowRun::begin(loaded, m)?;
             if measure_done == 0 {
+                write_piece(&dec)?;
                 out.record(m, &m.frame(), granular_temperature(&m.particles))?;
             }
             Some((measurements, flow))
         }
-        _ => None,
+        _ => {
+            if measure_done == 0 {
+                write_piece(&dec)?;
+            }
+            None
+        }
     };
     for k in measure_done + 1..=measure {
         dec.step()?;
@@ -241,6 +258,9 @@ fn drive<D: Dim>(
         let output = k % every == 0 || k == measure;
         if sample || output {
             gather(&dec, &mut mirror);
+        }
+        if output {
+            write_piece(&dec)?;
         }
         if let (Some(m), Some((measurements, flow)), Some(out)) =
             (mirror.as_ref(), state.as_mut(), outputs.as_mut())

@@ -2,8 +2,8 @@
 //! thermo.csv, frames, profiles.csv and summary.json.
 
 use super::checkpointing::{resume_plan, scenario_text, write_payload, RunHeader};
-use super::output::OutputState;
 use super::output::Thermo;
+use super::output::{frame_series, OutputState};
 use super::{prepare, Progress, RunOptions};
 use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use crate::checkpoint::dsmc as ckdsmc;
@@ -19,6 +19,7 @@ use crate::error::{Error, Result};
 use crate::io::{render_particles, Frame, PictureOptions, ThermoWriter, VtkSeries};
 use crate::scenario::build::vector;
 use crate::scenario::resolve::cycle_frequency;
+use crate::scenario::schema::OutputSpec;
 use crate::scenario::schema::{Dimension, MotionSpec, Placement, ShapeSpec, TimeStep};
 use crate::scenario::Loaded;
 use serde_json::{json, Map, Value};
@@ -411,22 +412,18 @@ pub(super) struct Outputs {
 }
 
 impl Outputs {
-    pub(super) fn create(dir: &Path, frames: bool) -> Result<Self> {
+    pub(super) fn create(dir: &Path, spec: &OutputSpec) -> Result<Self> {
         Ok(Self {
             dir: dir.to_path_buf(),
             thermo: Thermo::Fresh(ThermoWriter::create(
                 &dir.join("thermo.csv"),
                 &THERMO_COLUMNS,
             )?),
-            frames: if frames {
-                Some(VtkSeries::new(dir)?)
-            } else {
-                None
-            },
+            frames: frame_series(dir, spec, None)?,
         })
     }
 
-    fn resume(dir: &Path, frames: bool, state: &OutputState) -> Result<Self> {
+    fn resume(dir: &Path, spec: &OutputSpec, state: &OutputState) -> Result<Self> {
         let path = dir.join("thermo.csv");
         let file = std::fs::OpenOptions::new()
             .write(true)
@@ -448,11 +445,7 @@ impl Outputs {
             .append(true)
             .open(&path)
             .map_err(|e| Error::io(&path, e))?;
-        let frames = if frames {
-            Some(VtkSeries::resume(dir, &state.frames)?)
-        } else {
-            None
-        };
+        let frames = frame_series(dir, spec, Some(&state.frames))?;
         Ok(Self {
             dir: dir.to_path_buf(),
             thermo: Thermo::Appended { path, file },
@@ -636,7 +629,7 @@ fn run_dim<D: GasDim>(
         Value::Object(m) => m,
         _ => Map::new(),
     };
-    let outputs = Outputs::create(&opts.out_dir, loaded.scenario.output.frames)?;
+    let outputs = Outputs::create(&opts.out_dir, &loaded.scenario.output)?;
     let steps = match opts.steps {
         Some(n) => (0, n),
         None => (plan.relax_steps, plan.measure_steps),
@@ -711,7 +704,7 @@ fn resume_dim<D: GasDim>(
     };
     let m = read().map_err(|e| Error::input(format!("checkpoint {origin}: {e}")))?;
     let (relax, measure) = resume_plan(saved_plan, sim.step, steps, &origin.to_string())?;
-    let outputs = Outputs::resume(&opts.out_dir, loaded.scenario.output.frames, outputs)?;
+    let outputs = Outputs::resume(&opts.out_dir, &loaded.scenario.output, outputs)?;
     run_loop(
         loaded,
         opts,

@@ -10,7 +10,7 @@ use crate::io::{
 use crate::md::Md;
 use crate::measure::draw::{faint, in_box};
 use crate::measure::DisplacementField;
-use crate::scenario::schema::OutputSpec;
+use crate::scenario::schema::{FramesLayout, OutputSpec};
 use serde_json::Value;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -66,6 +66,27 @@ pub struct OutputState {
     pub last_step: Option<u64>,
 }
 
+/// The frame series of a run (None without frames): fresh, or continuing a
+/// checkpoint's `resumed` entries; in pieces (of one rank until
+/// [`Outputs::set_ranks`]) when the scenario asks.
+pub(super) fn frame_series(
+    dir: &Path,
+    spec: &OutputSpec,
+    resumed: Option<&[(f64, String)]>,
+) -> Result<Option<VtkSeries>> {
+    if !spec.frames {
+        return Ok(None);
+    }
+    let series = match resumed {
+        Some(entries) => VtkSeries::resume(dir, entries)?,
+        None => VtkSeries::new(dir)?,
+    };
+    Ok(Some(match spec.frames_layout {
+        FramesLayout::Pieces => series.in_pieces(1),
+        FramesLayout::Gathered => series,
+    }))
+}
+
 pub struct Outputs {
     dir: PathBuf,
     thermo: Thermo,
@@ -83,11 +104,7 @@ impl Outputs {
                 &dir.join("thermo.csv"),
                 &THERMO_COLUMNS,
             )?),
-            frames: if spec.frames {
-                Some(VtkSeries::new(dir)?)
-            } else {
-                None
-            },
+            frames: frame_series(dir, spec, None)?,
             dump: if spec.dump {
                 Some(DumpWriter::create(&dir.join("dump.lammpstrj"))?)
             } else {
@@ -96,6 +113,13 @@ impl Outputs {
             picture: spec.picture,
             last_step: None,
         })
+    }
+
+    /// Frames in pieces come from `ranks` ranks (each writes its own piece).
+    pub fn set_ranks(&mut self, ranks: usize) {
+        if let Some(f) = self.frames.as_mut().filter(|f| f.pieces.is_some()) {
+            f.pieces = Some(ranks);
+        }
     }
 
     /// Where the files stand now (every row and frame is flushed when written).
@@ -152,11 +176,7 @@ impl Outputs {
             }
             _ => None,
         };
-        let frames = if spec.frames {
-            Some(VtkSeries::resume(dir, &state.frames)?)
-        } else {
-            None
-        };
+        let frames = frame_series(dir, spec, Some(&state.frames))?;
         Ok(Self {
             dir: dir.to_path_buf(),
             thermo: Thermo::Appended {

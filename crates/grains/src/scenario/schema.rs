@@ -387,6 +387,10 @@ pub struct OutputSpec {
     /// Write VTK frames (frames/*.vtp + frames.pvd).
     #[serde(default = "yes")]
     pub frames: bool,
+    /// How a frame is stored: "gathered" (one .vtp) or "pieces" (a .pvtp
+    /// referencing one .vtp piece per rank, each written by its rank).
+    #[serde(default)]
+    pub frames_layout: FramesLayout,
     /// Write a LAMMPS text dump (dump.lammpstrj).
     #[serde(default)]
     pub dump: bool,
@@ -395,11 +399,24 @@ pub struct OutputSpec {
     pub picture: bool,
 }
 
+/// The files of one VTK frame (`output.frames_layout`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum FramesLayout {
+    /// One `frames/frame_NNNNNN.vtp` with every grain, written by rank 0.
+    #[default]
+    Gathered,
+    /// `frames/frame_NNNNNN.pvtp` (rank 0) listing one piece per rank,
+    /// `frames/piece_<step>_<rank>.vtp`, each with that rank's own grains.
+    Pieces,
+}
+
 impl Default for OutputSpec {
     fn default() -> Self {
         Self {
             every: None,
             frames: true,
+            frames_layout: FramesLayout::Gathered,
             dump: false,
             picture: true,
         }
