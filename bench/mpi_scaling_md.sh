@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Speed-up of the decomposed MD engine versus MPI ranks on `grains bench`
-# (default: bed3d, the dense 3D bed, at N grains), STEPS timed steps,
+# WORKLOAD (first argument or $WORKLOAD; default bed3d, the dense 3D bed, at
+# N grains; chute: the LAMMPS chute flow, 32k grains), STEPS timed steps,
 # THREADS threads per rank (default 1). One rank is the plain process (the
 # serial engine); more ranks run under mpirun. Needs the binary built with
 # `cargo build --release -p grains-cli --features mpi` and Open MPI's mpirun.
@@ -9,12 +10,16 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 G=${GRAINS:-${CARGO_TARGET_DIR:-target}/release/grains}
-WORKLOAD=${WORKLOAD:-bed3d}
+WORKLOAD=${1:-${WORKLOAD:-bed3d}}
 N=${N:-1000000}
 STEPS=${STEPS:-100}
 RANKS=${RANKS:-"1 2"}
 THREADS=${THREADS:-1}
-OUT=${OUT:-/tmp/grains-scaling-md}
+if [ "$WORKLOAD" = bed3d ]; then
+    OUT=${OUT:-/tmp/grains-scaling-md}
+else
+    OUT=${OUT:-/tmp/grains-scaling-md-$WORKLOAD}
+fi
 mkdir -p "$OUT"
 echo "ranks,wall_seconds,ns_per_particle_step,ghosts" > "$OUT/scaling.csv"
 for np in $RANKS; do

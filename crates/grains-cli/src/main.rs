@@ -315,14 +315,26 @@ fn resume_distributed(
         checkpoint_every: every,
         ..RunOptions::default()
     };
+    on_ranks(comm, quiet, &run_dir, |progress| {
+        runner::distributed::resume(found, steps, opts, progress, comm)
+    })
+}
+
+/// Runs `work` (a run or a resume as one rank of mpirun) on rayon's pool;
+/// rank 0 draws the progress and reports the summary.
+fn on_ranks(
+    comm: &dyn grains::comm::Comm,
+    quiet: bool,
+    dir: &Path,
+    work: impl FnOnce(&mut dyn runner::Progress) -> grains::Result<serde_json::Value> + Send,
+) -> grains::Result<ExitCode> {
+    let root = comm.rank() == 0;
     let mut progress = progress::for_terminal(quiet || !root);
-    let summary = grains::parallel::on_pool(|| {
-        runner::distributed::resume(found, steps, opts, progress.as_mut(), comm)
-    })?;
+    let summary = grains::parallel::on_pool(|| work(progress.as_mut()))?;
     if root {
         report(&summary, quiet);
         if !quiet {
-            eprintln!("grains: wrote {}", run_dir.display());
+            eprintln!("grains: wrote {}", dir.display());
         }
     }
     Ok(ExitCode::SUCCESS)
@@ -349,7 +361,6 @@ fn run_distributed(
         checkpoint_every: checkpoint_every.as_deref().map(Every::parse).transpose()?,
         ..RunOptions::default()
     };
-    let mut progress = progress::for_terminal(quiet || !root);
     if root && !quiet {
         eprintln!(
             "grains: running {} on {} ranks -> {}",
@@ -358,16 +369,9 @@ fn run_distributed(
             out_dir.display()
         );
     }
-    let summary = grains::parallel::on_pool(|| {
-        runner::distributed::run(&loaded, &opts, progress.as_mut(), comm)
-    })?;
-    if root {
-        report(&summary, quiet);
-        if !quiet {
-            eprintln!("grains: wrote {}", out_dir.display());
-        }
-    }
-    Ok(ExitCode::SUCCESS)
+    on_ranks(comm, quiet, &out_dir, |progress| {
+        runner::distributed::run(&loaded, &opts, progress, comm)
+    })
 }
 
 fn main() -> ExitCode {
