@@ -129,6 +129,46 @@ skin = 0.1
     .into()
 }
 
+/// A pile forming against the left wall: gravity along the slab axis (x)
+/// pulls a dilute 2D gas to one end, so the ranks on the right empty out
+/// and the bounds must move (threshold 0.1).
+fn pile_2d() -> String {
+    r#"name = "md-pile-2d"
+dimension = "2d"
+seed = 6
+gravity = [-5000.0, 0.0]
+[domain]
+lo = [0.0, 0.0]
+hi = [30.0, 8.0]
+periodic = [false, true]
+[particles]
+placement = "random"
+count = 80
+d0 = 1.0
+width = 0.2
+density = 1.9098593
+random_velocity = 20.0
+region = { lo = [0.5, 0.0], hi = [29.5, 8.0] }
+[contact]
+preset = "lammps-hooke-history"
+kn = 1.0e7
+[[walls]]
+name = "left"
+shape = { type = "plane", point = [0.0, 0.0], normal = [1.0, 0.0] }
+[[walls]]
+name = "right"
+shape = { type = "plane", point = [30.0, 0.0], normal = [-1.0, 0.0] }
+[run]
+integrator = "gear5"
+dt = 4.0e-5
+duration = 0.04
+skin = 0.1
+[parallel]
+rebalance = 0.1
+"#
+    .into()
+}
+
 fn loaded(text: &str) -> Loaded {
     load_str(text, "test", PathBuf::from("."), &[]).unwrap()
 }
@@ -147,6 +187,7 @@ struct Activity {
     ghosts: usize,
     builds: u64,
     contacts: bool,
+    rebalances: u64,
 }
 
 /// Steps the serial engine and a decomposition on `ranks` side by side.
@@ -163,11 +204,20 @@ fn compare<D: Dim>(l: &Loaded, ranks: usize, steps: u64) -> Activity {
             .as_ref()
             .map(|m| index_by_id(&m.particles))
             .unwrap_or_default();
-        let mut dec = DecomposedMd::new(full, c as &dyn Comm).unwrap();
+        let mut dec = DecomposedMd::with_spec(full, c as &dyn Comm, &l.scenario.parallel).unwrap();
         let mut ghosts = 0;
         let mut contacts = false;
         for step in 1..=steps {
+            let moves = dec.balance.rebalances;
             dec.step().unwrap();
+            let b = &dec.balance;
+            if b.rebalances > moves {
+                assert!(
+                    b.last <= b.threshold,
+                    "{ranks} ranks, step {step}: imbalance {} after moving the bounds",
+                    b.last
+                );
+            }
             ghosts = ghosts.max(dec.n_ghosts());
             let mut ids_bytes = Vec::new();
             for id in dec.owned_ids() {
@@ -229,6 +279,7 @@ fn compare<D: Dim>(l: &Loaded, ranks: usize, steps: u64) -> Activity {
             ghosts,
             builds: dec.neighbor_builds(),
             contacts,
+            rebalances: dec.balance.rebalances,
         }
     });
     out.into_iter().next().unwrap()
@@ -260,6 +311,19 @@ fn decomposed_md_matches_serial_3d_vibrated_bed() {
 #[test]
 fn decomposed_md_matches_serial_2d_closed_box_with_frozen_grains() {
     all_rank_counts::<D2>(&box_2d(), 200);
+}
+
+#[test]
+fn decomposed_md_moves_the_bounds_of_a_pile() {
+    let l = loaded(&pile_2d());
+    for ranks in [2, 4] {
+        let a = compare::<D2>(&l, ranks, 1000);
+        assert!(a.contacts && a.migrations > 0);
+        assert!(a.rebalances > 0, "{ranks} ranks: the bounds never moved");
+    }
+    // Threshold 0: the bounds stay where they were cut at the start.
+    let fixed = loaded(&pile_2d().replace("rebalance = 0.1", "rebalance = 0.0"));
+    assert_eq!(compare::<D2>(&fixed, 2, 1000).rebalances, 0);
 }
 
 #[test]
@@ -319,6 +383,10 @@ fn distributed_md_run_writes_the_serial_run_to_rounding() {
         let s = &out[0];
         assert_eq!(s["ranks"], ranks);
         assert!(s["migrations"].as_u64().unwrap() > 0);
+        assert!(s["rebalances"].as_u64().is_some());
+        let (i0, imax) = (&s["imbalance_initial"], &s["imbalance_max"]);
+        assert!(i0.as_f64().unwrap() <= imax.as_f64().unwrap());
+        assert!(s["imbalance_final"].as_f64().unwrap() <= imax.as_f64().unwrap());
         for key in ["steps", "particles", "time"] {
             assert_eq!(s[key], s0[key], "{ranks} ranks: {key}");
         }

@@ -25,7 +25,9 @@
 //! with the serial run to rounding: forces on a grain are summed in another
 //! order (the list order differs), never a different physics.
 
+use super::balance::{counts_of_ranks, imbalance};
 use super::halo::{get_record, put_record, Halo, Slabs};
+use super::parallel_spec::ParallelSpec;
 use super::{Md, MdStats};
 use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
@@ -41,6 +43,31 @@ type PairSprings<D> = HashMap<(u64, u64), <D as Dim>::V, super::pair_hash::PairH
 /// One pair spring in a migration message.
 type PairSpring<D> = ((u64, u64), <D as Dim>::V);
 
+/// How evenly the grains were spread over the ranks (imbalance: max/mean
+/// − 1 of the owned counts, measured at the start and after each global
+/// neighbour rebuild), and how often the bounds moved.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Balance {
+    /// Imbalance above which the bounds move (0: never).
+    pub threshold: f64,
+    pub initial: f64,
+    pub max: f64,
+    /// The latest measurement (after the move, when the bounds moved).
+    pub last: f64,
+    pub rebalances: u64,
+}
+
+impl Balance {
+    /// The summary keys: `imbalance_initial`, `imbalance_max`,
+    /// `imbalance_final`, `rebalances`.
+    pub fn write(&self, out: &mut serde_json::Map<String, serde_json::Value>) {
+        out.insert("imbalance_initial".into(), self.initial.into());
+        out.insert("imbalance_max".into(), self.max.into());
+        out.insert("imbalance_final".into(), self.last.into());
+        out.insert("rebalances".into(), self.rebalances.into());
+    }
+}
+
 /// One rank's part of a decomposed MD run.
 pub struct DecomposedMd<'c, D: Dim> {
     /// This rank's engine: owned grains first, ghosts after.
@@ -52,6 +79,8 @@ pub struct DecomposedMd<'c, D: Dim> {
     halo: Halo,
     /// Grains that changed rank, over the whole run (all ranks).
     pub migrations: u64,
+    /// The load balance: threshold, imbalances seen, moves of the bounds.
+    pub balance: Balance,
     /// Seconds this rank spent in the per-step messages and collectives
     /// (ghost refresh, rebuild vote, statistics), waiting for others
     /// included: what the decomposition costs beyond the work itself.
@@ -60,8 +89,14 @@ pub struct DecomposedMd<'c, D: Dim> {
 
 impl<'c, D: Dim> DecomposedMd<'c, D> {
     /// Splits a whole engine (the same on every rank, as built from the
-    /// scenario at t = 0) into this rank's part.
+    /// scenario at t = 0) into this rank's part, with the default
+    /// `[parallel]` settings.
     pub fn new(full: Md<D>, comm: &'c dyn Comm) -> Result<Self> {
+        Self::with_spec(full, comm, &ParallelSpec::default())
+    }
+
+    /// As [`Self::new`], split as `spec` says.
+    pub fn with_spec(full: Md<D>, comm: &'c dyn Comm, spec: &ParallelSpec) -> Result<Self> {
         let global = full.domain.clone();
         let reach = 2.0 * full.particles.max_radius() + full.settings.skin;
         let n = full.particles.n_owned();
@@ -73,11 +108,16 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             global,
             halo: Halo::default(),
             migrations: 0,
+            balance: Balance {
+                threshold: spec.rebalance,
+                ..Balance::default()
+            },
             comm_seconds: 0.0,
         };
         if comm.size() > 1 {
             dec.split()?;
         }
+        dec.balance.initial = dec.measure_imbalance();
         Ok(dec)
     }
 
@@ -147,16 +187,46 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             .collect()
     }
 
-    /// Wraps, migrates, and rebuilds ghosts and list (step 3).
+    /// Wraps, migrates, moves the bounds when the counts are out of
+    /// balance (and migrates again), and rebuilds ghosts and list (step 3).
     fn rebuild(&mut self) -> Result<()> {
-        let saved = self.md.save_springs();
+        let mut saved = self.md.save_springs();
         let mut walls = self.wall_springs_by_id();
-        let (r, a, size) = (self.comm.rank(), self.slabs.axis, self.comm.size());
         let p = &mut self.md.particles;
         p.clear_ghosts();
         for i in 0..p.n_owned() {
             p.pos[i] = self.global.wrap(p.pos[i]);
         }
+        self.migrate(&mut saved, &mut walls);
+        let imbalance = self.measure_imbalance();
+        if self.balance.threshold > 0.0 && imbalance > self.balance.threshold {
+            let (p, a) = (&self.md.particles, self.slabs.axis);
+            let n = p.n_owned();
+            self.slabs.cut_by_count(self.comm, self.comm.size(), || {
+                p.pos[..n].iter().map(move |&x| D::get(x, a))
+            });
+            self.md.domain = self.slabs.local_domain(&self.global, self.comm.rank());
+            self.migrate(&mut saved, &mut walls);
+            self.balance.rebalances += 1;
+            self.measure_imbalance();
+        }
+        self.finish_rebuild(saved, walls, true)
+    }
+
+    /// Owned grains per rank now: max/mean − 1, recorded in the report.
+    fn measure_imbalance(&mut self) -> f64 {
+        let counts = counts_of_ranks(self.comm, self.md.particles.n_owned());
+        let x = imbalance(&counts);
+        self.balance.last = x;
+        self.balance.max = self.balance.max.max(x);
+        x
+    }
+
+    /// Sends the owned grains (wrapped) that another rank owns there, with
+    /// their pair and wall springs, and takes in those that arrive.
+    fn migrate(&mut self, saved: &mut PairSprings<D>, walls: &mut Vec<(u64, u32, D::V)>) {
+        let (r, a, size) = (self.comm.rank(), self.slabs.axis, self.comm.size());
+        let p = &mut self.md.particles;
         // Leaving grains travel with their springs.
         let mut out = vec![Writer::default(); size];
         let mut leaving: HashMap<u64, usize> = HashMap::new();
@@ -174,7 +244,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         let mut pair_out: Vec<Vec<PairSpring<D>>> = vec![Vec::new(); size];
         // Nothing to look up when no grain leaves (most rebuilds of a dense bed).
         if !leaving.is_empty() {
-            for (&key, &s) in &saved {
+            for (&key, &s) in saved.iter() {
                 // A pair whose two grains leave for different ranks goes to both.
                 let d0 = leaving.get(&key.0);
                 let d1 = leaving.get(&key.1);
@@ -221,7 +291,6 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             }
         }
         p.retain_owned(&keep);
-        let mut saved = saved;
         saved.retain(|k, _| !(leaving.contains_key(&k.0) && leaving.contains_key(&k.1)));
         let bufs: Vec<Vec<u8>> = out.into_iter().map(|w| w.buf).collect();
         let got = self.comm.exchange(&bufs);
@@ -247,7 +316,6 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         let mut moved = [arrived];
         self.comm.sum_u64(&mut moved);
         self.migrations += moved[0];
-        self.finish_rebuild(saved, walls, true)
     }
 
     /// With this rank's owned grains in place: sort (every few rebuilds),

@@ -72,7 +72,7 @@ pub fn run<D: Dim>(
         .as_ref()
         .map(|m| index_by_id(&m.particles))
         .unwrap_or_default();
-    let mut dec = DecomposedMd::new(full, comm)?;
+    let mut dec = DecomposedMd::with_spec(full, comm, &loaded.scenario.parallel)?;
     let mut outputs = match root {
         true => Some(Outputs::create(&opts.out_dir, &loaded.scenario.output)?),
         false => None,
@@ -153,6 +153,7 @@ pub fn run<D: Dim>(
     summary.insert("slab_axis".into(), json!(["x", "y", "z"][dec.slabs().axis]));
     summary.insert("migrations".into(), json!(dec.migrations));
     summary.insert("ghosts".into(), json!(ghosts[0]));
+    dec.balance.write(&mut summary);
     let summary = Value::Object(summary);
     outputs.write_summary(&summary)?;
     Ok(summary)
