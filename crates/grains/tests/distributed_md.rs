@@ -188,6 +188,7 @@ struct Activity {
     builds: u64,
     contacts: bool,
     rebalances: u64,
+    grid: [usize; 3],
 }
 
 /// Steps the serial engine and a decomposition on `ranks` side by side.
@@ -280,6 +281,7 @@ fn compare<D: Dim>(l: &Loaded, ranks: usize, steps: u64) -> Activity {
             builds: dec.neighbor_builds(),
             contacts,
             rebalances: dec.balance.rebalances,
+            grid: dec.subdomains().grid,
         }
     });
     out.into_iter().next().unwrap()
@@ -326,16 +328,57 @@ fn decomposed_md_moves_the_bounds_of_a_pile() {
     assert_eq!(compare::<D2>(&fixed, 2, 1000).rebalances, 0);
 }
 
+/// A decomposition on 4 ranks must match the serial run (checks of
+/// [`compare`]) on the grid `want`, with grains crossing between ranks.
+fn on_grid<D: Dim>(text: &str, steps: u64, want: [usize; 3]) {
+    let a = compare::<D>(&loaded(text), 4, steps);
+    assert_eq!(a.grid, want);
+    assert!(a.contacts && a.ghosts > 0 && a.migrations > 0 && a.builds > 5);
+}
+
+fn with_grid(text: &str, grid: &str) -> String {
+    format!("{text}\n[parallel]\ngrid = {grid}\n")
+}
+
+#[test]
+fn decomposed_md_matches_serial_on_2d_grids() {
+    // Periodic gas on a forced 2 × 2 grid (ghosts across the corners).
+    on_grid::<D2>(&with_grid(&gas_2d(), "[2, 2]"), 100, [2, 2, 1]);
+    // Closed box with walls: "auto" chooses 2 × 2 (cut area 36 against 48).
+    on_grid::<D2>(&box_2d(), 200, [2, 2, 1]);
+}
+
+#[test]
+fn decomposed_md_matches_serial_on_3d_grids() {
+    let wide = bed_3d()
+        .replace("hi = [16.0, 5.0, 10.0]", "hi = [16.0, 8.0, 10.0]")
+        .replace("hi = [16.0, 5.0, 6.0]", "hi = [16.0, 8.0, 6.0]");
+    on_grid::<D3>(&with_grid(&wide, "[2, 2, 1]"), 200, [2, 2, 1]);
+    // Cut along the open vertical: the upper boxes reach to infinity.
+    on_grid::<D3>(&with_grid(&wide, "[1, 2, 2]"), 200, [1, 2, 2]);
+}
+
 #[test]
 fn too_many_ranks_for_the_box_is_a_clear_error() {
-    let l = loaded(&gas_2d());
-    let errs = ThreadComm::run(12, |c| {
-        let (full, _) = build_md::<D2>(&l).unwrap();
-        DecomposedMd::new(full, c as &dyn Comm)
-            .err()
-            .map(|e| e.to_string())
-    });
-    let e = errs[0].as_deref().unwrap_or("");
+    let refused = |text: &str, ranks: usize| {
+        let l = loaded(text);
+        let errs = ThreadComm::run(ranks, |c| {
+            let (full, _) = build_md::<D2>(&l).unwrap();
+            DecomposedMd::with_spec(full, c as &dyn Comm, &l.scenario.parallel)
+                .err()
+                .map(|e| e.to_string())
+        });
+        errs[0].clone().unwrap_or_default()
+    };
+    // 12 slabs of 2 along x are too thin (2 reaches = 2.6) ...
+    let e = refused(&with_grid(&gas_2d(), "\"slabs\""), 12);
+    assert!(
+        e.contains("run on fewer ranks") && e.contains("slabs"),
+        "{e}"
+    );
+    // ... "auto" takes 6 × 2 instead, but no grid of 37 fits.
+    assert_eq!(refused(&gas_2d(), 12), "");
+    let e = refused(&gas_2d(), 37);
     assert!(e.contains("run on fewer ranks"), "{e}");
 }
 

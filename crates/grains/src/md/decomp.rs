@@ -1,4 +1,5 @@
-//! MD over the ranks of a [`Comm`]: slabs along the longest axis, ghost
+//! MD over the ranks of a [`Comm`]: a grid of boxes cut by grain count
+//! ([`super::subdomains`]), ghost
 //! shells refreshed every step, migration at neighbour rebuilds.
 //!
 //! Each rank runs an [`Md`] on its own grains followed by ghost copies of
@@ -26,8 +27,9 @@
 //! order (the list order differs), never a different physics.
 
 use super::balance::{counts_of_ranks, imbalance};
-use super::halo::{get_record, put_record, Halo, Slabs};
+use super::halo::{get_record, put_record, Halo};
 use super::parallel_spec::ParallelSpec;
+use super::subdomains::Subdomains;
 use super::{Md, MdStats};
 use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
@@ -73,7 +75,7 @@ pub struct DecomposedMd<'c, D: Dim> {
     /// This rank's engine: owned grains first, ghosts after.
     pub md: Md<D>,
     comm: &'c dyn Comm,
-    slabs: Slabs,
+    sub: Subdomains,
     /// The whole box (the engine holds this rank's list box).
     global: Domain<D>,
     halo: Halo,
@@ -100,11 +102,12 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         let global = full.domain.clone();
         let reach = 2.0 * full.particles.max_radius() + full.settings.skin;
         let n = full.particles.n_owned();
-        let slabs = Slabs::by_count(&global, &full.particles.pos[..n], comm.size(), reach)?;
+        let pos = &full.particles.pos[..n];
+        let sub = Subdomains::by_count(&global, pos, comm.size(), reach, &spec.grid)?;
         let mut dec = Self {
             md: full,
             comm,
-            slabs,
+            sub,
             global,
             halo: Halo::default(),
             migrations: 0,
@@ -128,13 +131,12 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         let saved = self.md.save_springs();
         let walls = self.wall_springs_by_id();
         let r = self.comm.rank();
-        let a = self.slabs.axis;
         let p = &mut self.md.particles;
         for i in 0..p.n_owned() {
             p.pos[i] = self.global.wrap(p.pos[i]);
         }
         let keep: Vec<u32> = (0..p.n_owned() as u32)
-            .filter(|&i| self.slabs.owner(D::get(p.pos[i as usize], a)) == r)
+            .filter(|&i| self.sub.owner(&D::to_xyz(p.pos[i as usize])) == r)
             .collect();
         p.retain_owned(&keep);
         let mine: HashSet<u64> = p.id.iter().copied().collect();
@@ -146,7 +148,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             .into_iter()
             .filter(|(id, _, _)| mine.contains(id))
             .collect();
-        self.md.domain = self.slabs.local_domain(&self.global, r);
+        self.md.domain = self.sub.local_domain(&self.global, r);
         self.finish_rebuild(saved, walls, false)?;
         self.md.compute_forces(false);
         Ok(())
@@ -162,8 +164,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         self.md.step += 1;
         let comm = self.comm;
         let t = Instant::now();
-        self.halo
-            .refresh(self.slabs.axis, &mut self.md.particles, comm);
+        self.halo.refresh(&mut self.md.particles, comm);
         self.comm_seconds += t.elapsed().as_secs_f64();
         let mut rebuild = [self.md.neighbors.needs_rebuild(&self.md.particles.pos) as u64];
         let t = Instant::now();
@@ -200,12 +201,11 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         self.migrate(&mut saved, &mut walls);
         let imbalance = self.measure_imbalance();
         if self.balance.threshold > 0.0 && imbalance > self.balance.threshold {
-            let (p, a) = (&self.md.particles, self.slabs.axis);
+            let p = &self.md.particles;
             let n = p.n_owned();
-            self.slabs.cut_by_count(self.comm, self.comm.size(), || {
-                p.pos[..n].iter().map(move |&x| D::get(x, a))
-            });
-            self.md.domain = self.slabs.local_domain(&self.global, self.comm.rank());
+            self.sub
+                .cut_by_count(self.comm, || p.pos[..n].iter().map(|&x| D::to_xyz(x)));
+            self.md.domain = self.sub.local_domain(&self.global, self.comm.rank());
             self.migrate(&mut saved, &mut walls);
             self.balance.rebalances += 1;
             self.measure_imbalance();
@@ -225,7 +225,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
     /// Sends the owned grains (wrapped) that another rank owns there, with
     /// their pair and wall springs, and takes in those that arrive.
     fn migrate(&mut self, saved: &mut PairSprings<D>, walls: &mut Vec<(u64, u32, D::V)>) {
-        let (r, a, size) = (self.comm.rank(), self.slabs.axis, self.comm.size());
+        let (r, size) = (self.comm.rank(), self.comm.size());
         let p = &mut self.md.particles;
         // Leaving grains travel with their springs.
         let mut out = vec![Writer::default(); size];
@@ -233,7 +233,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         let mut records: Vec<Vec<_>> = vec![Vec::new(); size];
         let mut keep = Vec::with_capacity(p.n_owned());
         for i in 0..p.n_owned() {
-            let dest = self.slabs.owner(D::get(p.pos[i], a));
+            let dest = self.sub.owner(&D::to_xyz(p.pos[i]));
             if dest == r {
                 keep.push(i as u32);
             } else {
@@ -273,7 +273,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             }
             w.u64(records[d].len() as u64);
             for rec in &records[d] {
-                put_record(w, rec, a, 0.0);
+                put_record(w, rec, &[0.0; 3]);
             }
             w.u64(pair_out[d].len() as u64);
             // Sorted so that the message does not depend on hash order.
@@ -339,7 +339,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             md.rebuilds_since_sort = md.rebuilds_since_sort.wrapping_add(1);
         }
         let comm = self.comm;
-        self.halo = Halo::build(&self.slabs, comm.rank(), &mut md.particles, |out| {
+        self.halo = Halo::build(&self.sub, comm.rank(), &mut md.particles, |out| {
             comm.exchange(out)
         });
         let p = &md.particles;
@@ -453,9 +453,9 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         self.md.neighbor_builds()
     }
 
-    /// The slab axis and the slab bounds.
-    pub fn slabs(&self) -> &Slabs {
-        &self.slabs
+    /// The boxes of the ranks.
+    pub fn subdomains(&self) -> &Subdomains {
+        &self.sub
     }
 
     /// Puts every rank's owned grains (position, velocity, spin) into

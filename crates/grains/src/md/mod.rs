@@ -22,6 +22,7 @@ pub mod halo;
 mod pair_forces;
 mod pair_hash;
 pub mod parallel_spec;
+pub mod subdomains;
 mod wall_springs;
 
 use crate::boundary::Wall;

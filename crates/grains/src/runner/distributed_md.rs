@@ -150,7 +150,8 @@ pub fn run<D: Dim>(
     measurements.scalars(&mut summary);
     flow.finish(&opts.out_dir, &md, &mut summary)?;
     summary.insert("ranks".into(), json!(comm.size()));
-    summary.insert("slab_axis".into(), json!(["x", "y", "z"][dec.slabs().axis]));
+    let grid = dec.subdomains().describe(D::D);
+    summary.insert("grid".into(), json!(grid));
     summary.insert("migrations".into(), json!(dec.migrations));
     summary.insert("ghosts".into(), json!(ghosts[0]));
     dec.balance.write(&mut summary);
