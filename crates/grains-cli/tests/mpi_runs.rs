@@ -165,7 +165,7 @@ fn thermo(dir: &Path) -> (String, Vec<Vec<f64>>) {
 /// overlap within 1e-9 relative, since a rank sums a grain's contact
 /// forces in another order; the contact count is not compared: a contact
 /// across a slab boundary counts on both ranks) and the same frames.
-fn check_md(scenario: &Path, sets: &[&str], steps: &str) {
+fn check_md(scenario: &Path, sets: &[&str], steps: &str, ranks: &[usize]) {
     let path = scenario.to_str().unwrap();
     let name = scenario.file_stem().unwrap().to_string_lossy().to_string();
     let run = |ranks: usize| {
@@ -187,7 +187,7 @@ fn check_md(scenario: &Path, sets: &[&str], steps: &str) {
     let (head, rows0) = thermo(&serial);
     assert!(rows0.len() > 3);
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
-    for ranks in [1, 2, 4] {
+    for &ranks in ranks {
         let dir = run(ranks);
         let (h, rows) = thermo(&dir);
         assert_eq!(h, head);
@@ -209,6 +209,10 @@ fn check_md(scenario: &Path, sets: &[&str], steps: &str) {
         if ranks > 1 {
             assert_eq!(summary["ranks"], ranks);
             assert!(summary["migrations"].as_u64().unwrap() > 0, "{summary}");
+            let grid = summary["grid"].as_array().unwrap();
+            let product: u64 = grid.iter().map(|p| p.as_u64().unwrap()).product();
+            assert_eq!(product, ranks as u64, "{summary}");
+            assert!(summary["imbalance_final"].as_f64().is_some(), "{summary}");
         }
         if serial.join("frames").exists() {
             let count = |d: &Path| std::fs::read_dir(d.join("frames")).unwrap().count();
@@ -232,6 +236,7 @@ fn md_walls_2d_agrees_on_1_2_4_ranks() {
             "particles.random_velocity=0.2",
         ],
         "1000",
+        &[1, 2, 4],
     );
 }
 
@@ -271,7 +276,10 @@ picture = false
 "#,
     )
     .unwrap();
-    check_md(&file, &[], "200");
+    check_md(&file, &[], "200", &[1, 2, 4]);
+    // A 2 × 2 grid (y and z cut: ghosts across edges and periodic corners).
+    let sets = ["domain.hi=[20.0, 12.0, 12.0]", "parallel.grid=[1, 2, 2]"];
+    check_md(&file, &sets, "200", &[4]);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -295,4 +303,34 @@ fn md_hopper_on_several_ranks_is_refused_clearly() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("[hopper]"), "{err}");
     assert_eq!(err.matches("grains: error").count(), 1, "{err}");
+}
+
+#[test]
+fn md_bench_under_mpirun_reports_the_imbalance() {
+    let out = grains(
+        2,
+        &[
+            "bench",
+            "bed3d",
+            "--particles",
+            "2000",
+            "--steps",
+            "20",
+            "--json",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    let line = text.lines().find(|l| l.starts_with('{')).unwrap();
+    let v: serde_json::Value = serde_json::from_str(line).unwrap();
+    assert_eq!(v["ranks"], 2);
+    for key in ["imbalance_initial", "imbalance_max", "imbalance_final"] {
+        let x = v[key].as_f64().unwrap_or(-1.0);
+        assert!((0.0..1.0).contains(&x), "{key}: {v}");
+    }
+    assert!(v["rebalances"].as_u64().is_some(), "{v}");
 }
