@@ -198,7 +198,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
 
 /// `grains bench` as one rank of `mpirun`: an MD workload decomposed over
 /// the ranks ([`grains::md::decomp`]). Every rank builds the whole
-/// workload and keeps its slab; the timed loop runs between two barriers,
+/// workload and keeps its box; the timed loop runs between two barriers,
 /// so the time is the slowest rank's. Rank 0 reports.
 pub fn run_ranks(args: BenchArgs, comm: &dyn Comm) -> Result<()> {
     crate::set_threads(args.threads)?;

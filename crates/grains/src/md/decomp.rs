@@ -16,7 +16,10 @@
 //! 1. predict (owned grains);
 //! 2. refresh the ghosts' position, velocity and spin from their owners;
 //! 3. if any rank's grain moved more than skin/2: wrap, migrate the grains
-//!    that left the slab, sort, send new ghost shells, rebuild the list;
+//!    that left the box; when the owned counts are out of balance (max/mean
+//!    − 1 above `[parallel] rebalance`), cut the boxes again by count
+//!    ([`super::balance`]) and migrate again; sort, send new ghost shells,
+//!    rebuild the list;
 //! 4. forces: pairs (owned and ghosts), walls and gravity (owned only, walls
 //!    evaluated at the same time on every rank);
 //! 5. correct (owned grains);

@@ -1,13 +1,13 @@
 //! Runs an MD scenario over several ranks ([`crate::md::decomp`]).
 //!
-//! Every rank builds the whole engine from the scenario and keeps its slab;
+//! Every rank builds the whole engine from the scenario and keeps its box;
 //! rank 0 keeps a second whole engine (the "mirror") into which the ranks
 //! gather positions, velocities and spins at every sample and output step.
 //! Rank 0 then measures and writes with the serial runner's code
 //! (thermo.csv, frames, dump, measurement files, summary.json), so the
 //! files have the serial run's layout; the numbers agree with a serial run
 //! to rounding (see `docs/scaling.md`). The thermo row's contact count is
-//! the sum over ranks, in which a contact across a slab boundary counts
+//! the sum over ranks, in which a contact across a box boundary counts
 //! twice (both ranks evaluate it).
 //!
 //! Refused with a clear error, because they change the grains or walls
