@@ -82,6 +82,24 @@ skin = 0.1
     .into()
 }
 
+/// Random unit grains (d ∈ [0.9, 1.1]), `count` of them, with velocity
+/// components up to `speed`.
+fn random_grains(count: usize, speed: f64) -> String {
+    format!(
+        "[particles]\nplacement = \"random\"\ncount = {count}\nd0 = 1.0\nwidth = 0.2\n\
+         density = 1.9098593\nrandom_velocity = {speed:.1}\n"
+    )
+}
+
+/// Plane walls at x = 0 and x = `right`, facing in.
+fn side_walls(right: f64) -> String {
+    format!(
+        "[[walls]]\nname = \"left\"\nshape = {{ type = \"plane\", point = [0.0, 0.0], \
+         normal = [1.0, 0.0] }}\n[[walls]]\nname = \"right\"\nshape = {{ type = \"plane\", \
+         point = [{right:.1}, 0.0], normal = [-1.0, 0.0] }}\n"
+    )
+}
+
 fn box_2d() -> String {
     r#"name = "md-box-2d"
 dimension = "2d"
@@ -91,13 +109,7 @@ gravity = [0.0, -1000.0]
 lo = [0.0, 0.0]
 hi = [20.0, 16.0]
 periodic = [false, false]
-[particles]
-placement = "random"
-count = 80
-d0 = 1.0
-width = 0.2
-density = 1.9098593
-random_velocity = 30.0
+#GRAINS#
 region = { lo = [0.0, 1.5], hi = [20.0, 15.0] }
 [[particles.add]]
 position = [5.0, 0.6]
@@ -114,19 +126,15 @@ preset = "lammps-hooke-history"
 name = "floor"
 shape = { type = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }
 motion = { type = "vibrate", amplitude = 0.3, frequency = 50.0 }
-[[walls]]
-name = "left"
-shape = { type = "plane", point = [0.0, 0.0], normal = [1.0, 0.0] }
-[[walls]]
-name = "right"
-shape = { type = "plane", point = [20.0, 0.0], normal = [-1.0, 0.0] }
+#WALLS#
 [run]
 integrator = "gear5"
 dt = 1.0e-4
 duration = 0.02
 skin = 0.1
 "#
-    .into()
+    .replace("#GRAINS#\n", &random_grains(80, 30.0))
+    .replace("#WALLS#\n", &side_walls(20.0))
 }
 
 /// A pile forming against the left wall: gravity along the slab axis (x)
@@ -141,23 +149,12 @@ gravity = [-5000.0, 0.0]
 lo = [0.0, 0.0]
 hi = [30.0, 8.0]
 periodic = [false, true]
-[particles]
-placement = "random"
-count = 80
-d0 = 1.0
-width = 0.2
-density = 1.9098593
-random_velocity = 20.0
+#GRAINS#
 region = { lo = [0.5, 0.0], hi = [29.5, 8.0] }
 [contact]
 preset = "lammps-hooke-history"
 kn = 1.0e7
-[[walls]]
-name = "left"
-shape = { type = "plane", point = [0.0, 0.0], normal = [1.0, 0.0] }
-[[walls]]
-name = "right"
-shape = { type = "plane", point = [30.0, 0.0], normal = [-1.0, 0.0] }
+#WALLS#
 [run]
 integrator = "gear5"
 dt = 4.0e-5
@@ -166,7 +163,8 @@ skin = 0.1
 [parallel]
 rebalance = 0.1
 "#
-    .into()
+    .replace("#GRAINS#\n", &random_grains(80, 20.0))
+    .replace("#WALLS#\n", &side_walls(30.0))
 }
 
 fn loaded(text: &str) -> Loaded {
