@@ -321,6 +321,14 @@ fn decomposed_md_moves_the_bounds_of_a_pile() {
         assert!(a.contacts && a.migrations > 0);
         assert!(a.rebalances > 0, "{ranks} ranks: the bounds never moved");
     }
+    // On a 2 × 2 grid the staggered cuts move by the counts within each slab.
+    let a = compare::<D2>(
+        &loaded(&with_grid(&pile_2d(), "[2, 2]").replace("[parallel]\nrebalance = 0.1\n", "")),
+        4,
+        1000,
+    );
+    assert_eq!(a.grid, [2, 2, 1]);
+    assert!(a.rebalances > 0, "2 × 2: the bounds never moved");
     // Threshold 0: the bounds stay where they were cut at the start.
     let fixed = loaded(&pile_2d().replace("rebalance = 0.1", "rebalance = 0.0"));
     assert_eq!(compare::<D2>(&fixed, 2, 1000).rebalances, 0);

@@ -188,9 +188,10 @@ impl Subdomains {
     pub fn ghost_targets(&self, r: usize) -> Vec<(usize, [i8; 3], Cell)> {
         let mine = self.cell(r);
         let mut out = Vec::new();
+        let shifts = self.shifts();
         for s in (0..self.ranks()).filter(|&s| s != r) {
             let (lo, hi) = self.widened(s);
-            for shift in self.shifts() {
+            for &shift in &shifts {
                 let d = self.displacement(shift);
                 let meets = self
                     .order
@@ -248,7 +249,7 @@ impl Subdomains {
         d
     }
 
-    /// "2×2×1"-style description of the grid.
+    /// The ranks along each of the first `dims` axes.
     pub fn describe(&self, dims: usize) -> Vec<usize> {
         self.grid[..dims].to_vec()
     }
