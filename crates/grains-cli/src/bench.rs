@@ -12,7 +12,7 @@
 
 use clap::Args;
 use grains::comm::Comm;
-use grains::md::decomp::DecomposedMd;
+use grains::md::decomp::{Balance, DecomposedMd};
 use grains::md::Md;
 use grains::scenario::{build_md, load_file, load_str, Loaded};
 use grains::{Dim, Error, Result, D2, D3};
@@ -198,7 +198,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
 
 /// `grains bench` as one rank of `mpirun`: an MD workload decomposed over
 /// the ranks ([`grains::md::decomp`]). Every rank builds the whole
-/// workload and keeps its slab; the timed loop runs between two barriers,
+/// workload and keeps its box; the timed loop runs between two barriers,
 /// so the time is the slowest rank's. Rank 0 reports.
 pub fn run_ranks(args: BenchArgs, comm: &dyn Comm) -> Result<()> {
     crate::set_threads(args.threads)?;
@@ -210,15 +210,22 @@ pub fn run_ranks(args: BenchArgs, comm: &dyn Comm) -> Result<()> {
     }
     let (loaded, default_steps) = md_workload(&args)?;
     let steps = args.steps.unwrap_or(default_steps);
-    fn go<D: Dim>(
-        loaded: &Loaded,
-        steps: u64,
-        comm: &dyn Comm,
-    ) -> Result<(usize, &'static str, f64, usize, u64, f64, f64)> {
+    /// What the timed loop of the ranks measured.
+    struct Timed {
+        particles: usize,
+        integrator: &'static str,
+        wall: f64,
+        ghosts: u64,
+        builds: u64,
+        work: f64,
+        cpu: f64,
+        balance: Balance,
+    }
+    fn go<D: Dim>(loaded: &Loaded, steps: u64, comm: &dyn Comm) -> Result<Timed> {
         let (md, _) = build_md::<D>(loaded)?;
         let integrator = md.settings.integrator.name();
         let particles = md.particles.n_mobile();
-        let mut dec = DecomposedMd::new(md, comm)?;
+        let mut dec = DecomposedMd::with_spec(md, comm, &loaded.scenario.parallel)?;
         comm.barrier();
         let (start, cpu0) = (Instant::now(), cpu_seconds());
         grains::parallel::on_pool(|| (0..steps).try_for_each(|_| dec.step()))?;
@@ -231,22 +238,31 @@ pub fn run_ranks(args: BenchArgs, comm: &dyn Comm) -> Result<()> {
         // The busiest rank's work: the loop without its messages and waits.
         let mut work = [wall - dec.comm_seconds];
         comm.max_f64(&mut work);
-        Ok((
+        Ok(Timed {
             particles,
             integrator,
             wall,
-            ghosts[0] as usize,
-            dec.neighbor_builds(),
-            work[0],
-            cpu[0],
-        ))
+            ghosts: ghosts[0],
+            builds: dec.neighbor_builds(),
+            work: work[0],
+            cpu: cpu[0],
+            balance: dec.balance.clone(),
+        })
     }
-    let (particles, integrator, wall, ghosts, builds, work, cpu) =
-        if loaded.scenario.dimension.axes() == 2 {
-            go::<D2>(&loaded, steps, comm)?
-        } else {
-            go::<D3>(&loaded, steps, comm)?
-        };
+    let Timed {
+        particles,
+        integrator,
+        wall,
+        ghosts,
+        builds,
+        work,
+        cpu,
+        balance,
+    } = if loaded.scenario.dimension.axes() == 2 {
+        go::<D2>(&loaded, steps, comm)?
+    } else {
+        go::<D3>(&loaded, steps, comm)?
+    };
     if comm.rank() != 0 {
         return Ok(());
     }
@@ -254,20 +270,24 @@ pub fn run_ranks(args: BenchArgs, comm: &dyn Comm) -> Result<()> {
     let ns = 1e9 * wall / (steps as f64 * particles.max(1) as f64);
     let rss = peak_rss_bytes();
     if args.json {
-        println!(
-            "{}",
-            json!({
-                "workload": args.workload, "particles": particles, "steps": steps, "threads": threads,
-                "ranks": ranks, "ghosts": ghosts, "neighbor_builds": builds,
-                "max_rank_work_seconds": work, "max_rank_cpu_seconds": cpu,
-                "integrator": integrator, "wall_seconds": wall, "ns_per_particle_step": ns,
-                "peak_rss_bytes_rank0": rss,
-            })
-        );
+        let mut out = json!({
+            "workload": args.workload, "particles": particles, "steps": steps, "threads": threads,
+            "ranks": ranks, "ghosts": ghosts, "neighbor_builds": builds,
+            "max_rank_work_seconds": work, "max_rank_cpu_seconds": cpu,
+            "integrator": integrator, "wall_seconds": wall, "ns_per_particle_step": ns,
+            "peak_rss_bytes_rank0": rss,
+        });
+        if let Some(map) = out.as_object_mut() {
+            balance.write(map);
+        }
+        println!("{out}");
     } else {
         println!(
-            "{}: {particles} mobile particles, {steps} steps, {ranks} ranks × {threads} thread(s), {integrator}: {wall:.3} s, {ns:.1} ns per particle-step, {ghosts} ghosts, busiest rank's work {work:.3} s, peak RSS of rank 0 {:.1} MiB",
+            "{}: {particles} mobile particles, {steps} steps, {ranks} ranks × {threads} thread(s), {integrator}: {wall:.3} s, {ns:.1} ns per particle-step, {ghosts} ghosts, busiest rank's work {work:.3} s, imbalance {:.3} (max {:.3}, {} rebalances), peak RSS of rank 0 {:.1} MiB",
             args.workload,
+            balance.last,
+            balance.max,
+            balance.rebalances,
             rss as f64 / 1048576.0
         );
     }

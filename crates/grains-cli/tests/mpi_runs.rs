@@ -187,7 +187,7 @@ fn same_thermo(dir: &Path, reference: &Path, what: &str) {
 /// overlap within 1e-9 relative, since a rank sums a grain's contact
 /// forces in another order; the contact count is not compared: a contact
 /// across a slab boundary counts on both ranks) and the same frames.
-fn check_md(scenario: &Path, sets: &[&str], steps: &str) {
+fn check_md(scenario: &Path, sets: &[&str], steps: &str, ranks: &[usize]) {
     let path = scenario.to_str().unwrap();
     let name = scenario.file_stem().unwrap().to_string_lossy().to_string();
     let run = |ranks: usize| {
@@ -206,7 +206,7 @@ fn check_md(scenario: &Path, sets: &[&str], steps: &str) {
         dir
     };
     let serial = run(0);
-    for ranks in [1, 2, 4] {
+    for &ranks in ranks {
         let dir = run(ranks);
         same_thermo(&dir, &serial, &format!("{ranks} ranks"));
         let summary: serde_json::Value =
@@ -214,6 +214,10 @@ fn check_md(scenario: &Path, sets: &[&str], steps: &str) {
         if ranks > 1 {
             assert_eq!(summary["ranks"], ranks);
             assert!(summary["migrations"].as_u64().unwrap() > 0, "{summary}");
+            let grid = summary["grid"].as_array().unwrap();
+            let product: u64 = grid.iter().map(|p| p.as_u64().unwrap()).product();
+            assert_eq!(product, ranks as u64, "{summary}");
+            assert!(summary["imbalance_final"].as_f64().is_some(), "{summary}");
         }
         if serial.join("frames").exists() {
             let count = |d: &Path| std::fs::read_dir(d.join("frames")).unwrap().count();
@@ -237,6 +241,7 @@ fn md_walls_2d_agrees_on_1_2_4_ranks() {
             "particles.random_velocity=0.2",
         ],
         "1000",
+        &[1, 2, 4],
     );
 }
 
@@ -276,7 +281,10 @@ picture = false
 "#,
     )
     .unwrap();
-    check_md(&file, &[], "200");
+    check_md(&file, &[], "200", &[1, 2, 4]);
+    // A 2 × 2 grid (y and z cut: ghosts across edges and periodic corners).
+    let sets = ["domain.hi=[20.0, 12.0, 12.0]", "parallel.grid=[1, 2, 2]"];
+    check_md(&file, &sets, "200", &[4]);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -342,4 +350,34 @@ fn md_checkpoints_cross_between_mpirun_and_one_process() {
         let _ = std::fs::remove_dir_all(&dir);
     }
     let _ = std::fs::remove_dir_all(&straight);
+}
+
+#[test]
+fn md_bench_under_mpirun_reports_the_imbalance() {
+    let out = grains(
+        2,
+        &[
+            "bench",
+            "bed3d",
+            "--particles",
+            "2000",
+            "--steps",
+            "20",
+            "--json",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    let line = text.lines().find(|l| l.starts_with('{')).unwrap();
+    let v: serde_json::Value = serde_json::from_str(line).unwrap();
+    assert_eq!(v["ranks"], 2);
+    for key in ["imbalance_initial", "imbalance_max", "imbalance_final"] {
+        let x = v[key].as_f64().unwrap_or(-1.0);
+        assert!((0.0..1.0).contains(&x), "{key}: {v}");
+    }
+    assert!(v["rebalances"].as_u64().is_some(), "{v}");
 }

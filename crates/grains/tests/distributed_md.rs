@@ -83,6 +83,24 @@ skin = 0.1
     .into()
 }
 
+/// Random unit grains (d ∈ [0.9, 1.1]), `count` of them, with velocity
+/// components up to `speed`.
+fn random_grains(count: usize, speed: f64) -> String {
+    format!(
+        "[particles]\nplacement = \"random\"\ncount = {count}\nd0 = 1.0\nwidth = 0.2\n\
+         density = 1.9098593\nrandom_velocity = {speed:.1}\n"
+    )
+}
+
+/// Plane walls at x = 0 and x = `right`, facing in.
+fn side_walls(right: f64) -> String {
+    format!(
+        "[[walls]]\nname = \"left\"\nshape = {{ type = \"plane\", point = [0.0, 0.0], \
+         normal = [1.0, 0.0] }}\n[[walls]]\nname = \"right\"\nshape = {{ type = \"plane\", \
+         point = [{right:.1}, 0.0], normal = [-1.0, 0.0] }}\n"
+    )
+}
+
 fn box_2d() -> String {
     r#"name = "md-box-2d"
 dimension = "2d"
@@ -92,13 +110,7 @@ gravity = [0.0, -1000.0]
 lo = [0.0, 0.0]
 hi = [20.0, 16.0]
 periodic = [false, false]
-[particles]
-placement = "random"
-count = 80
-d0 = 1.0
-width = 0.2
-density = 1.9098593
-random_velocity = 30.0
+#GRAINS#
 region = { lo = [0.0, 1.5], hi = [20.0, 15.0] }
 [[particles.add]]
 position = [5.0, 0.6]
@@ -115,19 +127,45 @@ preset = "lammps-hooke-history"
 name = "floor"
 shape = { type = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }
 motion = { type = "vibrate", amplitude = 0.3, frequency = 50.0 }
-[[walls]]
-name = "left"
-shape = { type = "plane", point = [0.0, 0.0], normal = [1.0, 0.0] }
-[[walls]]
-name = "right"
-shape = { type = "plane", point = [20.0, 0.0], normal = [-1.0, 0.0] }
+#WALLS#
 [run]
 integrator = "gear5"
 dt = 1.0e-4
 duration = 0.02
 skin = 0.1
 "#
-    .into()
+    .replace("#GRAINS#\n", &random_grains(80, 30.0))
+    .replace("#WALLS#\n", &side_walls(20.0))
+}
+
+/// A pile forming against the left wall: gravity along the slab axis (x)
+/// pulls a dilute 2D gas to one end, so the ranks on the right empty out
+/// and the bounds must move (threshold 0.1).
+fn pile_2d() -> String {
+    r#"name = "md-pile-2d"
+dimension = "2d"
+seed = 6
+gravity = [-5000.0, 0.0]
+[domain]
+lo = [0.0, 0.0]
+hi = [30.0, 8.0]
+periodic = [false, true]
+#GRAINS#
+region = { lo = [0.5, 0.0], hi = [29.5, 8.0] }
+[contact]
+preset = "lammps-hooke-history"
+kn = 1.0e7
+#WALLS#
+[run]
+integrator = "gear5"
+dt = 4.0e-5
+duration = 0.04
+skin = 0.1
+[parallel]
+rebalance = 0.1
+"#
+    .replace("#GRAINS#\n", &random_grains(80, 20.0))
+    .replace("#WALLS#\n", &side_walls(30.0))
 }
 
 fn loaded(text: &str) -> Loaded {
@@ -148,6 +186,8 @@ struct Activity {
     ghosts: usize,
     builds: u64,
     contacts: bool,
+    rebalances: u64,
+    grid: [usize; 3],
 }
 
 /// Steps the serial engine and a decomposition on `ranks` side by side.
@@ -164,11 +204,20 @@ fn compare<D: Dim>(l: &Loaded, ranks: usize, steps: u64) -> Activity {
             .as_ref()
             .map(|m| index_by_id(&m.particles))
             .unwrap_or_default();
-        let mut dec = DecomposedMd::new(full, c as &dyn Comm).unwrap();
+        let mut dec = DecomposedMd::with_spec(full, c as &dyn Comm, &l.scenario.parallel).unwrap();
         let mut ghosts = 0;
         let mut contacts = false;
         for step in 1..=steps {
+            let moves = dec.balance.rebalances;
             dec.step().unwrap();
+            let b = &dec.balance;
+            if b.rebalances > moves {
+                assert!(
+                    b.last <= b.threshold,
+                    "{ranks} ranks, step {step}: imbalance {} after moving the bounds",
+                    b.last
+                );
+            }
             ghosts = ghosts.max(dec.n_ghosts());
             let mut ids_bytes = Vec::new();
             for id in dec.owned_ids() {
@@ -230,6 +279,8 @@ fn compare<D: Dim>(l: &Loaded, ranks: usize, steps: u64) -> Activity {
             ghosts,
             builds: dec.neighbor_builds(),
             contacts,
+            rebalances: dec.balance.rebalances,
+            grid: dec.subdomains().grid,
         }
     });
     out.into_iter().next().unwrap()
@@ -264,15 +315,77 @@ fn decomposed_md_matches_serial_2d_closed_box_with_frozen_grains() {
 }
 
 #[test]
+fn decomposed_md_moves_the_bounds_of_a_pile() {
+    let l = loaded(&pile_2d());
+    for ranks in [2, 4] {
+        let a = compare::<D2>(&l, ranks, 1000);
+        assert!(a.contacts && a.migrations > 0);
+        assert!(a.rebalances > 0, "{ranks} ranks: the bounds never moved");
+    }
+    // On a 2 × 2 grid the staggered cuts move by the counts within each slab.
+    let a = compare::<D2>(
+        &loaded(&with_grid(&pile_2d(), "[2, 2]").replace("[parallel]\nrebalance = 0.1\n", "")),
+        4,
+        1000,
+    );
+    assert_eq!(a.grid, [2, 2, 1]);
+    assert!(a.rebalances > 0, "2 × 2: the bounds never moved");
+    // Threshold 0: the bounds stay where they were cut at the start.
+    let fixed = loaded(&pile_2d().replace("rebalance = 0.1", "rebalance = 0.0"));
+    assert_eq!(compare::<D2>(&fixed, 2, 1000).rebalances, 0);
+}
+
+/// A decomposition on 4 ranks must match the serial run (checks of
+/// [`compare`]) on the grid `want`, with grains crossing between ranks.
+fn on_grid<D: Dim>(text: &str, steps: u64, want: [usize; 3]) {
+    let a = compare::<D>(&loaded(text), 4, steps);
+    assert_eq!(a.grid, want);
+    assert!(a.contacts && a.ghosts > 0 && a.migrations > 0 && a.builds > 5);
+}
+
+fn with_grid(text: &str, grid: &str) -> String {
+    format!("{text}\n[parallel]\ngrid = {grid}\n")
+}
+
+#[test]
+fn decomposed_md_matches_serial_on_2d_grids() {
+    // Periodic gas on a forced 2 × 2 grid (ghosts across the corners).
+    on_grid::<D2>(&with_grid(&gas_2d(), "[2, 2]"), 100, [2, 2, 1]);
+    // Closed box with walls: "auto" chooses 2 × 2 (cut area 36 against 48).
+    on_grid::<D2>(&box_2d(), 200, [2, 2, 1]);
+}
+
+#[test]
+fn decomposed_md_matches_serial_on_3d_grids() {
+    let wide = bed_3d()
+        .replace("hi = [16.0, 5.0, 10.0]", "hi = [16.0, 8.0, 10.0]")
+        .replace("hi = [16.0, 5.0, 6.0]", "hi = [16.0, 8.0, 6.0]");
+    on_grid::<D3>(&with_grid(&wide, "[2, 2, 1]"), 200, [2, 2, 1]);
+    // Cut along the open vertical: the upper boxes reach to infinity.
+    on_grid::<D3>(&with_grid(&wide, "[1, 2, 2]"), 200, [1, 2, 2]);
+}
+
+#[test]
 fn too_many_ranks_for_the_box_is_a_clear_error() {
-    let l = loaded(&gas_2d());
-    let errs = ThreadComm::run(12, |c| {
-        let (full, _) = build_md::<D2>(&l).unwrap();
-        DecomposedMd::new(full, c as &dyn Comm)
-            .err()
-            .map(|e| e.to_string())
-    });
-    let e = errs[0].as_deref().unwrap_or("");
+    let refused = |text: &str, ranks: usize| {
+        let l = loaded(text);
+        let errs = ThreadComm::run(ranks, |c| {
+            let (full, _) = build_md::<D2>(&l).unwrap();
+            DecomposedMd::with_spec(full, c as &dyn Comm, &l.scenario.parallel)
+                .err()
+                .map(|e| e.to_string())
+        });
+        errs[0].clone().unwrap_or_default()
+    };
+    // 12 slabs of 2 along x are too thin (2 reaches = 2.6) ...
+    let e = refused(&with_grid(&gas_2d(), "\"slabs\""), 12);
+    assert!(
+        e.contains("run on fewer ranks") && e.contains("slabs"),
+        "{e}"
+    );
+    // ... "auto" takes 6 × 2 instead, but no grid of 37 fits.
+    assert_eq!(refused(&gas_2d(), 12), "");
+    let e = refused(&gas_2d(), 37);
     assert!(e.contains("run on fewer ranks"), "{e}");
 }
 
@@ -320,6 +433,10 @@ fn distributed_md_run_writes_the_serial_run_to_rounding() {
         let s = &out[0];
         assert_eq!(s["ranks"], ranks);
         assert!(s["migrations"].as_u64().unwrap() > 0);
+        assert!(s["rebalances"].as_u64().is_some());
+        let (i0, imax) = (&s["imbalance_initial"], &s["imbalance_max"]);
+        assert!(i0.as_f64().unwrap() <= imax.as_f64().unwrap());
+        assert!(s["imbalance_final"].as_f64().unwrap() <= imax.as_f64().unwrap());
         for key in ["steps", "particles", "time"] {
             assert_eq!(s[key], s0[key], "{ranks} ranks: {key}");
         }

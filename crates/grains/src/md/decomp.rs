@@ -1,4 +1,5 @@
-//! MD over the ranks of a [`Comm`]: slabs along the longest axis, ghost
+//! MD over the ranks of a [`Comm`]: a grid of boxes cut by grain count
+//! ([`super::subdomains`]), ghost
 //! shells refreshed every step, migration at neighbour rebuilds.
 //!
 //! Each rank runs an [`Md`] on its own grains followed by ghost copies of
@@ -15,7 +16,10 @@
 //! 1. predict (owned grains);
 //! 2. refresh the ghosts' position, velocity and spin from their owners;
 //! 3. if any rank's grain moved more than skin/2: wrap, migrate the grains
-//!    that left the slab, sort, send new ghost shells, rebuild the list;
+//!    that left the box; when the owned counts are out of balance (max/mean
+//!    − 1 above `[parallel] rebalance`), cut the boxes again by count
+//!    ([`super::balance`]) and migrate again; sort, send new ghost shells,
+//!    rebuild the list;
 //! 4. forces: pairs (owned and ghosts), walls and gravity (owned only, walls
 //!    evaluated at the same time on every rank);
 //! 5. correct (owned grains);
@@ -25,7 +29,10 @@
 //! with the serial run to rounding: forces on a grain are summed in another
 //! order (the list order differs), never a different physics.
 
-use super::halo::{get_record, put_record, Halo, Slabs};
+use super::balance::{counts_of_ranks, imbalance};
+use super::halo::{get_record, put_record, Halo};
+use super::parallel_spec::ParallelSpec;
+use super::subdomains::Subdomains;
 use super::{Md, MdStats};
 use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
@@ -41,17 +48,44 @@ type PairSprings<D> = HashMap<(u64, u64), <D as Dim>::V, super::pair_hash::PairH
 /// One pair spring in a migration message.
 type PairSpring<D> = ((u64, u64), <D as Dim>::V);
 
+/// How evenly the grains were spread over the ranks (imbalance: max/mean
+/// − 1 of the owned counts, measured at the start and after each global
+/// neighbour rebuild), and how often the bounds moved.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Balance {
+    /// Imbalance above which the bounds move (0: never).
+    pub threshold: f64,
+    pub initial: f64,
+    pub max: f64,
+    /// The latest measurement (after the move, when the bounds moved).
+    pub last: f64,
+    pub rebalances: u64,
+}
+
+impl Balance {
+    /// The summary keys: `imbalance_initial`, `imbalance_max`,
+    /// `imbalance_final`, `rebalances`.
+    pub fn write(&self, out: &mut serde_json::Map<String, serde_json::Value>) {
+        out.insert("imbalance_initial".into(), self.initial.into());
+        out.insert("imbalance_max".into(), self.max.into());
+        out.insert("imbalance_final".into(), self.last.into());
+        out.insert("rebalances".into(), self.rebalances.into());
+    }
+}
+
 /// One rank's part of a decomposed MD run.
 pub struct DecomposedMd<'c, D: Dim> {
     /// This rank's engine: owned grains first, ghosts after.
     pub md: Md<D>,
     comm: &'c dyn Comm,
-    slabs: Slabs,
+    sub: Subdomains,
     /// The whole box (the engine holds this rank's list box).
     global: Domain<D>,
     halo: Halo,
     /// Grains that changed rank, over the whole run (all ranks).
     pub migrations: u64,
+    /// The load balance: threshold, imbalances seen, moves of the bounds.
+    pub balance: Balance,
     /// Seconds this rank spent in the per-step messages and collectives
     /// (ghost refresh, rebuild vote, statistics), waiting for others
     /// included: what the decomposition costs beyond the work itself.
@@ -60,24 +94,36 @@ pub struct DecomposedMd<'c, D: Dim> {
 
 impl<'c, D: Dim> DecomposedMd<'c, D> {
     /// Splits a whole engine (the same on every rank, as built from the
-    /// scenario at t = 0) into this rank's part.
+    /// scenario at t = 0) into this rank's part, with the default
+    /// `[parallel]` settings.
     pub fn new(full: Md<D>, comm: &'c dyn Comm) -> Result<Self> {
+        Self::with_spec(full, comm, &ParallelSpec::default())
+    }
+
+    /// As [`Self::new`], split as `spec` says.
+    pub fn with_spec(full: Md<D>, comm: &'c dyn Comm, spec: &ParallelSpec) -> Result<Self> {
         let global = full.domain.clone();
         let reach = 2.0 * full.particles.max_radius() + full.settings.skin;
         let n = full.particles.n_owned();
-        let slabs = Slabs::by_count(&global, &full.particles.pos[..n], comm.size(), reach)?;
+        let pos = &full.particles.pos[..n];
+        let sub = Subdomains::by_count(&global, pos, comm.size(), reach, &spec.grid)?;
         let mut dec = Self {
             md: full,
             comm,
-            slabs,
+            sub,
             global,
             halo: Halo::default(),
             migrations: 0,
+            balance: Balance {
+                threshold: spec.rebalance,
+                ..Balance::default()
+            },
             comm_seconds: 0.0,
         };
         if comm.size() > 1 {
             dec.split()?;
         }
+        dec.balance.initial = dec.measure_imbalance();
         Ok(dec)
     }
 
@@ -88,13 +134,12 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         let saved = self.md.save_springs();
         let walls = self.wall_springs_by_id();
         let r = self.comm.rank();
-        let a = self.slabs.axis;
         let p = &mut self.md.particles;
         for i in 0..p.n_owned() {
             p.pos[i] = self.global.wrap(p.pos[i]);
         }
         let keep: Vec<u32> = (0..p.n_owned() as u32)
-            .filter(|&i| self.slabs.owner(D::get(p.pos[i as usize], a)) == r)
+            .filter(|&i| self.sub.owner(&D::to_xyz(p.pos[i as usize])) == r)
             .collect();
         p.retain_owned(&keep);
         let mine: HashSet<u64> = p.id.iter().copied().collect();
@@ -106,7 +151,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             .into_iter()
             .filter(|(id, _, _)| mine.contains(id))
             .collect();
-        self.md.domain = self.slabs.local_domain(&self.global, r);
+        self.md.domain = self.sub.local_domain(&self.global, r);
         self.finish_rebuild(saved, walls, false)?;
         self.md.compute_forces(false);
         Ok(())
@@ -122,8 +167,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         self.md.step += 1;
         let comm = self.comm;
         let t = Instant::now();
-        self.halo
-            .refresh(self.slabs.axis, &mut self.md.particles, comm);
+        self.halo.refresh(&mut self.md.particles, comm);
         self.comm_seconds += t.elapsed().as_secs_f64();
         let mut rebuild = [self.md.neighbors.needs_rebuild(&self.md.particles.pos) as u64];
         let t = Instant::now();
@@ -147,23 +191,52 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             .collect()
     }
 
-    /// Wraps, migrates, and rebuilds ghosts and list (step 3).
+    /// Wraps, migrates, moves the bounds when the counts are out of
+    /// balance (and migrates again), and rebuilds ghosts and list (step 3).
     fn rebuild(&mut self) -> Result<()> {
-        let saved = self.md.save_springs();
+        let mut saved = self.md.save_springs();
         let mut walls = self.wall_springs_by_id();
-        let (r, a, size) = (self.comm.rank(), self.slabs.axis, self.comm.size());
         let p = &mut self.md.particles;
         p.clear_ghosts();
         for i in 0..p.n_owned() {
             p.pos[i] = self.global.wrap(p.pos[i]);
         }
+        self.migrate(&mut saved, &mut walls);
+        let imbalance = self.measure_imbalance();
+        if self.balance.threshold > 0.0 && imbalance > self.balance.threshold {
+            let p = &self.md.particles;
+            let n = p.n_owned();
+            self.sub
+                .cut_by_count(self.comm, || p.pos[..n].iter().map(|&x| D::to_xyz(x)));
+            self.md.domain = self.sub.local_domain(&self.global, self.comm.rank());
+            self.migrate(&mut saved, &mut walls);
+            self.balance.rebalances += 1;
+            self.measure_imbalance();
+        }
+        self.finish_rebuild(saved, walls, true)
+    }
+
+    /// Owned grains per rank now: max/mean − 1, recorded in the report.
+    fn measure_imbalance(&mut self) -> f64 {
+        let counts = counts_of_ranks(self.comm, self.md.particles.n_owned());
+        let x = imbalance(&counts);
+        self.balance.last = x;
+        self.balance.max = self.balance.max.max(x);
+        x
+    }
+
+    /// Sends the owned grains (wrapped) that another rank owns there, with
+    /// their pair and wall springs, and takes in those that arrive.
+    fn migrate(&mut self, saved: &mut PairSprings<D>, walls: &mut Vec<(u64, u32, D::V)>) {
+        let (r, size) = (self.comm.rank(), self.comm.size());
+        let p = &mut self.md.particles;
         // Leaving grains travel with their springs.
         let mut out = vec![Writer::default(); size];
         let mut leaving: HashMap<u64, usize> = HashMap::new();
         let mut records: Vec<Vec<_>> = vec![Vec::new(); size];
         let mut keep = Vec::with_capacity(p.n_owned());
         for i in 0..p.n_owned() {
-            let dest = self.slabs.owner(D::get(p.pos[i], a));
+            let dest = self.sub.owner(&D::to_xyz(p.pos[i]));
             if dest == r {
                 keep.push(i as u32);
             } else {
@@ -174,7 +247,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         let mut pair_out: Vec<Vec<PairSpring<D>>> = vec![Vec::new(); size];
         // Nothing to look up when no grain leaves (most rebuilds of a dense bed).
         if !leaving.is_empty() {
-            for (&key, &s) in &saved {
+            for (&key, &s) in saved.iter() {
                 // A pair whose two grains leave for different ranks goes to both.
                 let d0 = leaving.get(&key.0);
                 let d1 = leaving.get(&key.1);
@@ -203,7 +276,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             }
             w.u64(records[d].len() as u64);
             for rec in &records[d] {
-                put_record(w, rec, a, 0.0);
+                put_record(w, rec, &[0.0; 3]);
             }
             w.u64(pair_out[d].len() as u64);
             // Sorted so that the message does not depend on hash order.
@@ -221,7 +294,6 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             }
         }
         p.retain_owned(&keep);
-        let mut saved = saved;
         saved.retain(|k, _| !(leaving.contains_key(&k.0) && leaving.contains_key(&k.1)));
         let bufs: Vec<Vec<u8>> = out.into_iter().map(|w| w.buf).collect();
         let got = self.comm.exchange(&bufs);
@@ -247,7 +319,6 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         let mut moved = [arrived];
         self.comm.sum_u64(&mut moved);
         self.migrations += moved[0];
-        self.finish_rebuild(saved, walls, true)
     }
 
     /// With this rank's owned grains in place: sort (every few rebuilds),
@@ -271,7 +342,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             md.rebuilds_since_sort = md.rebuilds_since_sort.wrapping_add(1);
         }
         let comm = self.comm;
-        self.halo = Halo::build(&self.slabs, comm.rank(), &mut md.particles, |out| {
+        self.halo = Halo::build(&self.sub, comm.rank(), &mut md.particles, |out| {
             comm.exchange(out)
         });
         let p = &md.particles;
@@ -385,9 +456,9 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         self.md.neighbor_builds()
     }
 
-    /// The slab axis and the slab bounds.
-    pub fn slabs(&self) -> &Slabs {
-        &self.slabs
+    /// The boxes of the ranks.
+    pub fn subdomains(&self) -> &Subdomains {
+        &self.sub
     }
 
     /// Puts every rank's owned grains (position, velocity, spin) into
@@ -425,12 +496,12 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         &self.md.particles.id[..self.n_owned()]
     }
 
-    /// Splits an engine restored from a checkpoint: as [`Self::new`], but
+    /// Splits an engine restored from a checkpoint: as [`Self::with_spec`], but
     /// every grain keeps the checkpoint's force, torque and springs. The
     /// split's force evaluation sees the full-step velocities where the run
     /// saw Velocity Verlet's half-step ones: its forces would differ, and
     /// the Coulomb cap would cut sliding springs to other lengths.
-    pub fn resume(full: Md<D>, comm: &'c dyn Comm) -> Result<Self> {
+    pub fn resume(full: Md<D>, comm: &'c dyn Comm, spec: &ParallelSpec) -> Result<Self> {
         let p = &full.particles;
         let loads: HashMap<u64, (D::V, D::A)> = (0..p.n_owned())
             .map(|i| (p.id[i], (p.force[i], p.torque[i])))
@@ -441,7 +512,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         for ((g, w), s) in full.wall_springs.entries() {
             walls.insert((p.id[g as usize], w), s);
         }
-        let mut dec = Self::new(full, comm)?;
+        let mut dec = Self::with_spec(full, comm, spec)?;
         let md = &mut dec.md;
         let p = &mut md.particles;
         for i in 0..p.n_owned() {
@@ -481,7 +552,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         let mut w = Writer::default();
         w.u64(n as u64);
         for i in 0..n {
-            put_record(&mut w, &p.pack(i), 0, 0.0);
+            put_record(&mut w, &p.pack(i), &[0.0; 3]);
             put_vec::<D>(&mut w, p.force[i]);
             put_ang::<D>(&mut w, p.torque[i]);
         }

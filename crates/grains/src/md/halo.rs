@@ -1,162 +1,19 @@
-//! The geometry and messages of MD domain decomposition: slabs along one
-//! axis, the ghost shells each rank receives from its neighbours, and the
-//! byte layout of a migrating or ghost grain.
+//! The messages of MD domain decomposition: the ghost shells each rank
+//! receives from the others, and the byte layout of a migrating or ghost
+//! grain.
 //!
-//! A rank owns the grains whose coordinate along the slab axis lies in its
-//! slab `[bounds[r], bounds[r + 1])`. It holds ghost copies of the grains
-//! of the two adjacent slabs that lie within `reach` = largest diameter +
-//! skin of its own: every pair that can touch before the next neighbour
-//! rebuild (no grain moves more than skin/2 in between) then has both
-//! grains on each rank that owns one of them. Slabs are at least two
-//! reaches wide, so only adjacent ranks exchange ghosts and a grain is
-//! never a ghost twice on one rank.
+//! A rank owns the grains inside its box ([`Subdomains`]). It holds ghost
+//! copies of the other ranks' grains (or of their periodic images) that
+//! lie within `reach` = largest diameter + skin of its box: every pair that
+//! can touch before the next neighbour rebuild (no grain moves more than
+//! skin/2 in between) then has both grains on each rank that owns one of
+//! them.
 
+use super::subdomains::Subdomains;
 use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
-use crate::domain::Domain;
-use crate::error::{Error, Result};
 use crate::particles::{ParticleRecord, Particles};
-
-/// Slabs along one axis, one per rank.
-#[derive(Clone, Debug)]
-pub struct Slabs {
-    pub axis: usize,
-    /// `bounds[r]..bounds[r + 1]` is rank r's slab; the ends are the box's.
-    pub bounds: Vec<f64>,
-    pub periodic: bool,
-    /// Box length along the axis (the periodic shift).
-    pub length: f64,
-    /// Ghost shell width: largest diameter + skin.
-    pub reach: f64,
-}
-
-impl Slabs {
-    /// Cuts the longest axis of the box (the first of equal ones) so that
-    /// each of `ranks` slabs holds about the same number of the grains at
-    /// `coords` (their coordinates along that axis, wrapped).
-    pub fn by_count<D: Dim>(
-        domain: &Domain<D>,
-        pos: &[D::V],
-        ranks: usize,
-        reach: f64,
-    ) -> Result<Self> {
-        let axis = (0..D::D)
-            .max_by(|&a, &b| {
-                domain
-                    .length(a)
-                    .total_cmp(&domain.length(b))
-                    .then(b.cmp(&a))
-            })
-            .unwrap_or(0);
-        let (lo, hi) = (D::get(domain.lo, axis), D::get(domain.hi, axis));
-        let mut x: Vec<f64> = pos.iter().map(|&p| D::get(domain.wrap(p), axis)).collect();
-        x.sort_unstable_by(f64::total_cmp);
-        let mut bounds = vec![lo];
-        for k in 1..ranks {
-            let at = k * x.len() / ranks;
-            let b = match (at.checked_sub(1).and_then(|i| x.get(i)), x.get(at)) {
-                (Some(&a), Some(&b)) => 0.5 * (a + b),
-                _ => lo + (hi - lo) * k as f64 / ranks as f64,
-            };
-            bounds.push(b);
-        }
-        bounds.push(hi);
-        let slabs = Self {
-            axis,
-            bounds,
-            periodic: domain.is_periodic(axis),
-            length: hi - lo,
-            reach,
-        };
-        slabs.check(ranks)?;
-        Ok(slabs)
-    }
-
-    /// Every slab must be at least two reaches wide (see the module notes).
-    fn check(&self, ranks: usize) -> Result<()> {
-        for r in 0..ranks {
-            let w = self.bounds[r + 1] - self.bounds[r];
-            if w.is_nan() || w < 2.0 * self.reach {
-                let axis = ["x", "y", "z"][self.axis];
-                return Err(Error::input(format!(
-                    "{ranks} MPI ranks cut the box along {axis} (length {}) into slabs by grain \
-                     count; slab {r} is {w:.4} wide, less than 2 × (largest diameter + neighbour \
-                     skin) = {:.4}: run on fewer ranks",
-                    self.length,
-                    2.0 * self.reach
-                )));
-            }
-        }
-        Ok(())
-    }
-
-    pub fn ranks(&self) -> usize {
-        self.bounds.len() - 1
-    }
-
-    /// The rank that owns a grain at coordinate `x` (wrapped on a periodic
-    /// axis; beyond the box ends on an open one: the end slabs).
-    pub fn owner(&self, x: f64) -> usize {
-        let inner = &self.bounds[1..self.ranks()];
-        inner.partition_point(|&b| b <= x)
-    }
-
-    /// The shells rank `r` sends: (neighbour rank, shift added to the
-    /// coordinate, lower side of r's slab?) for the slab below and above.
-    pub fn sends(&self, r: usize) -> Vec<(usize, f64, bool)> {
-        let n = self.ranks();
-        let mut out = Vec::new();
-        if n < 2 {
-            return out;
-        }
-        if r > 0 {
-            out.push((r - 1, 0.0, true));
-        } else if self.periodic {
-            out.push((n - 1, self.length, true));
-        }
-        if r + 1 < n {
-            out.push((r + 1, 0.0, false));
-        } else if self.periodic {
-            out.push((0, -self.length, false));
-        }
-        out
-    }
-
-    /// Whether a grain of rank `r` at `x` is within reach of the neighbour
-    /// on the `lower` (or upper) side.
-    pub fn in_shell(&self, r: usize, x: f64, lower: bool) -> bool {
-        if lower {
-            x < self.bounds[r] + self.reach
-        } else {
-            x >= self.bounds[r + 1] - self.reach
-        }
-    }
-
-    /// The box rank `r` builds its neighbour list in: its slab widened by a
-    /// reach on each side, not periodic along the slab axis (the ghosts are
-    /// the images); the box's own ends where the axis is open.
-    pub fn local_domain<D: Dim>(&self, global: &Domain<D>, r: usize) -> Domain<D> {
-        let mut d = global.clone();
-        if self.ranks() < 2 {
-            return d;
-        }
-        let a = self.axis;
-        let lo = if r == 0 && !self.periodic {
-            D::get(global.lo, a)
-        } else {
-            self.bounds[r] - self.reach
-        };
-        let hi = if r + 1 == self.ranks() && !self.periodic {
-            D::get(global.hi, a)
-        } else {
-            self.bounds[r + 1] + self.reach
-        };
-        D::set(&mut d.lo, a, lo);
-        D::set(&mut d.hi, a, hi);
-        d.periodic[a] = false;
-        d
-    }
-}
+use std::collections::BTreeMap;
 
 fn put_v<D: Dim>(w: &mut Writer, v: D::V) {
     for x in &D::to_xyz(v)[..D::D] {
@@ -191,19 +48,23 @@ fn get_a<D: Dim>(r: &mut Reader) -> D::A {
     D::ang_from_xyz(x)
 }
 
+/// `v` moved by `d` (the first `D::D` components).
+fn moved<D: Dim>(v: D::V, d: &[f64; 3]) -> D::V {
+    let mut x = D::to_xyz(v);
+    x.iter_mut().zip(d).for_each(|(a, b)| *a += b);
+    D::from_xyz(x)
+}
+
 /// A whole grain (what migrates, and a ghost's first copy), its position
-/// moved by `shift` along `axis`.
-pub fn put_record<D: Dim>(w: &mut Writer, r: &ParticleRecord<D>, axis: usize, shift: f64) {
+/// moved by `shift`.
+pub fn put_record<D: Dim>(w: &mut Writer, r: &ParticleRecord<D>, shift: &[f64; 3]) {
     w.u64(r.id);
     w.u32(r.kind);
     w.u32(r.frozen as u32);
     w.f64(r.radius);
     w.f64(r.mass);
     w.f64(r.inertia);
-    let mut pos = r.pos;
-    let x = D::get(pos, axis) + shift;
-    D::set(&mut pos, axis, x);
-    put_v::<D>(w, pos);
+    put_v::<D>(w, moved::<D>(r.pos, shift));
     put_v::<D>(w, r.vel);
     put_a::<D>(w, r.omega);
     w.u32(r.gear.len() as u32);
@@ -242,37 +103,56 @@ pub fn get_record<D: Dim>(rd: &mut Reader) -> ParticleRecord<D> {
 /// ghosts sit in the store.
 #[derive(Clone, Debug, Default)]
 pub struct Halo {
-    /// (destination rank, shift along the slab axis, owned indices).
-    pub sends: Vec<(usize, f64, Vec<u32>)>,
+    /// (destination rank, shift added to the position, owned indices), in
+    /// the order both ends read them.
+    pub sends: Vec<(usize, [f64; 3], Vec<u32>)>,
     /// Ghost entries received from each rank, in rank order.
     pub recv_counts: Vec<usize>,
+    /// The ranks this one exchanges ghosts with (symmetric: r sends to s
+    /// or s to r), ascending.
+    pub peers: Vec<usize>,
 }
 
 impl Halo {
     /// Chooses the shells of rank `r` from its owned grains (all wrapped
-    /// and inside its slab) and sends them whole to the neighbours; the
+    /// and inside its box) and sends them whole to the other ranks; the
     /// ghosts received are appended to `p`.
     pub fn build<D: Dim>(
-        slabs: &Slabs,
+        sub: &Subdomains,
         r: usize,
         p: &mut Particles<D>,
         exchange: impl FnOnce(&[Vec<u8>]) -> Vec<Vec<u8>>,
     ) -> Self {
         let n = p.n_owned();
-        let a = slabs.axis;
-        let mut sends = Vec::new();
-        let mut out = vec![Vec::new(); slabs.ranks()];
-        for (dest, shift, lower) in slabs.sends(r) {
-            let list: Vec<u32> = (0..n as u32)
-                .filter(|&i| slabs.in_shell(r, D::get(p.pos[i as usize], a), lower))
-                .collect();
-            let mut w = Writer { buf: Vec::new() };
-            std::mem::swap(&mut w.buf, &mut out[dest]);
+        let mine = sub.cell(r);
+        let targets = sub.ghost_targets(r);
+        // Keyed by (rank, shift) so that both ends agree on the order.
+        let mut lists: BTreeMap<(usize, [i8; 3]), Vec<u32>> = BTreeMap::new();
+        for i in 0..n {
+            let x = D::to_xyz(p.pos[i]);
+            if sub.deep_inside(&mine, &x) {
+                continue;
+            }
+            for (s, shift, cell) in &targets {
+                let d = sub.displacement(*shift);
+                let y = [x[0] + d[0], x[1] + d[1], x[2] + d[2]];
+                if sub.contains(cell, &y) {
+                    lists.entry((*s, *shift)).or_default().push(i as u32);
+                }
+            }
+        }
+        let mut out = vec![Vec::new(); sub.ranks()];
+        let mut sends = Vec::with_capacity(lists.len());
+        for ((dest, shift), list) in lists {
+            let d = sub.displacement(shift);
+            let mut w = Writer {
+                buf: std::mem::take(&mut out[dest]),
+            };
             for &i in &list {
-                put_record(&mut w, &p.pack(i as usize), a, shift);
+                put_record(&mut w, &p.pack(i as usize), &d);
             }
             out[dest] = w.buf;
-            sends.push((dest, shift, list));
+            sends.push((dest, d, list));
         }
         let got = exchange(&out);
         let mut recv_counts = Vec::with_capacity(got.len());
@@ -285,34 +165,37 @@ impl Halo {
             }
             recv_counts.push(k);
         }
-        Self { sends, recv_counts }
+        let peers = (0..got.len())
+            .filter(|&s| recv_counts[s] > 0 || sends.iter().any(|e| e.0 == s))
+            .collect();
+        Self {
+            sends,
+            recv_counts,
+            peers,
+        }
     }
 
     /// Refreshes every ghost's position, velocity and spin from its owner
     /// (called once per step, after the integrator's prediction).
-    pub fn refresh<D: Dim>(&self, axis: usize, p: &mut Particles<D>, comm: &dyn Comm) {
+    pub fn refresh<D: Dim>(&self, p: &mut Particles<D>, comm: &dyn Comm) {
         let mut out = vec![Vec::new(); self.recv_counts.len()];
         for (dest, shift, list) in &self.sends {
-            let mut w = Writer { buf: Vec::new() };
-            std::mem::swap(&mut w.buf, &mut out[*dest]);
+            let mut w = Writer {
+                buf: std::mem::take(&mut out[*dest]),
+            };
             w.buf.reserve(list.len() * 8 * (2 * D::D + 3));
             for &i in list {
                 let i = i as usize;
-                let mut pos = p.pos[i];
-                let x = D::get(pos, axis) + shift;
-                D::set(&mut pos, axis, x);
-                put_v::<D>(&mut w, pos);
+                put_v::<D>(&mut w, moved::<D>(p.pos[i], shift));
                 put_v::<D>(&mut w, p.vel[i]);
                 put_a::<D>(&mut w, p.omega[i]);
             }
             out[*dest] = w.buf;
         }
-        // Only neighbours talk, and each knows how much the other sends.
+        // Only peers talk, and each knows how much the other sends.
         let per_ghost = 8 * (2 * D::D + if D::D == 2 { 1 } else { 3 });
-        let mut peers: Vec<usize> = self.sends.iter().map(|s| s.0).collect();
-        peers.dedup();
         let recv_len: Vec<usize> = self.recv_counts.iter().map(|&c| c * per_ghost).collect();
-        let got = comm.exchange_with(&peers, &out, &recv_len);
+        let got = comm.exchange_with(&self.peers, &out, &recv_len);
         let mut g = p.n_owned();
         for (buf, &count) in got.iter().zip(&self.recv_counts) {
             let mut rd = Reader::new(buf);
@@ -348,7 +231,7 @@ mod tests {
         r.gear = vec![DVec3::X, DVec3::Y];
         r.gear_ang = vec![DVec3::Z];
         let mut w = Writer::default();
-        put_record(&mut w, &r, 0, 10.0);
+        put_record(&mut w, &r, &[10.0, 0.0, 0.0]);
         let mut rd = Reader::new(&w.buf);
         let back = get_record::<D3>(&mut rd);
         assert!(rd.done());
@@ -359,23 +242,7 @@ mod tests {
         let mut r2 = ParticleRecord::<D2>::new(1, DVec2::new(1.0, 2.0), 0.5, 2.0, 0.2);
         r2.omega = -3.5;
         let mut w = Writer::default();
-        put_record(&mut w, &r2, 1, 0.0);
+        put_record(&mut w, &r2, &[0.0; 3]);
         assert_eq!(get_record::<D2>(&mut Reader::new(&w.buf)), r2);
-    }
-
-    #[test]
-    fn slabs_split_by_count_and_refuse_thin_ones() {
-        let d = Domain::<D2>::new(DVec2::ZERO, DVec2::new(40.0, 10.0), [true, false, false]);
-        // Grains crowd the left half: the cuts follow the count, not the box.
-        let pos: Vec<DVec2> = (0..200).map(|k| DVec2::new(0.1 * k as f64, 1.0)).collect();
-        let s = Slabs::by_count(&d, &pos, 2, 1.2).unwrap();
-        assert_eq!(s.axis, 0);
-        assert!((s.bounds[1] - 9.95).abs() < 1e-12, "{:?}", s.bounds);
-        assert_eq!((s.owner(0.0), s.owner(9.9), s.owner(10.0)), (0, 0, 1));
-        // Rank 0 sends down to rank 1 with a +L shift, up without.
-        assert_eq!(s.sends(0), vec![(1, 40.0, true), (1, 0.0, false)]);
-        assert_eq!(s.sends(1), vec![(0, 0.0, true), (0, -40.0, false)]);
-        let err = Slabs::by_count(&d, &pos, 16, 1.2).unwrap_err().to_string();
-        assert!(err.contains("run on fewer ranks"), "{err}");
     }
 }

@@ -15,11 +15,14 @@
 //! Measurements and output are not part of the step: the caller runs them
 //! between steps (see the scenario runner).
 
+pub mod balance;
 pub mod decomp;
 mod field_forces;
 pub mod halo;
 mod pair_forces;
 mod pair_hash;
+pub mod parallel_spec;
+pub mod subdomains;
 mod wall_springs;
 
 use crate::boundary::Wall;

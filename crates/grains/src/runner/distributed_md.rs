@@ -1,13 +1,13 @@
 //! Runs an MD scenario over several ranks ([`crate::md::decomp`]).
 //!
-//! Every rank builds the whole engine from the scenario and keeps its slab;
+//! Every rank builds the whole engine from the scenario and keeps its box;
 //! rank 0 keeps a second whole engine (the "mirror") into which the ranks
 //! gather positions, velocities and spins at every sample and output step.
 //! Rank 0 then measures and writes with the serial runner's code
 //! (thermo.csv, frames, dump, measurement files, summary.json), so the
 //! files have the serial run's layout; the numbers agree with a serial run
 //! to rounding (see `docs/scaling.md`). The thermo row's contact count is
-//! the sum over ranks, in which a contact across a slab boundary counts
+//! the sum over ranks, in which a contact across a box boundary counts
 //! twice (both ranks evaluate it).
 //!
 //! Checkpoints (`--checkpoint-every`): at a checkpoint step every rank
@@ -15,7 +15,7 @@
 //! to rank 0, which writes the serial run's checkpoint format from the
 //! mirror ([`DecomposedMd::gather_state`]). So `grains resume` continues
 //! such a run on one process, and [`resume`] continues any checkpoint on
-//! several ranks: every rank restores the whole engine and keeps its slab.
+//! several ranks: every rank restores the whole engine and keeps its box.
 //! A stop signal under mpirun ends the run without a checkpoint (the ranks
 //! would have to agree on the step); the last interval's checkpoint stays.
 //!
@@ -105,7 +105,7 @@ pub fn run<D: Dim>(
 }
 
 /// Continues an MD checkpoint (written by a serial or a distributed run) on
-/// the ranks of `comm`: every rank reads it and keeps its slab. `opts` as
+/// the ranks of `comm`: every rank reads it and keeps its box. `opts` as
 /// given by [`checkpointing::resume_options`].
 pub(super) fn resume<D: Dim>(
     found: &Found,
@@ -175,8 +175,8 @@ fn drive<D: Dim>(
         .unwrap_or_default();
     let first_step = full.step;
     let mut dec = match first_step {
-        0 => DecomposedMd::new(full, comm)?,
-        _ => DecomposedMd::resume(full, comm)?,
+        0 => DecomposedMd::with_spec(full, comm, &loaded.scenario.parallel)?,
+        _ => DecomposedMd::resume(full, comm, &loaded.scenario.parallel)?,
     };
     let every = resolved.output_every;
     let sample_every = (every / 10).max(1);
@@ -304,9 +304,11 @@ fn drive<D: Dim>(
     measurements.scalars(&mut summary);
     flow.finish(&opts.out_dir, &md, &mut summary)?;
     summary.insert("ranks".into(), json!(comm.size()));
-    summary.insert("slab_axis".into(), json!(["x", "y", "z"][dec.slabs().axis]));
+    let grid = dec.subdomains().describe(D::D);
+    summary.insert("grid".into(), json!(grid));
     summary.insert("migrations".into(), json!(dec.migrations));
     summary.insert("ghosts".into(), json!(ghosts[0]));
+    dec.balance.write(&mut summary);
     let summary = Value::Object(summary);
     outputs.write_summary(&summary)?;
     Ok(summary)

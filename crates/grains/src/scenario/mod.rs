@@ -77,6 +77,9 @@ pub fn load_str(text: &str, origin: &str, base_dir: PathBuf, sets: &[String]) ->
         from_tree(tree)
             .map_err(|e| Error::input(format!("{origin} (after --set overrides): {e}")))?
     };
+    scenario
+        .parallel
+        .validate(origin, scenario.dimension.axes())?;
     Ok(Loaded {
         scenario,
         origin: origin.to_string(),

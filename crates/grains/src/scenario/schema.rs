@@ -44,6 +44,9 @@ pub struct Scenario {
     /// A silo generated from a few numbers (`hopper.outlet` is the outlet width).
     #[serde(default)]
     pub hopper: Option<HopperSpec>,
+    /// How a distributed (MPI) MD run splits the box over its ranks.
+    #[serde(default)]
+    pub parallel: crate::md::parallel_spec::ParallelSpec,
 }
 
 fn default_seed() -> u64 {
