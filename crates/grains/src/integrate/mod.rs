@@ -22,6 +22,44 @@ pub struct SkinCheck<'a, V> {
     pub limit2: f64,
 }
 
+impl<V> SkinCheck<'_, V> {
+    /// No test (the passes compiled without it ignore it).
+    pub fn none() -> Self {
+        SkinCheck {
+            reference: &[],
+            limit2: 0.0,
+        }
+    }
+}
+
+/// What a pass over the grains found: a grain beyond the skin, and the
+/// first grain (lowest index, whatever the threads) whose state is not
+/// finite when that was asked.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Report {
+    pub far: bool,
+    pub non_finite: Option<usize>,
+}
+
+impl Report {
+    /// Two chunks' reports, in grain order.
+    fn join(a: Self, b: Self) -> Self {
+        Report {
+            far: a.far || b.far,
+            non_finite: a.non_finite.or(b.non_finite),
+        }
+    }
+
+    /// Notes grain `i` if its position or velocity is not finite.
+    #[inline(always)]
+    fn note_finite<D: Dim>(&mut self, i: usize, pos: D::V, vel: D::V) {
+        if self.non_finite.is_none() && !(D::is_finite(pos) && D::is_finite(vel)) {
+            self.non_finite = Some(i);
+        }
+    }
+}
+
+use crate::dim::Dim;
 use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
