@@ -167,18 +167,22 @@ fn final_state_on_1_2_4_threads(integrator: &str) {
     assert_eq!(one, run(4));
 }
 
+/// Two identical engines on the vib2d benchmark with `integrator`.
+fn two_vib2d_engines(integrator: &str) -> [Md<D2>; 2] {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/bench-vib2d.toml");
+    let sets = [format!("run.integrator={integrator}")];
+    let loaded = grains::scenario::load_file(&path, &sets).unwrap();
+    [(); 2].map(|_| grains::scenario::build_md::<D2>(&loaded).unwrap().0)
+}
+
 /// `Md::run` fuses each step's corrector with the next step's predictor;
 /// the same steps taken one at a time (`Md::step`, two passes) must give the
 /// same bits, across neighbour rebuilds, with either integrator.
 #[test]
 fn fused_steps_match_single_steps() {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/bench-vib2d.toml");
     for integrator in ["verlet", "gear5"] {
-        let sets = [format!("run.integrator={integrator}")];
-        let loaded = grains::scenario::load_file(&path, &sets).unwrap();
-        let (mut fused, _) = grains::scenario::build_md::<D2>(&loaded).unwrap();
-        let (mut single, _) = grains::scenario::build_md::<D2>(&loaded).unwrap();
+        let [mut fused, mut single] = two_vib2d_engines(integrator);
         // A frozen grain must not move in the fused pass either.
         for md in [&mut fused, &mut single] {
             md.particles.frozen[7] = true;
@@ -213,13 +217,8 @@ fn fused_steps_match_single_steps() {
 /// the same step as when the steps are taken one at a time.
 #[test]
 fn fused_steps_report_non_finite_grains_as_single_steps() {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/bench-vib2d.toml");
     for integrator in ["verlet", "gear5"] {
-        let sets = [format!("run.integrator={integrator}")];
-        let loaded = grains::scenario::load_file(&path, &sets).unwrap();
-        let (mut fused, _) = grains::scenario::build_md::<D2>(&loaded).unwrap();
-        let (mut single, _) = grains::scenario::build_md::<D2>(&loaded).unwrap();
+        let [mut fused, mut single] = two_vib2d_engines(integrator);
         for md in [&mut fused, &mut single] {
             md.run(3).unwrap();
             md.particles.vel[2000].x = f64::NAN;

@@ -11,7 +11,7 @@
 //! the five-value Gear scheme for first-order equations:
 //! w_k = dt^k/k! · d^k ω/dt^k for k = 0..4, c = (251/720, 1, 11/12, 1/3, 1/24).
 
-use super::{Report, SkinCheck, CHUNK};
+use super::{PassArgs, Passes, Report, SkinCheck, CHUNK};
 use crate::dim::Dim;
 use crate::particles::Particles;
 use rayon::prelude::*;
@@ -107,80 +107,50 @@ fn split<D: Dim>(p: &mut Particles<D>) -> (Vec<Chunk<'_, D>>, Inputs<'_, D>) {
     (chunks, inputs)
 }
 
-/// Taylor prediction of positions, velocities and their derivatives, in
-/// parallel chunks, translation and rotation in one pass over each grain.
-/// With `skin`, also the neighbour list's displacement test: returns whether
-/// a grain moved beyond it (false without `skin`).
-pub fn predict<D: Dim>(
-    p: &mut Particles<D>,
-    dt: f64,
-    rotation: bool,
-    skin: Option<SkinCheck<D::V>>,
-) -> bool {
-    match skin {
-        Some(s) => run::<D, false, true, true>(p, dt, rotation, s, false).far,
-        None => run::<D, false, true, false>(p, dt, rotation, SkinCheck::none(), false).far,
-    }
-}
-
-/// Corrects the prediction with the forces evaluated at the predicted state.
-pub fn correct<D: Dim>(p: &mut Particles<D>, dt: f64, rotation: bool) {
-    run::<D, true, false, false>(p, dt, rotation, SkinCheck::none(), false);
-}
-
-/// [`correct`] of one step and [`predict`] of the next in one pass over the
-/// grains (same arithmetic per grain, so the same bits as the two calls);
-/// with `finite`, also names the first grain whose corrected position or
-/// velocity is not finite.
-pub fn correct_predict<D: Dim>(
-    p: &mut Particles<D>,
-    dt: f64,
-    rotation: bool,
-    skin: Option<SkinCheck<D::V>>,
-    finite: bool,
-) -> Report {
-    match skin {
-        Some(s) => run::<D, true, true, true>(p, dt, rotation, s, finite),
-        None => run::<D, true, true, false>(p, dt, rotation, SkinCheck::none(), finite),
-    }
-}
-
-/// One pass over the owned grains in parallel chunks: the corrector if
+/// The Gear-5 passes of [`Integrator`](super::Integrator), each one pass over
+/// the owned grains in parallel chunks: the corrector if
 /// `CORRECT`, then the predictor if `PREDICT`, the displacement test if
 /// `CHECK`.
-fn run<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool>(
-    p: &mut Particles<D>,
-    dt: f64,
-    rotation: bool,
-    skin: SkinCheck<D::V>,
-    finite: bool,
-) -> Report {
-    let (chunks, inputs) = split(p);
-    chunks
-        .into_par_iter()
-        .map(|mut c| {
-            if !(CORRECT && PREDICT) {
-                return pass_chunk::<D, CORRECT, PREDICT, CHECK>(
-                    &mut c, &inputs, dt, rotation, skin, finite,
-                );
-            }
-            // Both halves in one loop keep about twenty arrays live, more
-            // than the registers hold; one loop each over a tile that stays
-            // in the L1 cache reads the grains from memory once all the same.
-            let mut out = Report::default();
-            while !c.pos.is_empty() {
-                let mut tile = c.split_front(TILE);
-                let corrected = pass_chunk::<D, true, false, false>(
-                    &mut tile, &inputs, dt, rotation, skin, finite,
-                );
-                let predicted = pass_chunk::<D, false, true, CHECK>(
-                    &mut tile, &inputs, dt, rotation, skin, false,
-                );
-                out = Report::join(out, Report::join(corrected, predicted));
-            }
-            out
-        })
-        .reduce(Report::default, Report::join)
+pub(super) struct Gear5;
+
+impl Passes for Gear5 {
+    fn pass<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool>(
+        p: &mut Particles<D>,
+        args: PassArgs<D::V>,
+    ) -> Report {
+        let PassArgs {
+            dt,
+            rotation,
+            skin,
+            finite,
+        } = args;
+        let (chunks, inputs) = split(p);
+        chunks
+            .into_par_iter()
+            .map(|mut c| {
+                if !(CORRECT && PREDICT) {
+                    return pass_chunk::<D, CORRECT, PREDICT, CHECK>(
+                        &mut c, &inputs, dt, rotation, skin, finite,
+                    );
+                }
+                // Both halves in one loop keep about twenty arrays live, more
+                // than the registers hold; one loop each over a tile that stays
+                // in the L1 cache reads the grains from memory once all the same.
+                let mut out = Report::default();
+                while !c.pos.is_empty() {
+                    let mut tile = c.split_front(TILE);
+                    let corrected = pass_chunk::<D, true, false, false>(
+                        &mut tile, &inputs, dt, rotation, skin, finite,
+                    );
+                    let predicted = pass_chunk::<D, false, true, CHECK>(
+                        &mut tile, &inputs, dt, rotation, skin, false,
+                    );
+                    out = Report::join(out, Report::join(corrected, predicted));
+                }
+                out
+            })
+            .reduce(Report::default, Report::join)
+    }
 }
 
 /// Grains per tile of the fused pass: their state and history (about 500
@@ -209,7 +179,7 @@ impl<'a, D: Dim> Chunk<'a, D> {
     }
 }
 
-/// One chunk of [`run`].
+/// One chunk of [`Gear5`].
 #[inline(always)]
 fn pass_chunk<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool>(
     c: &mut Chunk<D>,
@@ -297,6 +267,7 @@ fn pass_chunk<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: boo
 mod tests {
     use super::*;
     use crate::dim::D2;
+    use crate::integrate::Integrator;
     use crate::particles::ParticleRecord;
     use glam::DVec2;
 
@@ -310,9 +281,9 @@ mod tests {
         let dt = 2.0 * std::f64::consts::PI / steps as f64;
         initialize(&mut p, dt);
         for _ in 0..steps {
-            predict(&mut p, dt, false, None);
+            Integrator::Gear5.predict(&mut p, dt, false, None);
             p.force[0] = -p.pos[0];
-            correct(&mut p, dt, false);
+            Integrator::Gear5.correct(&mut p, dt, false);
         }
         (p.pos[0] - DVec2::new(1.0, 0.0)).length()
     }

@@ -5,81 +5,52 @@
 //! Grains are independent, so both halves run over parallel chunks; the
 //! drift also does the neighbour list's displacement test.
 
-use super::{Report, SkinCheck, CHUNK};
+use super::{PassArgs, Passes, Report, SkinCheck, CHUNK};
 use crate::dim::Dim;
 use crate::particles::Particles;
 use rayon::prelude::*;
 
-/// First half-kick and drift, before the forces. With `skin`, also the
-/// neighbour list's displacement test: returns whether a grain moved beyond
-/// it (false without `skin`).
-pub fn predict<D: Dim>(
-    p: &mut Particles<D>,
-    dt: f64,
-    rotation: bool,
-    skin: Option<SkinCheck<D::V>>,
-) -> bool {
-    match skin {
-        Some(s) => run::<D, false, true, true>(p, dt, rotation, s, false).far,
-        None => run::<D, false, true, false>(p, dt, rotation, SkinCheck::none(), false).far,
-    }
-}
-
-/// Second half-kick, after the forces.
-pub fn correct<D: Dim>(p: &mut Particles<D>, dt: f64, rotation: bool) {
-    run::<D, true, false, false>(p, dt, rotation, SkinCheck::none(), false);
-}
-
-/// [`correct`] of one step and [`predict`] of the next in one pass over the
-/// grains (the two half-kicks added one after the other, so the same bits
-/// as the two calls); with `finite`, also names the first grain whose
-/// position or velocity is not finite after the second half-kick.
-pub fn correct_predict<D: Dim>(
-    p: &mut Particles<D>,
-    dt: f64,
-    rotation: bool,
-    skin: Option<SkinCheck<D::V>>,
-    finite: bool,
-) -> Report {
-    match skin {
-        Some(s) => run::<D, true, true, true>(p, dt, rotation, s, finite),
-        None => run::<D, true, true, false>(p, dt, rotation, SkinCheck::none(), finite),
-    }
-}
-
-/// One pass over the owned grains in parallel chunks: the second half-kick
+/// The Verlet passes of [`Integrator`](super::Integrator), each one pass over
+/// the owned grains in parallel chunks: the second half-kick
 /// if `CORRECT`, then the first half-kick and drift if `PREDICT`, the
 /// displacement test if `CHECK`.
-fn run<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool>(
-    p: &mut Particles<D>,
-    dt: f64,
-    rotation: bool,
-    skin: SkinCheck<D::V>,
-    finite: bool,
-) -> Report {
-    let n = p.n_owned();
-    let inputs = Inputs {
-        force: &p.force,
-        torque: &p.torque,
-        inv_m: &p.inv_mass,
-        inv_i: &p.inv_inertia,
-        frozen: &p.frozen,
-    };
-    p.pos[..n]
-        .par_chunks_mut(CHUNK)
-        .zip(p.vel[..n].par_chunks_mut(CHUNK))
-        .zip(p.omega[..n].par_chunks_mut(CHUNK))
-        .enumerate()
-        .map(|(c, ((pos, vel), omega))| {
-            let chunk = Moving {
-                first: c * CHUNK,
-                pos,
-                vel,
-                omega,
-            };
-            pass_chunk::<D, CORRECT, PREDICT, CHECK>(&inputs, chunk, dt, rotation, skin, finite)
-        })
-        .reduce(Report::default, Report::join)
+pub(super) struct Verlet;
+
+impl Passes for Verlet {
+    fn pass<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool>(
+        p: &mut Particles<D>,
+        args: PassArgs<D::V>,
+    ) -> Report {
+        let PassArgs {
+            dt,
+            rotation,
+            skin,
+            finite,
+        } = args;
+        let n = p.n_owned();
+        let inputs = Inputs {
+            force: &p.force,
+            torque: &p.torque,
+            inv_m: &p.inv_mass,
+            inv_i: &p.inv_inertia,
+            frozen: &p.frozen,
+        };
+        p.pos[..n]
+            .par_chunks_mut(CHUNK)
+            .zip(p.vel[..n].par_chunks_mut(CHUNK))
+            .zip(p.omega[..n].par_chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(c, ((pos, vel), omega))| {
+                let chunk = Moving {
+                    first: c * CHUNK,
+                    pos,
+                    vel,
+                    omega,
+                };
+                pass_chunk::<D, CORRECT, PREDICT, CHECK>(&inputs, chunk, dt, rotation, skin, finite)
+            })
+            .reduce(Report::default, Report::join)
+    }
 }
 
 /// Per-grain inputs of the kicks.
@@ -99,7 +70,7 @@ struct Moving<'a, D: Dim> {
     omega: &'a mut [D::A],
 }
 
-/// One chunk of [`run`].
+/// One chunk of [`Verlet`].
 #[inline(always)]
 fn pass_chunk<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool>(
     g: &Inputs<D>,

@@ -29,7 +29,7 @@ use crate::contact::ContactLaw;
 use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
-use crate::integrate::{gear5, velocity_verlet, Integrator, SkinCheck};
+use crate::integrate::{gear5, Integrator, SkinCheck};
 use crate::io::Frame;
 use crate::neighbors::{spatial_sort_order, NeighborList};
 use crate::particles::Particles;
@@ -325,10 +325,9 @@ impl<D: Dim> Md<D> {
     /// The integrator's part before the forces.
     pub fn predict(&mut self) {
         let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
-        match self.settings.integrator {
-            Integrator::Gear5 => gear5::predict(&mut self.particles, dt, rot, None),
-            Integrator::Verlet => velocity_verlet::predict(&mut self.particles, dt, rot, None),
-        };
+        self.settings
+            .integrator
+            .predict(&mut self.particles, dt, rot, None);
     }
 
     /// [`Md::predict`] with the neighbour list's displacement test in the
@@ -337,9 +336,8 @@ impl<D: Dim> Md<D> {
     fn predict_checked(&mut self) -> bool {
         let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
         let integrator = self.settings.integrator;
-        let pass = |p: &mut Particles<D>, skin: Option<SkinCheck<D::V>>| match integrator {
-            Integrator::Gear5 => gear5::predict(p, dt, rot, skin),
-            Integrator::Verlet => velocity_verlet::predict(p, dt, rot, skin),
+        let pass = |p: &mut Particles<D>, skin: Option<SkinCheck<D::V>>| {
+            integrator.predict(p, dt, rot, skin)
         };
         self.moved_beyond_skin(pass)
     }
@@ -353,10 +351,7 @@ impl<D: Dim> Md<D> {
         let finite = self.finite_check_due();
         let mut non_finite = None;
         let pass = |p: &mut Particles<D>, skin: Option<SkinCheck<D::V>>| {
-            let r = match integrator {
-                Integrator::Gear5 => gear5::correct_predict(p, dt, rot, skin, finite),
-                Integrator::Verlet => velocity_verlet::correct_predict(p, dt, rot, skin, finite),
-            };
+            let r = integrator.correct_predict(p, (dt, rot), skin, finite);
             non_finite = r.non_finite;
             r.far
         };
@@ -395,10 +390,9 @@ impl<D: Dim> Md<D> {
     /// The integrator's part after the forces.
     pub fn correct(&mut self) {
         let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
-        match self.settings.integrator {
-            Integrator::Gear5 => gear5::correct(&mut self.particles, dt, rot),
-            Integrator::Verlet => velocity_verlet::correct(&mut self.particles, dt, rot),
-        }
+        self.settings
+            .integrator
+            .correct(&mut self.particles, dt, rot);
     }
 
     /// Rebuilds the neighbour list when a grain moved more than half the skin.
