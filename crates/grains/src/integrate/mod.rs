@@ -22,6 +22,83 @@ pub struct SkinCheck<'a, V> {
     pub limit2: f64,
 }
 
+impl<V> SkinCheck<'_, V> {
+    /// No test (the passes compiled without it ignore it).
+    pub fn none() -> Self {
+        SkinCheck {
+            reference: &[],
+            limit2: 0.0,
+        }
+    }
+}
+
+/// What a pass over the grains found: a grain beyond the skin, and the
+/// first grain (lowest index, whatever the threads) whose state is not
+/// finite when that was asked.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Report {
+    pub far: bool,
+    pub non_finite: Option<usize>,
+}
+
+impl Report {
+    /// Two chunks' reports, in grain order.
+    fn join(a: Self, b: Self) -> Self {
+        Report {
+            far: a.far || b.far,
+            non_finite: a.non_finite.or(b.non_finite),
+        }
+    }
+
+    /// Notes grain `i` if its position or velocity is not finite.
+    #[inline(always)]
+    fn note_finite<D: Dim>(&mut self, i: usize, pos: D::V, vel: D::V) {
+        if self.non_finite.is_none() && !(D::is_finite(pos) && D::is_finite(vel)) {
+            self.non_finite = Some(i);
+        }
+    }
+}
+
+/// An integrator as one pass over the grains, compiled for the parts it
+/// runs: the corrector if `CORRECT` (then the finite-state test if
+/// `finite`), the predictor if `PREDICT`, the displacement test if `CHECK`.
+trait Passes {
+    fn pass<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool>(
+        p: &mut Particles<D>,
+        args: PassArgs<D::V>,
+    ) -> Report;
+}
+
+/// What a pass is given besides the grains.
+#[derive(Clone, Copy)]
+struct PassArgs<'a, V> {
+    dt: f64,
+    rotation: bool,
+    skin: SkinCheck<'a, V>,
+    finite: bool,
+}
+
+/// [`Passes::pass`] with the displacement test compiled in when asked for.
+fn pass<I: Passes, D: Dim, const CORRECT: bool, const PREDICT: bool>(
+    p: &mut Particles<D>,
+    (dt, rotation): (f64, bool),
+    skin: Option<SkinCheck<D::V>>,
+    finite: bool,
+) -> Report {
+    let args = |skin| PassArgs {
+        dt,
+        rotation,
+        skin,
+        finite,
+    };
+    match skin {
+        Some(s) => I::pass::<D, CORRECT, PREDICT, true>(p, args(s)),
+        None => I::pass::<D, CORRECT, PREDICT, false>(p, args(SkinCheck::none())),
+    }
+}
+
+use crate::dim::Dim;
+use crate::particles::Particles;
 use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -40,6 +117,57 @@ impl Integrator {
         match self {
             Integrator::Gear5 => "gear5",
             Integrator::Verlet => "verlet",
+        }
+    }
+
+    /// The part before the forces (Gear-5: the Taylor prediction; Verlet:
+    /// the first half-kick and the drift) on the owned grains. With `skin`,
+    /// also the neighbour list's displacement test: returns whether a grain
+    /// moved beyond it (false without `skin`).
+    pub fn predict<D: Dim>(
+        self,
+        p: &mut Particles<D>,
+        dt: f64,
+        rotation: bool,
+        skin: Option<SkinCheck<D::V>>,
+    ) -> bool {
+        self.pass::<D, false, true>(p, (dt, rotation), skin, false)
+            .far
+    }
+
+    /// The part after the forces (Gear-5: the corrector; Verlet: the
+    /// second half-kick).
+    pub fn correct<D: Dim>(self, p: &mut Particles<D>, dt: f64, rotation: bool) {
+        self.pass::<D, true, false>(p, (dt, rotation), None, false);
+    }
+
+    /// [`Integrator::correct`] of one step and [`Integrator::predict`] of the
+    /// next in one pass over the grains (per grain the same operations in
+    /// the same order, so the same bits as the two calls); with `finite`,
+    /// also finds the first grain whose corrected position or velocity is
+    /// not finite.
+    pub fn correct_predict<D: Dim>(
+        self,
+        p: &mut Particles<D>,
+        (dt, rotation): (f64, bool),
+        skin: Option<SkinCheck<D::V>>,
+        finite: bool,
+    ) -> Report {
+        self.pass::<D, true, true>(p, (dt, rotation), skin, finite)
+    }
+
+    fn pass<D: Dim, const CORRECT: bool, const PREDICT: bool>(
+        self,
+        p: &mut Particles<D>,
+        step: (f64, bool),
+        skin: Option<SkinCheck<D::V>>,
+        finite: bool,
+    ) -> Report {
+        match self {
+            Integrator::Gear5 => pass::<gear5::Gear5, D, CORRECT, PREDICT>(p, step, skin, finite),
+            Integrator::Verlet => {
+                pass::<velocity_verlet::Verlet, D, CORRECT, PREDICT>(p, step, skin, finite)
+            }
         }
     }
 }
@@ -69,9 +197,8 @@ mod tests {
     #[test]
     fn predictors_report_grains_beyond_the_skin() {
         for integrator in [Integrator::Verlet, Integrator::Gear5] {
-            let predict = |p: &mut Particles<D3>, skin: Option<SkinCheck<DVec3>>| match integrator {
-                Integrator::Verlet => velocity_verlet::predict(p, 0.1, true, skin),
-                Integrator::Gear5 => gear5::predict(p, 0.1, true, skin),
+            let predict = |p: &mut Particles<D3>, skin: Option<SkinCheck<DVec3>>| {
+                integrator.predict(p, 0.1, true, skin)
             };
             let mut p = line(10_000);
             if integrator == Integrator::Gear5 {

@@ -5,58 +5,52 @@
 //! Grains are independent, so both halves run over parallel chunks; the
 //! drift also does the neighbour list's displacement test.
 
-use super::{SkinCheck, CHUNK};
+use super::{PassArgs, Passes, Report, SkinCheck, CHUNK};
 use crate::dim::Dim;
 use crate::particles::Particles;
 use rayon::prelude::*;
 
-/// First half-kick and drift, before the forces. With `skin`, also the
-/// neighbour list's displacement test: returns whether a grain moved beyond
-/// it (false without `skin`).
-pub fn predict<D: Dim>(
-    p: &mut Particles<D>,
-    dt: f64,
-    rotation: bool,
-    skin: Option<SkinCheck<D::V>>,
-) -> bool {
-    let n = p.n_owned();
-    let inputs = Inputs {
-        force: &p.force,
-        torque: &p.torque,
-        inv_m: &p.inv_mass,
-        inv_i: &p.inv_inertia,
-        frozen: &p.frozen,
-    };
-    p.pos[..n]
-        .par_chunks_mut(CHUNK)
-        .zip(p.vel[..n].par_chunks_mut(CHUNK))
-        .zip(p.omega[..n].par_chunks_mut(CHUNK))
-        .enumerate()
-        .map(|(c, ((pos, vel), omega))| {
-            let first = c * CHUNK;
-            match skin {
-                Some(s) => {
-                    let reference = &s.reference[first..first + pos.len()];
-                    let chunk = Moving {
-                        first,
-                        pos,
-                        vel,
-                        omega,
-                    };
-                    predict_chunk::<D, true>(&inputs, chunk, dt, rotation, reference, s.limit2)
-                }
-                None => {
-                    let chunk = Moving {
-                        first,
-                        pos,
-                        vel,
-                        omega,
-                    };
-                    predict_chunk::<D, false>(&inputs, chunk, dt, rotation, &[], 0.0)
-                }
-            }
-        })
-        .reduce(|| false, |a, b| a || b)
+/// The Verlet passes of [`Integrator`](super::Integrator), each one pass over
+/// the owned grains in parallel chunks: the second half-kick
+/// if `CORRECT`, then the first half-kick and drift if `PREDICT`, the
+/// displacement test if `CHECK`.
+pub(super) struct Verlet;
+
+impl Passes for Verlet {
+    fn pass<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool>(
+        p: &mut Particles<D>,
+        args: PassArgs<D::V>,
+    ) -> Report {
+        let PassArgs {
+            dt,
+            rotation,
+            skin,
+            finite,
+        } = args;
+        let n = p.n_owned();
+        let inputs = Inputs {
+            force: &p.force,
+            torque: &p.torque,
+            inv_m: &p.inv_mass,
+            inv_i: &p.inv_inertia,
+            frozen: &p.frozen,
+        };
+        p.pos[..n]
+            .par_chunks_mut(CHUNK)
+            .zip(p.vel[..n].par_chunks_mut(CHUNK))
+            .zip(p.omega[..n].par_chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(c, ((pos, vel), omega))| {
+                let chunk = Moving {
+                    first: c * CHUNK,
+                    pos,
+                    vel,
+                    omega,
+                };
+                pass_chunk::<D, CORRECT, PREDICT, CHECK>(&inputs, chunk, dt, rotation, skin, finite)
+            })
+            .reduce(Report::default, Report::join)
+    }
 }
 
 /// Per-grain inputs of the kicks.
@@ -76,9 +70,9 @@ struct Moving<'a, D: Dim> {
     omega: &'a mut [D::A],
 }
 
-/// One chunk of [`predict`]; `CHECK` compiles the displacement test in.
+/// One chunk of [`Verlet`].
 #[inline(always)]
-fn predict_chunk<D: Dim, const CHECK: bool>(
+fn pass_chunk<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool>(
     g: &Inputs<D>,
     Moving {
         first,
@@ -88,14 +82,29 @@ fn predict_chunk<D: Dim, const CHECK: bool>(
     }: Moving<D>,
     dt: f64,
     rotation: bool,
-    reference: &[D::V],
-    limit2: f64,
-) -> bool {
+    skin: SkinCheck<D::V>,
+    finite: bool,
+) -> Report {
     let half = 0.5 * dt;
-    let mut far = false;
+    let range = first..first + pos.len();
+    let reference = if CHECK {
+        &skin.reference[range]
+    } else {
+        skin.reference
+    };
+    let mut out = Report::default();
     for k in 0..pos.len() {
         let i = first + k;
-        if !g.frozen[i] {
+        if CORRECT && !g.frozen[i] {
+            vel[k] += g.force[i] * (half * g.inv_m[i]);
+            if rotation {
+                omega[k] += g.torque[i] * (half * g.inv_i[i]);
+            }
+        }
+        if CORRECT && finite {
+            out.note_finite::<D>(i, pos[k], vel[k]);
+        }
+        if PREDICT && !g.frozen[i] {
             vel[k] += g.force[i] * (half * g.inv_m[i]);
             pos[k] += vel[k] * dt;
             if rotation {
@@ -104,32 +113,8 @@ fn predict_chunk<D: Dim, const CHECK: bool>(
         }
         // Every grain, frozen ones too: something else may have moved them.
         if CHECK {
-            far |= D::norm2(pos[k] - reference[k]) > limit2;
+            out.far |= D::norm2(pos[k] - reference[k]) > skin.limit2;
         }
     }
-    far
-}
-
-/// Second half-kick, after the forces.
-pub fn correct<D: Dim>(p: &mut Particles<D>, dt: f64, rotation: bool) {
-    let half = 0.5 * dt;
-    let n = p.n_owned();
-    let (force, torque, inv_m, inv_i, frozen) =
-        (&p.force, &p.torque, &p.inv_mass, &p.inv_inertia, &p.frozen);
-    p.vel[..n]
-        .par_chunks_mut(CHUNK)
-        .zip(p.omega[..n].par_chunks_mut(CHUNK))
-        .enumerate()
-        .for_each(|(c, (vel, omega))| {
-            for k in 0..vel.len() {
-                let i = c * CHUNK + k;
-                if frozen[i] {
-                    continue;
-                }
-                vel[k] += force[i] * (half * inv_m[i]);
-                if rotation {
-                    omega[k] += torque[i] * (half * inv_i[i]);
-                }
-            }
-        });
+    out
 }
