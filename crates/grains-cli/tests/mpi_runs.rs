@@ -5,9 +5,10 @@
 //! `grains::dsmc::decomp`), in 2D with a vibrating plate and a lid under
 //! gravity and in 3D in a periodic box. For MD (`grains::md::decomp`) the
 //! thermo rows must agree to rounding on 1, 2 and 4 ranks, in 2D with
-//! walls and in 3D periodic; a scenario with a feature that is not
-//! decomposed yet (`[hopper]`) is refused with exit code 2 and a message
-//! naming it. MD checkpoints written under mpirun resume on one process
+//! walls and in 3D periodic; a silo recycles the same grains at the same
+//! times on 2 ranks as on one; a scenario with a feature that is not
+//! decomposed yet (`measure.trajectories`) is refused with exit code 2 and
+//! a message naming it. MD checkpoints written under mpirun resume on one process
 //! and the reverse, continuing the straight run to rounding.
 #![cfg(feature = "mpi")]
 
@@ -288,25 +289,79 @@ picture = false
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn md_hopper_on_several_ranks_is_refused_clearly() {
+/// The small silo of `grains/tests/distributed_md.rs` (150 grains over a
+/// wide outlet, recycled just below the floor) for 1000 steps on `ranks`.
+fn hopper(ranks: usize, extra: &[&str]) -> (PathBuf, Output) {
     let path = repo().join("scenarios/hopper-2d.toml");
-    let dir = scratch("md");
-    let out = grains(
-        2,
-        &[
-            "run",
-            path.to_str().unwrap(),
-            "--steps",
-            "10",
-            "--quiet",
-            "--out",
-            dir.to_str().unwrap(),
-        ],
-    );
+    let dir = scratch(&format!("hopper-{ranks}"));
+    let mut args = vec![
+        "run",
+        path.to_str().unwrap(),
+        "--steps",
+        "1000",
+        "--quiet",
+        "--out",
+        dir.to_str().unwrap(),
+    ];
+    for s in [
+        "gravity=[0.0,-30.0]",
+        "particles.count=150",
+        "particles.region={lo=[0.0,0.001],hi=[0.03,0.02]}",
+        "hopper.sink=-0.0012",
+        "hopper.refill=[0.012,0.018]",
+        "hopper.outlet=0.008",
+        "hopper.transient=0.0",
+        "run.dt=3e-5",
+        "output.picture=false",
+    ]
+    .iter()
+    .chain(extra)
+    {
+        args.extend(["--set", s]);
+    }
+    let out = grains(ranks, &args);
+    (dir, out)
+}
+
+#[test]
+fn md_hopper_recycles_the_same_grains_on_2_ranks() {
+    // Rank 0 recycles with the serial code and random stream: the same
+    // number of grains leave at the same times (see the thread-rank test
+    // for the energies before the first exit).
+    let runs: Vec<(PathBuf, serde_json::Value, String)> = [0, 2]
+        .into_iter()
+        .map(|ranks| {
+            let (dir, out) = hopper(ranks, &[]);
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let summary = serde_json::from_slice(&read(&dir.join("summary.json"))).unwrap();
+            let csv = String::from_utf8(read(&dir.join("discharge.csv"))).unwrap();
+            (dir, summary, csv)
+        })
+        .collect();
+    let ((d0, s0, c0), (d2, s2, c2)) = (&runs[0], &runs[1]);
+    assert!(s0["discharged_grains"].as_u64().unwrap() >= 10, "{s0}");
+    assert_eq!(s2["discharged_grains"], s0["discharged_grains"]);
+    assert_eq!(s2["ranks"], 2);
+    let times = |c: &str| -> Vec<String> {
+        c.lines()
+            .map(|l| l.split(',').next().unwrap().to_string())
+            .collect()
+    };
+    assert_eq!(times(c2), times(c0));
+    let _ = std::fs::remove_dir_all(d0);
+    let _ = std::fs::remove_dir_all(d2);
+}
+
+#[test]
+fn md_trajectories_on_several_ranks_are_refused_clearly() {
+    let (_, out) = hopper(2, &["measure.trajectories={every=1,cycles=1.0}"]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("[hopper]"), "{err}");
+    assert!(err.contains("measure.trajectories"), "{err}");
     assert_eq!(err.matches("grains: error").count(), 1, "{err}");
 }
 

@@ -19,15 +19,17 @@
 //! A stop signal under mpirun ends the run without a checkpoint (the ranks
 //! would have to agree on the step); the last interval's checkpoint stays.
 //!
-//! Refused with a clear error, because they change the grains or walls
-//! between steps or measure every step on the whole state: `[hopper]`
-//! recycling, `run.events` (settle, wall removal, tilt),
-//! `measure.phases` and `measure.trajectories`.
+//! Flow events (`[hopper]` recycling, `run.events`: settle, wall removal,
+//! tilt, sink) run on rank 0's mirror with the serial code and are sent to
+//! every rank ([`flow_step`]).
+//!
+//! Refused with a clear error, because they measure every step on the whole
+//! state: `measure.phases` and `measure.trajectories`.
 
 use super::checkpointing::{self, Checkpointer, Found};
 use super::output::Outputs;
 use super::{flow, md_summary, prepare, Measurements, Progress, RunOptions};
-use crate::comm::Comm;
+use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::md::decomp::{index_by_id, DecomposedMd};
@@ -36,16 +38,13 @@ use crate::measure::granular_temperature;
 use crate::scenario::schema::FramesLayout;
 use crate::scenario::{build_md, Loaded, Resolved};
 use serde_json::{json, Value};
+use std::collections::HashMap;
 use std::time::Instant;
 
 /// The first scenario feature that the decomposed run cannot do yet.
 fn unsupported(loaded: &Loaded) -> Option<&'static str> {
     let s = &loaded.scenario;
-    if s.hopper.is_some() {
-        Some("[hopper] (recycling discharged grains)")
-    } else if s.run.events.is_some() {
-        Some("run.events (settling, wall removal, tilt)")
-    } else if s.measure.phases.is_some() {
+    if s.measure.phases.is_some() {
         Some("measure.phases")
     } else if s.measure.trajectories.is_some() {
         Some("measure.trajectories")
@@ -167,8 +166,12 @@ fn drive<D: Dim>(
         plan: (relax, measure),
         restored,
     } = start;
-    // Every rank makes the checkpointer, so a scenario it refuses stops all.
+    // Every rank makes the checkpointer and the flow run, so a scenario
+    // either refuses stops all; rank 0 keeps the flow run (as the serial
+    // run, made from the engine before its first step).
     let ckpt = Checkpointer::new(loaded, opts, &full, (relax, measure))?;
+    let flow = flow::FlowRun::begin(loaded, &full)?;
+    let mut flow = mirror.is_some().then_some(flow);
     let index = mirror
         .as_ref()
         .map(|m| index_by_id(&m.particles))
@@ -212,11 +215,18 @@ fn drive<D: Dim>(
     if first_step == 0 {
         checkpoint(&dec, &mut mirror, &outputs, None)?;
     }
+    let gather = |dec: &DecomposedMd<D>, mirror: &mut Option<Md<D>>| {
+        dec.gather(mirror.as_mut(), &index);
+        if let Some(m) = mirror.as_mut() {
+            m.stats = dec.md.stats.clone();
+        }
+    };
     let relax_done = dec.md.step.min(relax);
     if relax > relax_done {
         progress.phase("relax", relax);
         for k in relax_done + 1..=relax {
             dec.step()?;
+            flow_step(loaded, &mut dec, (&mut mirror, &mut flow), &gather, comm);
             if k % 256 == 0 || k == relax {
                 progress.advance(k, dec.md.time);
             }
@@ -224,12 +234,6 @@ fn drive<D: Dim>(
         }
     }
     progress.phase("run", measure);
-    let gather = |dec: &DecomposedMd<D>, mirror: &mut Option<Md<D>>| {
-        dec.gather(mirror.as_mut(), &index);
-        if let Some(m) = mirror.as_mut() {
-            m.stats = dec.md.stats.clone();
-        }
-    };
     let measure_done = dec.md.step - dec.md.step.min(relax);
     gather(&dec, &mut mirror);
     let mut state = match (mirror.as_ref(), outputs.as_mut()) {
@@ -238,12 +242,11 @@ fn drive<D: Dim>(
                 Some(r) => r,
                 None => Measurements::begin(loaded, m, measure - measure_done, resolved.dt)?,
             };
-            let flow = flow::FlowRun::begin(loaded, m)?;
             if measure_done == 0 {
                 write_piece(&dec)?;
                 out.record(m, &m.frame(), granular_temperature(&m.particles))?;
             }
-            Some((measurements, flow))
+            Some(measurements)
         }
         _ => {
             if measure_done == 0 {
@@ -254,17 +257,21 @@ fn drive<D: Dim>(
     };
     for k in measure_done + 1..=measure {
         dec.step()?;
+        let fresh = flow_step(loaded, &mut dec, (&mut mirror, &mut flow), &gather, comm);
         let sample = k % sample_every == 0;
         let output = k % every == 0 || k == measure;
-        if sample || output {
+        if (sample || output) && !fresh {
             gather(&dec, &mut mirror);
         }
         if output {
             write_piece(&dec)?;
         }
-        if let (Some(m), Some((measurements, flow)), Some(out)) =
-            (mirror.as_ref(), state.as_mut(), outputs.as_mut())
-        {
+        if let (Some(m), Some(measurements), Some(flow), Some(out)) = (
+            mirror.as_ref(),
+            state.as_mut(),
+            flow.as_mut(),
+            outputs.as_mut(),
+        ) {
             if sample {
                 measurements.sample(m);
                 flow.sample(m);
@@ -276,14 +283,15 @@ fn drive<D: Dim>(
         if k % 256 == 0 || k == measure {
             progress.advance(k, dec.md.time);
         }
-        let meas = state.as_ref().map(|s| &s.0);
+        let meas = state.as_ref();
         checkpoint(&dec, &mut mirror, &outputs, meas)?;
     }
     progress.finish();
     let wall_seconds = started.elapsed().as_secs_f64();
     let mut ghosts = [dec.n_ghosts() as u64];
     comm.sum_u64(&mut ghosts);
-    let (Some(md), Some((mut measurements, flow)), Some(mut outputs)) = (mirror, state, outputs)
+    let (Some(md), Some(mut measurements), Some(flow), Some(mut outputs)) =
+        (mirror, state, flow, outputs)
     else {
         return Ok(Value::Null);
     };
@@ -312,4 +320,97 @@ fn drive<D: Dim>(
     let summary = Value::Object(summary);
     outputs.write_summary(&summary)?;
     Ok(summary)
+}
+
+/// Flow events of one step ([`flow::FlowRun::after_step`]) on every rank:
+/// rank 0 runs them on the mirror with the serial code, then sends gravity,
+/// the walls' removal times and the grains they moved (id, position, frozen)
+/// to all ranks, whose owners put their grains there ([`flow::place`]). The
+/// mirror is gathered first only when the events read the grains: when some
+/// rank holds a mobile grain below the sink (a sum over the ranks), or at a
+/// look of `run.events` (its kinetic energy, the pile's top and slope). A
+/// moved grain jumps far beyond skin/2, so the next step's rebuild vote
+/// migrates it to the rank of its new place. Returns whether the mirror
+/// holds this step's state (gathered, then changed as the ranks change it).
+///
+/// Unlike the serial engine, the mirror never re-sorts its grains: when
+/// several grains fall below the sink in one step, they draw their new spots
+/// in another order than the serial run does (the same spots, other grains).
+fn flow_step<D: Dim>(
+    loaded: &Loaded,
+    dec: &mut DecomposedMd<D>,
+    (mirror, flow): (&mut Option<Md<D>>, &mut Option<flow::FlowRun<D>>),
+    gather: &Gather<D>,
+    comm: &dyn Comm,
+) -> bool {
+    let sink = flow::sink_height(loaded);
+    let events = loaded.scenario.run.events.is_some();
+    if sink.is_none() && !events {
+        return false;
+    }
+    let v = D::vertical();
+    let p = &dec.md.particles;
+    let below = sink.map_or(0, |s| {
+        (0..p.n_owned())
+            .filter(|&i| !p.frozen[i] && D::get(p.pos[i], v) < s)
+            .count() as u64
+    });
+    let mut need = [below];
+    comm.sum_u64(&mut need);
+    let read = need[0] > 0 || flow::looks_at(loaded, dec.md.step);
+    if read {
+        gather(dec, mirror);
+    } else if !events {
+        // Recycling alone changes nothing while no grain is below the sink.
+        return false;
+    }
+    let mut w = Writer::default();
+    if let (Some(m), Some(f)) = (mirror.as_mut(), flow.as_mut()) {
+        m.time = dec.md.time;
+        m.step = dec.md.step;
+        let placed = f.after_step(m);
+        put_xyz::<D>(&mut w, m.settings.gravity);
+        for wall in &m.walls {
+            w.f64(wall.remove_at.unwrap_or(f64::NAN));
+        }
+        w.u64(placed.len() as u64);
+        let at = index_by_id(&m.particles);
+        for (id, x) in placed {
+            w.u64(id);
+            put_xyz::<D>(&mut w, x);
+            w.u64(m.particles.frozen[at[&id]] as u64);
+        }
+    }
+    let all = comm.all_gather_bytes(&w.buf);
+    let mut rd = Reader::new(&all[0]);
+    let md = &mut dec.md;
+    md.settings.gravity = get_xyz::<D>(&mut rd);
+    for wall in md.walls.iter_mut() {
+        let t = rd.f64();
+        wall.remove_at = (!t.is_nan()).then_some(t);
+    }
+    let moved = rd.u64();
+    if moved > 0 {
+        let p = &mut md.particles;
+        let owned: HashMap<u64, usize> = (0..p.n_owned()).map(|i| (p.id[i], i)).collect();
+        for _ in 0..moved {
+            let (id, x, frozen) = (rd.u64(), get_xyz::<D>(&mut rd), rd.u64() != 0);
+            if let Some(&i) = owned.get(&id) {
+                flow::place(p, i, x);
+                p.frozen[i] = frozen;
+            }
+        }
+    }
+    read
+}
+
+/// Gathers the ranks' grains into rank 0's mirror.
+type Gather<'a, D> = dyn Fn(&DecomposedMd<D>, &mut Option<Md<D>>) + 'a;
+
+fn put_xyz<D: Dim>(w: &mut Writer, v: D::V) {
+    D::to_xyz(v).iter().for_each(|&x| w.f64(x));
+}
+
+fn get_xyz<D: Dim>(r: &mut Reader) -> D::V {
+    D::from_xyz([r.f64(), r.f64(), r.f64()])
 }

@@ -240,7 +240,7 @@ impl<D: Dim> FlowRun<D> {
         }
         let hopper = s.hopper.as_ref().map(|h| Recycler {
             spec: h.clone(),
-            sink: h.sink.unwrap_or(h.floor - 10.0 * d0),
+            sink: hopper_sink(h, d0),
             rng: Xoshiro256PlusPlus::seed_from_u64(s.seed ^ 0x686f_7070_6572),
             exits: Vec::new(),
             start: md.time,
@@ -273,18 +273,22 @@ impl<D: Dim> FlowRun<D> {
         md.particles.kinetic_energy() / n / self.energy_unit
     }
 
-    pub fn after_step(&mut self, md: &mut Md<D>) {
-        if let Some(h) = &mut self.hopper {
-            h.recycle(md);
-        }
+    /// The step's events on `md`; returns the grains it moved (id, new
+    /// position), in order, so that a decomposed run can move them on the
+    /// ranks that own them.
+    pub fn after_step(&mut self, md: &mut Md<D>) -> Vec<(u64, D::V)> {
+        let mut placed = match &mut self.hopper {
+            Some(h) => h.recycle(md),
+            None => Vec::new(),
+        };
         let Some(e) = self.events.clone() else {
-            return;
+            return placed;
         };
         if let Some(sink) = e.sink {
-            self.park(md, sink);
+            self.park(md, sink, &mut placed);
         }
         // The energy is a sum over grains: look every 50 steps.
-        let look = md.step.is_multiple_of(50);
+        let look = md.step.is_multiple_of(LOOK_EVERY);
         match self.stage {
             Stage::Settling
                 if look && md.time >= e.settle_min && self.energy(md) < e.settle_energy =>
@@ -328,7 +332,7 @@ impl<D: Dim> FlowRun<D> {
                         tilt: self.tilt,
                         base,
                     };
-                    return;
+                    return placed;
                 }
                 self.tilt = rate * (md.time - since);
                 let a = self.tilt.to_radians();
@@ -341,6 +345,7 @@ impl<D: Dim> FlowRun<D> {
             }
             _ => {}
         }
+        placed
     }
 
     /// The slope of the pile left by the avalanche: column tops within
@@ -362,8 +367,8 @@ impl<D: Dim> FlowRun<D> {
     }
 
     /// Grains that fell below `sink` are frozen and parked in rows below it,
-    /// out of everyone's way.
-    fn park(&mut self, md: &mut Md<D>, sink: f64) {
+    /// out of everyone's way (appended to `placed`).
+    fn park(&mut self, md: &mut Md<D>, sink: f64, placed: &mut Vec<(u64, D::V)>) {
         let v = D::vertical();
         let p = &mut md.particles;
         let lo = D::get(md.domain.lo, 0);
@@ -388,6 +393,7 @@ impl<D: Dim> FlowRun<D> {
             );
             place(p, i, x);
             p.frozen[i] = true;
+            placed.push((p.id[i], x));
         }
     }
 
@@ -488,8 +494,32 @@ fn top_of_pile<D: Dim>(md: &Md<D>) -> f64 {
         .fold(f64::NEG_INFINITY, f64::max)
 }
 
+/// Below this height (m) a grain is moved by [`FlowRun::after_step`]
+/// (recycled by `[hopper]`, parked by `run.events.sink`); `None` when no
+/// grain is ever moved. The higher of the two when both are set.
+pub fn sink_height(loaded: &Loaded) -> Option<f64> {
+    let s = &loaded.scenario;
+    let hopper = s.hopper.as_ref().map(|h| hopper_sink(h, s.particles.d0));
+    let events = s.run.events.as_ref().and_then(|e| e.sink);
+    hopper.into_iter().chain(events).reduce(f64::max)
+}
+
+/// Whether [`FlowRun::after_step`] may read the kinetic energy or the pile
+/// at `step` (the settle and failure checks of `run.events`).
+pub fn looks_at(loaded: &Loaded, step: u64) -> bool {
+    loaded.scenario.run.events.is_some() && step.is_multiple_of(LOOK_EVERY)
+}
+
+/// Steps between looks at the kinetic energy (a sum over all grains).
+const LOOK_EVERY: u64 = 50;
+
+/// Recycling height of `[hopper]`: `sink`, by default 10 d0 below the floor.
+fn hopper_sink(h: &HopperSpec, d0: f64) -> f64 {
+    h.sink.unwrap_or(h.floor - 10.0 * d0)
+}
+
 /// Puts grain `i` at `x` at rest, its integrator history cleared.
-fn place<D: Dim>(p: &mut crate::particles::Particles<D>, i: usize, x: D::V) {
+pub(crate) fn place<D: Dim>(p: &mut crate::particles::Particles<D>, i: usize, x: D::V) {
     p.pos[i] = x;
     p.vel[i] = D::zero();
     p.omega[i] = D::A::default();
@@ -515,8 +545,10 @@ fn write_surface(dir: &Path, fit: &SurfaceFit) -> Result<()> {
 }
 
 impl Recycler {
-    /// Grains below the sink go back to a random free spot in the refill band.
-    fn recycle<D: Dim>(&mut self, md: &mut Md<D>) {
+    /// Grains below the sink go back to a random free spot in the refill
+    /// band; returns them as (id, new position) in the order placed.
+    fn recycle<D: Dim>(&mut self, md: &mut Md<D>) -> Vec<(u64, D::V)> {
+        let mut placed = Vec::new();
         let v = D::vertical();
         let n = md.particles.n_owned();
         for i in 0..n {
@@ -539,11 +571,13 @@ impl Recycler {
                     (0..n).all(|j| j == i || D::norm(p.pos[j] - x) > 1.02 * (p.radius[j] + r));
                 if free {
                     self.exits.push((md.time, p.mass[i]));
+                    placed.push((p.id[i], x));
                     place(&mut md.particles, i, x);
                     break;
                 }
             }
         }
+        placed
     }
 
     fn finish(&self, dir: &Path, end: f64, summary: &mut Map<String, Value>) -> Result<()> {
