@@ -6,7 +6,8 @@
 //! gravity and in 3D in a periodic box. For MD (`grains::md::decomp`) the
 //! thermo rows must agree to rounding on 1, 2 and 4 ranks, in 2D with
 //! walls and in 3D periodic; a silo recycles the same grains at the same
-//! times on 2 ranks as on one; a scenario with a feature that is not
+//! times on 2 ranks as on one, and a pile settled and tilted (run.events)
+//! agrees to rounding on 1, 2 and 4 ranks; a scenario with a feature that is not
 //! decomposed yet (`measure.trajectories`) is refused with exit code 2 and
 //! a message naming it. MD checkpoints written under mpirun resume on one process
 //! and the reverse, continuing the straight run to rounding.
@@ -354,6 +355,29 @@ fn md_hopper_recycles_the_same_grains_on_2_ranks() {
     assert_eq!(times(c2), times(c0));
     let _ = std::fs::remove_dir_all(d0);
     let _ = std::fs::remove_dir_all(d2);
+}
+
+#[test]
+fn md_run_events_tilt_agrees_on_1_2_4_ranks() {
+    // Settle 80 disks in a closed box, then tilt gravity every step: the
+    // same gravity on every rank, the settle look from the whole state.
+    check_md(
+        &repo().join("scenarios/repose-2d.toml"),
+        &[
+            "gravity=[0.0,-30.0]",
+            "particles.count=80",
+            "particles.region={lo=[0.0,0.001],hi=[0.030,0.009]}",
+            "run.events.settle_min=0.003",
+            "run.events.settle_energy=100.0",
+            "run.events.remove_wall=\"\"",
+            "run.events.tilt_rate=1500.0",
+            "run.events.fail_energy=5.0",
+            "output.every=0.0003",
+            "output.picture=false",
+        ],
+        "1000",
+        &[1, 2, 4],
+    );
 }
 
 #[test]

@@ -23,6 +23,7 @@ use grains::runner::checkpointing::{self, Every};
 use grains::runner::{distributed, run, RunOptions, Silent};
 use grains::scenario::{build_md, load_str, Loaded};
 use grains::{Dim, D2, D3};
+use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 fn gas_2d() -> String {
@@ -612,6 +613,96 @@ fn hopper_recycling_on_two_ranks_matches_the_serial_run() {
     }
     let _ = std::fs::remove_dir_all(&dir);
     let _ = std::fs::remove_dir_all(&serial_dir);
+}
+
+/// `scenarios/repose-2d.toml` cut down to 80 grains in a layer 8 d0 deep
+/// under 30 m/s², settled at the first look after 3 ms (the energy bound is
+/// loose: the test is the event's timing, not a settled pile), the sink
+/// just below the floor; `extra` adds keys.
+fn small_repose(extra: &[&str]) -> Loaded {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/repose-2d.toml");
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut sets: Vec<String> = [
+        "gravity=[0.0,-30.0]",
+        "particles.count=80",
+        "particles.region={lo=[0.0,0.001],hi=[0.030,0.009]}",
+        "run.events.settle_min=0.003",
+        "run.events.settle_energy=100.0",
+        "run.events.sink=-0.0005",
+        "output.every=0.0003",
+        "output.picture=false",
+    ]
+    .map(String::from)
+    .to_vec();
+    sets.extend(extra.iter().map(|s| s.to_string()));
+    load_str(&text, "repose-2d.toml", PathBuf::from("."), &sets).unwrap()
+}
+
+/// `l` for `steps` steps serially and on 2 thread ranks: the summaries.
+/// Every thermo row's kinetic energy within 1e-9 relative (wall removal,
+/// tilt and parking act at the same steps on every rank, so only the
+/// summation order differs; parked grains are frozen below the sink, out of
+/// reach of the mobile ones, so which grain parks in which spot when two
+/// go in one step changes no energy).
+fn events_both(l: &Loaded, steps: u64, name: &str) -> (Value, Value) {
+    let opts = |dir: &Path| RunOptions {
+        out_dir: dir.to_path_buf(),
+        steps: Some(steps),
+        ..Default::default()
+    };
+    let (d0, d2) = (scratch(&format!("{name}-1")), scratch(&format!("{name}-2")));
+    let s0 = run(l, &opts(&d0), &mut Silent).unwrap();
+    let out = ThreadComm::run(2, |c| {
+        distributed::run(l, &opts(&d2), &mut Silent, c as &dyn Comm).unwrap()
+    });
+    let ((h0, rows0), (h, rows)) = (thermo(&d0), thermo(&d2));
+    assert_eq!(h, h0);
+    assert_eq!(rows.len(), rows0.len());
+    let ke = h.iter().position(|c| c == "kinetic_energy").unwrap();
+    for (r, r0) in rows.iter().zip(&rows0) {
+        let tol = 1e-9 * r0[ke];
+        assert!(
+            (r[ke] - r0[ke]).abs() <= tol,
+            "{name}: t = {}: {} vs {}",
+            r0[1],
+            r[ke],
+            r0[ke]
+        );
+    }
+    let _ = std::fs::remove_dir_all(&d0);
+    let _ = std::fs::remove_dir_all(&d2);
+    (s0, out.into_iter().next().unwrap())
+}
+
+#[test]
+fn run_events_on_two_ranks_match_the_serial_run() {
+    // Settle, remove the right wall: grains run off the floor's end and are
+    // parked below the sink.
+    let (s0, s) = events_both(&small_repose(&[]), 1500, "remove");
+    assert_eq!(s0["settled"], 1);
+    assert!(s0["lost_grains"].as_u64().unwrap() >= 2, "{s0}");
+    for key in [
+        "settled",
+        "settle_time",
+        "lost_grains",
+        "repose_surface_points",
+    ] {
+        assert_eq!(s[key], s0[key], "{key}");
+    }
+    assert!(s["migrations"].as_u64().unwrap() > 0);
+    // Settle, then tilt gravity at 1500 deg/s in the closed box (gravity
+    // changes every step on every rank).
+    let tilt = small_repose(&[
+        "run.events.remove_wall=\"\"",
+        "run.events.tilt_rate=1500.0",
+        "run.events.fail_energy=5.0",
+    ]);
+    let (s0, s) = events_both(&tilt, 1000, "tilt");
+    let key = "marginal_angle_lower_bound_deg";
+    assert!(s0[key].as_f64().unwrap() > 20.0, "{s0}");
+    for key in ["settled", "settle_time", key] {
+        assert_eq!(s[key], s0[key], "{key}");
+    }
 }
 
 #[test]
