@@ -7,9 +7,9 @@
 //! thermo rows must agree to rounding on 1, 2 and 4 ranks, in 2D with
 //! walls and in 3D periodic; a silo recycles the same grains at the same
 //! times on 2 ranks as on one, and a pile settled and tilted (run.events)
-//! agrees to rounding on 1, 2 and 4 ranks; a scenario with a feature that is not
-//! decomposed yet (`measure.trajectories`) is refused with exit code 2 and
-//! a message naming it. MD checkpoints written under mpirun resume on one process
+//! agrees to rounding on 1, 2 and 4 ranks, and so do trajectories on 2
+//! ranks; trajectories without a vibrating wall are refused once, with
+//! exit code 2. MD checkpoints written under mpirun resume on one process
 //! and the reverse, continuing the straight run to rounding.
 #![cfg(feature = "mpi")]
 
@@ -381,11 +381,75 @@ fn md_run_events_tilt_agrees_on_1_2_4_ranks() {
 }
 
 #[test]
-fn md_trajectories_on_several_ranks_are_refused_clearly() {
+fn md_trajectories_agree_on_2_ranks() {
+    // Seed 002's convection cell, trajectories every 5 steps over the run's
+    // last tenth of a cycle: rows by (id, step), positions within 1e-10 m,
+    // 1e-7 of a 1 mm grain (rounding, a few hundred steps of it).
+    let path = repo().join("scenarios/seed-convection-walls.toml");
+    let rows = |ranks: usize| {
+        let dir = scratch(&format!("traj-{ranks}"));
+        let out = grains(
+            ranks,
+            &[
+                "run",
+                path.to_str().unwrap(),
+                "--steps",
+                "600",
+                "--quiet",
+                "--out",
+                dir.to_str().unwrap(),
+                "--set",
+                "output.picture=false",
+                "--set",
+                "particles.random_velocity=0.2",
+                "--set",
+                "measure.trajectories={every=5,cycles=0.1}",
+            ],
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8(read(&dir.join("trajectories.csv"))).unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        let mut rows: Vec<(u64, u64, Vec<f64>)> = text
+            .lines()
+            .skip(2)
+            .map(|l| {
+                let c: Vec<&str> = l.split(',').collect();
+                let xyz = c[3..].iter().map(|x| x.parse().unwrap()).collect();
+                (c[0].parse().unwrap(), c[1].parse().unwrap(), xyz)
+            })
+            .collect();
+        rows.sort_by_key(|r| (r.0, r.1));
+        rows
+    };
+    let (r0, r2) = (rows(0), rows(2));
+    assert!(r0.len() > 100, "{} rows", r0.len());
+    assert_eq!(r2.len(), r0.len());
+    for (a, b) in r2.iter().zip(&r0) {
+        assert_eq!((a.0, a.1), (b.0, b.1));
+        for (x, y) in a.2.iter().zip(&b.2) {
+            assert!(
+                (x - y).abs() <= 1e-10,
+                "grain {} step {}: {x} vs {y}",
+                a.0,
+                a.1
+            );
+        }
+    }
+}
+
+#[test]
+fn md_trajectories_without_a_drive_are_refused_once() {
     let (_, out) = hopper(2, &["measure.trajectories={every=1,cycles=1.0}"]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("measure.trajectories"), "{err}");
+    assert!(
+        err.contains("measure.trajectories needs a vibrating"),
+        "{err}"
+    );
     assert_eq!(err.matches("grains: error").count(), 1, "{err}");
 }
 

@@ -82,12 +82,30 @@ impl PhaseSnapshots {
         })
     }
 
+    /// Whether target phase `k` is first reached at drive cycle count `c`.
+    fn reached(&self, k: usize, c: f64) -> bool {
+        let s = self.targets[k] / TAU;
+        self.taken[k].is_none() && (c - s).floor() > (self.prev - s).floor()
+    }
+
+    /// Whether [`Self::step`] at time `t` reads the grains (a snapshot or a
+    /// displacement end is due), so that a decomposed run gathers them only
+    /// then.
+    pub fn due(&self, t: f64) -> bool {
+        let c = cycles(self.freq, self.phase0, t);
+        let disp = match (self.after, &self.disp_from) {
+            (Some(_), None) => c.floor() > self.prev.floor(),
+            (Some(after), Some((t0, _))) => self.disp.is_none() && t >= t0 + after,
+            (None, _) => false,
+        };
+        disp || (0..self.targets.len()).any(|k| self.reached(k, c))
+    }
+
     /// Called after every step.
     pub fn step<D: Dim>(&mut self, md: &Md<D>) {
         let c = cycles(self.freq, self.phase0, md.time);
-        for (k, &target) in self.targets.iter().enumerate() {
-            let s = target / TAU;
-            if self.taken[k].is_none() && (c - s).floor() > (self.prev - s).floor() {
+        for k in 0..self.targets.len() {
+            if self.reached(k, c) {
                 self.taken[k] = Some(md.frame());
             }
         }

@@ -35,12 +35,14 @@ impl Trajectories {
         }
     }
 
+    /// Whether [`Self::step`] after engine step `step` records positions.
+    pub fn due(&self, step: u64) -> bool {
+        (self.start..=self.end).contains(&step) && (step - self.start).is_multiple_of(self.every)
+    }
+
     /// Called after every step.
     pub fn step<D: Dim>(&mut self, md: &Md<D>) {
-        if md.step < self.start
-            || md.step > self.end
-            || !(md.step - self.start).is_multiple_of(self.every)
-        {
+        if !self.due(md.step) {
             return;
         }
         let p = &md.particles;

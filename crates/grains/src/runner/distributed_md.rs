@@ -22,16 +22,16 @@
 //! Flow events (`[hopper]` recycling, `run.events`: settle, wall removal,
 //! tilt, sink) run on rank 0's mirror with the serial code and are sent to
 //! every rank ([`flow_step`]).
-//!
-//! Refused with a clear error, because they measure every step on the whole
-//! state: `measure.phases` and `measure.trajectories`.
+//! The per-step measurements (`measure.phases`, `measure.trajectories`)
+//! gather the grains only at the steps where they read them: rank 0 says
+//! which (one summed flag per step).
 
 use super::checkpointing::{self, Checkpointer, Found};
 use super::output::Outputs;
 use super::{flow, md_summary, prepare, Measurements, Progress, RunOptions};
 use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::md::decomp::{index_by_id, DecomposedMd};
 use crate::md::Md;
 use crate::measure::granular_temperature;
@@ -41,30 +41,6 @@ use serde_json::{json, Value};
 use std::collections::HashMap;
 use std::time::Instant;
 
-/// The first scenario feature that the decomposed run cannot do yet.
-fn unsupported(loaded: &Loaded) -> Option<&'static str> {
-    let s = &loaded.scenario;
-    if s.measure.phases.is_some() {
-        Some("measure.phases")
-    } else if s.measure.trajectories.is_some() {
-        Some("measure.trajectories")
-    } else {
-        None
-    }
-}
-
-/// Stops a scenario that the decomposed run cannot do, naming the feature.
-fn refuse(loaded: &Loaded, comm: &dyn Comm) -> Result<()> {
-    match unsupported(loaded) {
-        Some(feature) => Err(Error::input(format!(
-            "{}: {feature} is not supported on {} MPI ranks yet; run it on one rank with --threads",
-            loaded.origin,
-            comm.size()
-        ))),
-        None => Ok(()),
-    }
-}
-
 /// Runs `loaded` (method = "md") on the ranks of `comm`; the summary on
 /// rank 0, `Value::Null` elsewhere.
 pub fn run<D: Dim>(
@@ -73,7 +49,6 @@ pub fn run<D: Dim>(
     progress: &mut dyn Progress,
     comm: &dyn Comm,
 ) -> Result<Value> {
-    refuse(loaded, comm)?;
     let root = comm.rank() == 0;
     if root {
         prepare(&opts.out_dir)?;
@@ -114,7 +89,6 @@ pub(super) fn resume<D: Dim>(
     comm: &dyn Comm,
 ) -> Result<Value> {
     let loaded = found.loaded();
-    refuse(loaded, comm)?;
     let r = found.restore::<D>(steps)?;
     let root = comm.rank() == 0;
     let (mirror, outputs) = match root {
@@ -171,6 +145,13 @@ fn drive<D: Dim>(
     // run, made from the engine before its first step).
     let ckpt = Checkpointer::new(loaded, opts, &full, (relax, measure))?;
     let flow = flow::FlowRun::begin(loaded, &full)?;
+    // Rank 0 begins the measurements after relaxing; a scenario they refuse
+    // (phases without a vibrating wall) must stop every rank now.
+    let m = &loaded.scenario.measure;
+    let per_step = m.phases.is_some() || m.trajectories.is_some();
+    if per_step {
+        Measurements::begin(loaded, &full, 0, resolved.dt)?;
+    }
     let mut flow = mirror.is_some().then_some(flow);
     let index = mirror
         .as_ref()
@@ -257,7 +238,23 @@ fn drive<D: Dim>(
     };
     for k in measure_done + 1..=measure {
         dec.step()?;
-        let fresh = flow_step(loaded, &mut dec, (&mut mirror, &mut flow), &gather, comm);
+        let mut fresh = flow_step(loaded, &mut dec, (&mut mirror, &mut flow), &gather, comm);
+        if per_step {
+            // Rank 0 knows when the measurements read the grains.
+            let due = state
+                .as_ref()
+                .is_some_and(|s| s.due(dec.md.step, dec.md.time));
+            let mut any = [u64::from(due)];
+            comm.sum_u64(&mut any);
+            if any[0] > 0 && !fresh {
+                gather(&dec, &mut mirror);
+                fresh = true;
+            }
+            if let (Some(m), Some(measurements)) = (mirror.as_mut(), state.as_mut()) {
+                (m.time, m.step) = (dec.md.time, dec.md.step);
+                measurements.step(m);
+            }
+        }
         let sample = k % sample_every == 0;
         let output = k % every == 0 || k == measure;
         if (sample || output) && !fresh {

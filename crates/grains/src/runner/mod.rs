@@ -292,6 +292,13 @@ impl Measurements {
         Ok(out)
     }
 
+    /// Whether [`Self::step`] after engine step `step` at time `t` reads the
+    /// grains (a decomposed run gathers them then).
+    fn due(&self, step: u64, t: f64) -> bool {
+        self.phases.as_ref().is_some_and(|p| p.due(t))
+            || self.trajectories.as_ref().is_some_and(|x| x.due(step))
+    }
+
     /// After every step (phase- and step-exact measurements).
     fn step<D: Dim>(&mut self, md: &Md<D>) {
         if let Some(p) = &mut self.phases {
