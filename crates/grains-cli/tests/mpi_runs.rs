@@ -290,37 +290,32 @@ picture = false
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The small silo of `grains/tests/distributed_md.rs` (150 grains over a
-/// wide outlet, recycled just below the floor) for 1000 steps on `ranks`.
-fn hopper(ranks: usize, extra: &[&str]) -> (PathBuf, Output) {
-    let path = repo().join("scenarios/hopper-2d.toml");
-    let dir = scratch(&format!("hopper-{ranks}"));
+/// `grains run <scenario> --steps <steps> --quiet --out <dir>` with `--set`
+/// for each of `sets` on `ranks`.
+fn run_set(ranks: usize, scenario: &Path, steps: &str, dir: &Path, sets: &[&str]) -> Output {
     let mut args = vec![
         "run",
-        path.to_str().unwrap(),
+        scenario.to_str().unwrap(),
         "--steps",
-        "1000",
+        steps,
         "--quiet",
-        "--out",
-        dir.to_str().unwrap(),
     ];
-    for s in [
-        "gravity=[0.0,-30.0]",
-        "particles.count=150",
-        "particles.region={lo=[0.0,0.001],hi=[0.03,0.02]}",
-        "hopper.sink=-0.0012",
-        "hopper.refill=[0.012,0.018]",
-        "hopper.outlet=0.008",
-        "hopper.transient=0.0",
-        "run.dt=3e-5",
-        "output.picture=false",
-    ]
-    .iter()
-    .chain(extra)
-    {
+    args.extend(["--out", dir.to_str().unwrap()]);
+    for s in sets {
         args.extend(["--set", s]);
     }
-    let out = grains(ranks, &args);
+    grains(ranks, &args)
+}
+
+/// The small silo of `grains/tests/distributed_md.rs` (150 grains over a
+/// wide outlet, recycled just below the floor; its overrides in
+/// `grains/tests/data/small-hopper.sets`) for 1000 steps on `ranks`.
+fn hopper(ranks: usize, extra: &[&str]) -> (PathBuf, Output) {
+    let dir = scratch(&format!("hopper-{ranks}"));
+    let sets = include_str!("../../grains/tests/data/small-hopper.sets");
+    let sets: Vec<&str> = sets.lines().chain(extra.iter().copied()).collect();
+    let path = repo().join("scenarios/hopper-2d.toml");
+    let out = run_set(ranks, &path, "1000", &dir, &sets);
     (dir, out)
 }
 
@@ -388,24 +383,12 @@ fn md_trajectories_agree_on_2_ranks() {
     let path = repo().join("scenarios/seed-convection-walls.toml");
     let rows = |ranks: usize| {
         let dir = scratch(&format!("traj-{ranks}"));
-        let out = grains(
-            ranks,
-            &[
-                "run",
-                path.to_str().unwrap(),
-                "--steps",
-                "600",
-                "--quiet",
-                "--out",
-                dir.to_str().unwrap(),
-                "--set",
-                "output.picture=false",
-                "--set",
-                "particles.random_velocity=0.2",
-                "--set",
-                "measure.trajectories={every=5,cycles=0.1}",
-            ],
-        );
+        let sets = [
+            "output.picture=false",
+            "particles.random_velocity=0.2",
+            "measure.trajectories={every=5,cycles=0.1}",
+        ];
+        let out = run_set(ranks, &path, "600", &dir, &sets);
         assert!(
             out.status.success(),
             "{}",

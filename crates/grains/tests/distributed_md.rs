@@ -474,28 +474,22 @@ fn distributed_md_run_writes_the_serial_run_to_rounding() {
     let _ = std::fs::remove_dir_all(&serial_dir);
 }
 
+/// `scenarios/<file>` with the `--set` overrides of `sets` and `extra`.
+fn scenario_with(file: &str, sets: &[&str], extra: &[&str]) -> Loaded {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let text = std::fs::read_to_string(dir.join(file)).unwrap();
+    let sets: Vec<String> = sets.iter().chain(extra).map(|s| s.to_string()).collect();
+    load_str(&text, file, PathBuf::from("."), &sets).unwrap()
+}
+
 /// The 2D silo of `scenarios/hopper-2d.toml` cut down to 150 grains that
 /// start on the floor over a wide outlet, under 30 m/s², with the sink
 /// 1.2 d0 below the floor and the refill band just above the pile, so that
-/// grains leave and are recycled within 1000 steps; `extra` adds keys.
+/// grains leave and are recycled within 1000 steps (`data/small-hopper.sets`,
+/// shared with the mpirun test); `extra` adds keys.
 fn small_hopper(extra: &[&str]) -> Loaded {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/hopper-2d.toml");
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut sets: Vec<String> = [
-        "gravity=[0.0,-30.0]",
-        "particles.count=150",
-        "particles.region={lo=[0.0,0.001],hi=[0.03,0.02]}",
-        "hopper.sink=-0.0012",
-        "hopper.refill=[0.012,0.018]",
-        "hopper.outlet=0.008",
-        "hopper.transient=0.0",
-        "run.dt=3e-5",
-        "output.picture=false",
-    ]
-    .map(String::from)
-    .to_vec();
-    sets.extend(extra.iter().map(|s| s.to_string()));
-    load_str(&text, "hopper-2d.toml", PathBuf::from("."), &sets).unwrap()
+    let sets = include_str!("data/small-hopper.sets");
+    scenario_with("hopper-2d.toml", &sets.lines().collect::<Vec<_>>(), extra)
 }
 
 /// The (time, cumulative mass) rows of discharge.csv.
@@ -621,9 +615,7 @@ fn hopper_recycling_on_two_ranks_matches_the_serial_run() {
 /// loose: the test is the event's timing, not a settled pile), the sink
 /// just below the floor; `extra` adds keys.
 fn small_repose(extra: &[&str]) -> Loaded {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/repose-2d.toml");
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut sets: Vec<String> = [
+    let sets = [
         "gravity=[0.0,-30.0]",
         "particles.count=80",
         "particles.region={lo=[0.0,0.001],hi=[0.030,0.009]}",
@@ -632,11 +624,8 @@ fn small_repose(extra: &[&str]) -> Loaded {
         "run.events.sink=-0.0005",
         "output.every=0.0003",
         "output.picture=false",
-    ]
-    .map(String::from)
-    .to_vec();
-    sets.extend(extra.iter().map(|s| s.to_string()));
-    load_str(&text, "repose-2d.toml", PathBuf::from("."), &sets).unwrap()
+    ];
+    scenario_with("repose-2d.toml", &sets, extra)
 }
 
 /// `l` for `steps` steps serially and on 2 thread ranks: the summaries.
