@@ -359,9 +359,24 @@ impl<D: Dim> Md<D> {
             r.far
         };
         let moved = self.moved_beyond_skin(pass);
+        self.finite_or_error(non_finite).map(|()| moved)
+    }
+
+    /// [`Md::correct`], the finite-state test (when due) and the next
+    /// step's [`Md::predict`] in one pass, without the displacement test: a
+    /// decomposed run votes on the rebuild after its ghosts moved.
+    pub(crate) fn correct_predict(&mut self) -> Result<()> {
+        let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
+        let finite = self.finite_check_due();
+        let integrator = self.settings.integrator;
+        let r = integrator.correct_predict(&mut self.particles, (dt, rot), None, finite);
+        self.finite_or_error(r.non_finite)
+    }
+
+    fn finite_or_error(&self, non_finite: Option<usize>) -> Result<()> {
         match non_finite {
             Some(i) => Err(self.non_finite_error(i)),
-            None => Ok(moved),
+            None => Ok(()),
         }
     }
 
@@ -538,7 +553,7 @@ impl<D: Dim> Md<D> {
 
     /// The overlap part of [`Md::check_stability`] (the last force
     /// evaluation's largest overlap).
-    fn check_overlap(&self) -> Result<()> {
+    pub(crate) fn check_overlap(&self) -> Result<()> {
         let s = &self.stats;
         if s.max_overlap_fraction > self.settings.max_overlap_fraction {
             let (a, b) = s.worst_pair;
