@@ -10,7 +10,8 @@
 //! 3D, a periodic cooling gas and a gas under gravity between a vibrating
 //! plate and a lid, with the slab boundaries moved whenever they can be.
 //! The runner test checks that the files of a distributed run are the
-//! serial run's, byte for byte.
+//! serial run's, byte for byte, and that frames written in pieces hold
+//! every particle of the gathered frame exactly once, with the same bits.
 
 use grains::comm::{Comm, ThreadComm};
 use grains::dsmc::collide::GasDim;
@@ -269,4 +270,112 @@ fn distributed_run_writes_the_serial_files() {
         let _ = std::fs::remove_dir_all(&dir);
     }
     let _ = std::fs::remove_dir_all(&serial_dir);
+}
+
+/// The whitespace-separated values of the VTK array `name` in `xml`.
+fn vtk_tokens<'a>(xml: &'a str, name: &str) -> Vec<&'a str> {
+    let at = xml
+        .find(&format!("Name=\"{name}\""))
+        .unwrap_or_else(|| panic!("array {name} missing"));
+    let body = &xml[at..];
+    let open = body.find('>').unwrap() + 1;
+    let close = body.find("</DataArray>").unwrap();
+    body[open..close].split_whitespace().collect()
+}
+
+/// The values of particle `j` in `xml`: every point array but the id, in a
+/// fixed order (the text is exact: full-precision shortest round trip).
+fn particle_row(xml: &str, j: usize) -> Vec<&str> {
+    let arrays = [
+        ("Points", 3),
+        ("velocity", 3),
+        ("angular_velocity", 3),
+        ("radius", 1),
+        ("type", 1),
+    ];
+    let mut row = Vec::new();
+    for (name, c) in arrays {
+        row.extend_from_slice(&vtk_tokens(xml, name)[j * c..(j + 1) * c]);
+    }
+    row
+}
+
+#[test]
+fn frames_in_pieces_hold_the_gathered_frame_once_across_ranks() {
+    let l = loaded("2d", true);
+    let gathered = scratch("pieces-gathered");
+    let opts = RunOptions {
+        out_dir: gathered.clone(),
+        ..Default::default()
+    };
+    run(&l, &opts, &mut Silent).unwrap();
+    let text = format!("{}frames_layout = \"pieces\"\n", scenario("2d", true));
+    let lp = load_str(&text, "test", PathBuf::from("."), &[]).unwrap();
+    for ranks in [2, 3] {
+        let dir = scratch(&format!("pieces-{ranks}"));
+        let opts = RunOptions {
+            out_dir: dir.clone(),
+            ..Default::default()
+        };
+        ThreadComm::run(ranks, |c| {
+            distributed::run(&lp, &opts, &mut Silent, c as &dyn Comm).unwrap();
+        });
+        let pvd = String::from_utf8(read(&dir.join("frames.pvd"))).unwrap();
+        let listed = pvd.matches(".pvtp\"").count();
+        // 100 steps, a frame at step 0 and every 10 steps.
+        assert_eq!(listed, 11, "{pvd}");
+        assert_eq!(
+            pvd.replace(".pvtp\"", ".vtp\""),
+            String::from_utf8(read(&gathered.join("frames.pvd"))).unwrap()
+        );
+        for i in 0..listed {
+            let whole = String::from_utf8(read(&gathered.join(format!("frames/frame_{i:06}.vtp"))));
+            let whole = whole.unwrap();
+            let n = vtk_tokens(&whole, "id").len();
+            let pvtp = String::from_utf8(read(&dir.join(format!("frames/frame_{i:06}.pvtp"))));
+            let pvtp = pvtp.unwrap();
+            let sources: Vec<&str> = pvtp
+                .split("Source=\"")
+                .skip(1)
+                .map(|s| &s[..s.find('"').unwrap()])
+                .collect();
+            assert_eq!(sources.len(), ranks);
+            let mut rows: Vec<Option<Vec<String>>> = vec![None; n];
+            let mut nonempty = 0;
+            for s in sources {
+                let piece = String::from_utf8(read(&dir.join("frames").join(s))).unwrap();
+                for f in ["TimeValue", "Step"] {
+                    assert_eq!(vtk_tokens(&piece, f), vtk_tokens(&whole, f), "{s}: {f}");
+                }
+                let ids = vtk_tokens(&piece, "id");
+                nonempty += usize::from(!ids.is_empty());
+                for (j, id) in ids.iter().enumerate() {
+                    let k: usize = id.parse().unwrap();
+                    assert!((1..=n).contains(&k), "{s}: id {k} of {n}");
+                    let row = particle_row(&piece, j).into_iter().map(String::from);
+                    assert!(
+                        rows[k - 1].replace(row.collect()).is_none(),
+                        "{s}: id {k} twice"
+                    );
+                }
+            }
+            assert!(
+                nonempty > 1,
+                "frame {i}: the particles are spread over the ranks"
+            );
+            for (k, row) in rows.iter().enumerate() {
+                let row = row
+                    .as_ref()
+                    .unwrap_or_else(|| panic!("frame {i}: id {} lost", k + 1));
+                assert_eq!(
+                    *row,
+                    particle_row(&whole, k),
+                    "frame {i}: particle {}",
+                    k + 1
+                );
+            }
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    let _ = std::fs::remove_dir_all(&gathered);
 }

@@ -392,6 +392,11 @@ impl<'c, D: GasDim> Decomposed<'c, D> {
         mirror.reindex();
     }
 
+    /// The serial index of each local particle, in store order.
+    pub fn keys(&self) -> &[u64] {
+        &self.keys
+    }
+
     /// Collective: the serial index of every particle of the run, on rank 0
     /// (for checks that nothing was lost or duplicated).
     pub fn gather_keys(&self) -> Option<Vec<u64>> {

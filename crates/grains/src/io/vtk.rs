@@ -209,6 +209,14 @@ impl VtkSeries {
         self
     }
 
+    /// In pieces, the frames come from `ranks` ranks (each writes its own
+    /// piece); gathered frames stay gathered.
+    pub fn set_ranks(&mut self, ranks: usize) {
+        if self.pieces.is_some() {
+            self.pieces = Some(ranks.max(1));
+        }
+    }
+
     /// Continues the series of a resumed run: the collection lists the
     /// frames written before the checkpoint (`entries`) and is rewritten so
     /// that frames written after it are dropped.

@@ -10,6 +10,10 @@
 //! large runs choose `output.every` and `dsmc.profile_bins` with that in
 //! mind.
 //!
+//! Frames in pieces (`output.frames_layout = "pieces"`): each rank writes
+//! its own particles as a piece (ids: serial store positions + 1, as in a
+//! gathered frame), rank 0 the `.pvtp`.
+//!
 //! MD checkpoints and resume: see [`super::distributed_md`]. Not supported
 //! yet for DSMC, with a clear error: checkpoints and resume under mpirun
 //! (run or resume those on one process). A stop signal ends the run
@@ -17,6 +21,7 @@
 
 use super::checkpointing::{self, Found};
 use super::dsmc::{build, describe, frame, gas_summary, spec, Measure, Outputs};
+use super::output::in_pieces;
 use super::{prepare, Progress, RunOptions};
 use crate::comm::Comm;
 use crate::dim::{D2, D3};
@@ -25,7 +30,7 @@ use crate::dsmc::decomp::Decomposed;
 use crate::dsmc::Method;
 use crate::error::{Error, Result};
 use crate::io::{render_particles, PictureOptions};
-use crate::scenario::schema::{Dimension, FramesLayout};
+use crate::scenario::schema::Dimension;
 use crate::scenario::Loaded;
 use serde_json::{json, Map, Value};
 use std::time::Instant;
@@ -39,14 +44,6 @@ pub fn run(
     comm: &dyn Comm,
 ) -> Result<Value> {
     let md = loaded.scenario.method != Method::Dsmc;
-    let out = &loaded.scenario.output;
-    if !md && comm.size() > 1 && out.frames && out.frames_layout == FramesLayout::Pieces {
-        return Err(Error::input(format!(
-            "{}: output.frames_layout = \"pieces\" is not supported for a DSMC run on several \
-             ranks yet; use \"gathered\" (allowed: \"gathered\", \"pieces\")",
-            loaded.origin
-        )));
-    }
     if opts.checkpoint_every.is_some() && !md {
         return Err(Error::input(
             "--checkpoint-every is not supported for a DSMC run on several ranks yet; \
@@ -56,7 +53,6 @@ pub fn run(
     // Not on rayon's pool here (unlike `super::run`): ranks that are
     // threads of one process would each hold a pool worker while waiting
     // for the others. The command line puts its single rank on the pool.
-    let md = loaded.scenario.method != Method::Dsmc;
     match loaded.scenario.dimension {
         Dimension::Two if md => super::distributed_md::run::<D2>(loaded, opts, progress, comm),
         Dimension::Three if md => super::distributed_md::run::<D3>(loaded, opts, progress, comm),
@@ -120,6 +116,20 @@ fn run_dim<D: GasDim>(
         Some(n) => (0, n),
         None => (plan.relax_steps, plan.measure_steps),
     };
+    if let Some(f) = outputs.as_mut().and_then(|o| o.frames.as_mut()) {
+        f.set_ranks(comm.size());
+    }
+    // Frames in pieces: each rank writes its own particles at an output
+    // step, with their serial store positions as ids (as when gathered).
+    let pieces = in_pieces(&loaded.scenario.output, comm.size());
+    let write_piece = |dec: &Decomposed<D>| match pieces {
+        true => {
+            let mut f = frame(&dec.sim);
+            f.id = dec.keys().iter().map(|k| k + 1).collect();
+            crate::io::write_piece(&opts.out_dir, &f, comm.rank())
+        }
+        false => Ok(()),
+    };
     let ds = spec(loaded);
     let every = plan.output_every;
     let started = Instant::now();
@@ -134,6 +144,7 @@ fn run_dim<D: GasDim>(
     }
     progress.phase("run", measure);
     dec.gather(mirror.as_mut());
+    write_piece(&dec)?;
     let mut m = None;
     if let (Some(sim), Some(out)) = (mirror.as_mut(), outputs.as_mut()) {
         let mut mm = Measure::new(sim, &ds);
@@ -153,6 +164,9 @@ fn run_dim<D: GasDim>(
         let output = k % every == 0 || k == measure;
         if output || (profiles && k % profile_every == 0) {
             dec.gather(mirror.as_mut());
+        }
+        if output {
+            write_piece(&dec)?;
         }
         if let (Some(sim), Some(mm)) = (mirror.as_mut(), m.as_mut()) {
             if let Some(p) = &mut mm.profiles {

@@ -35,7 +35,6 @@ use crate::error::Result;
 use crate::md::decomp::{index_by_id, DecomposedMd};
 use crate::md::Md;
 use crate::measure::granular_temperature;
-use crate::scenario::schema::FramesLayout;
 use crate::scenario::{build_md, Loaded, Resolved};
 use serde_json::{json, Value};
 use std::collections::HashMap;
@@ -169,7 +168,7 @@ fn drive<D: Dim>(
     }
     // Frames in pieces: each rank writes its own grains at an output step.
     let spec = &loaded.scenario.output;
-    let pieces = spec.frames && spec.frames_layout == FramesLayout::Pieces && comm.size() > 1;
+    let pieces = super::output::in_pieces(spec, comm.size());
     let write_piece = |dec: &DecomposedMd<D>| match pieces {
         true => crate::io::write_piece(&opts.out_dir, &dec.md.frame(), comm.rank()),
         false => Ok(()),

@@ -87,6 +87,12 @@ pub(super) fn frame_series(
     }))
 }
 
+/// Whether each of `ranks` ranks writes its own piece of every frame (in
+/// pieces on one rank, the frame series writes the single piece itself).
+pub(super) fn in_pieces(spec: &OutputSpec, ranks: usize) -> bool {
+    spec.frames && spec.frames_layout == FramesLayout::Pieces && ranks > 1
+}
+
 pub struct Outputs {
     dir: PathBuf,
     thermo: Thermo,
@@ -117,8 +123,8 @@ impl Outputs {
 
     /// Frames in pieces come from `ranks` ranks (each writes its own piece).
     pub fn set_ranks(&mut self, ranks: usize) {
-        if let Some(f) = self.frames.as_mut().filter(|f| f.pieces.is_some()) {
-            f.pieces = Some(ranks);
+        if let Some(f) = self.frames.as_mut() {
+            f.set_ranks(ranks);
         }
     }
 
