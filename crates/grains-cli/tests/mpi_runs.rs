@@ -10,7 +10,8 @@
 //! agrees to rounding on 1, 2 and 4 ranks, and so do trajectories on 2
 //! ranks; trajectories without a vibrating wall are refused once, with
 //! exit code 2. MD checkpoints written under mpirun resume on one process
-//! and the reverse, continuing the straight run to rounding.
+//! and the reverse, continuing the straight run to rounding. DSMC frames in
+//! pieces on 2 ranks hold the serial run's particles, each once.
 #![cfg(feature = "mpi")]
 
 use std::path::{Path, PathBuf};
@@ -506,4 +507,67 @@ fn md_bench_under_mpirun_reports_the_imbalance() {
         assert!((0.0..1.0).contains(&x), "{key}: {v}");
     }
     assert!(v["rebalances"].as_u64().is_some(), "{v}");
+}
+
+/// (id, point) of every particle in the `.vtp` pieces that `pvtp` lists,
+/// sorted by id (the coordinates as written: exact).
+fn piece_points(frames: &Path, pvtp: &str) -> Vec<(u64, Vec<String>)> {
+    let tokens = |xml: &str, name: &str| -> Vec<String> {
+        let body = &xml[xml.find(&format!("Name=\"{name}\"")).unwrap()..];
+        let (open, close) = (body.find('>').unwrap() + 1, body.find("</D").unwrap());
+        body[open..close]
+            .split_whitespace()
+            .map(String::from)
+            .collect()
+    };
+    let mut out = Vec::new();
+    for s in pvtp.split("Source=\"").skip(1) {
+        let piece = String::from_utf8(read(&frames.join(&s[..s.find('"').unwrap()]))).unwrap();
+        let points = tokens(&piece, "Points");
+        for (j, id) in tokens(&piece, "id").iter().enumerate() {
+            out.push((id.parse().unwrap(), points[3 * j..3 * j + 3].to_vec()));
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn dsmc_frames_in_pieces_on_2_ranks_hold_the_serial_particles() {
+    let path = repo().join("scenarios/gas-vibrated-2d.toml");
+    let run = |ranks: usize| {
+        let dir = scratch(&format!("dsmc-pieces-{ranks}"));
+        let sets = [
+            "output.frames=true",
+            "output.every=0.001",
+            "output.frames_layout=\"pieces\"",
+        ];
+        let out = run_set(ranks, &path, "100", &dir, &sets);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        dir
+    };
+    let (serial, two) = (run(0), run(2));
+    let pvd = String::from_utf8(read(&two.join("frames.pvd"))).unwrap();
+    assert!(pvd == String::from_utf8(read(&serial.join("frames.pvd"))).unwrap());
+    let frames: Vec<&str> = pvd
+        .split("file=\"")
+        .skip(1)
+        .map(|s| &s[..s.find('"').unwrap()])
+        .collect();
+    assert!(frames.len() > 3, "{pvd}");
+    for f in frames {
+        let pvtp = |d: &Path| String::from_utf8(read(&d.join(f))).unwrap();
+        let (a, b) = (pvtp(&serial), pvtp(&two));
+        assert_eq!(b.matches("Source=").count(), 2, "{f}");
+        let whole = piece_points(&serial.join("frames"), &a);
+        assert_eq!(piece_points(&two.join("frames"), &b), whole, "{f}");
+        let n = whole.len() as u64;
+        assert!(whole.iter().map(|r| r.0).eq(1..=n), "{f}: every id once");
+    }
+    let _ = std::fs::remove_dir_all(&serial);
+    let _ = std::fs::remove_dir_all(&two);
 }
