@@ -13,6 +13,9 @@
 //! serial run's, byte for byte, and that frames written in pieces hold
 //! every particle of the gathered frame exactly once, with the same bits.
 
+mod common;
+
+use common::{pvtp_sources, vtk_tokens};
 use grains::comm::{Comm, ThreadComm};
 use grains::dsmc::collide::GasDim;
 use grains::dsmc::decomp::Decomposed;
@@ -272,17 +275,6 @@ fn distributed_run_writes_the_serial_files() {
     let _ = std::fs::remove_dir_all(&serial_dir);
 }
 
-/// The whitespace-separated values of the VTK array `name` in `xml`.
-fn vtk_tokens<'a>(xml: &'a str, name: &str) -> Vec<&'a str> {
-    let at = xml
-        .find(&format!("Name=\"{name}\""))
-        .unwrap_or_else(|| panic!("array {name} missing"));
-    let body = &xml[at..];
-    let open = body.find('>').unwrap() + 1;
-    let close = body.find("</DataArray>").unwrap();
-    body[open..close].split_whitespace().collect()
-}
-
 /// The values of particle `j` in `xml`: every point array but the id, in a
 /// fixed order (the text is exact: full-precision shortest round trip).
 fn particle_row(xml: &str, j: usize) -> Vec<&str> {
@@ -334,11 +326,7 @@ fn frames_in_pieces_hold_the_gathered_frame_once_across_ranks() {
             let n = vtk_tokens(&whole, "id").len();
             let pvtp = String::from_utf8(read(&dir.join(format!("frames/frame_{i:06}.pvtp"))));
             let pvtp = pvtp.unwrap();
-            let sources: Vec<&str> = pvtp
-                .split("Source=\"")
-                .skip(1)
-                .map(|s| &s[..s.find('"').unwrap()])
-                .collect();
+            let sources = pvtp_sources(&pvtp);
             assert_eq!(sources.len(), ranks);
             let mut rows: Vec<Option<Vec<String>>> = vec![None; n];
             let mut nonempty = 0;

@@ -16,6 +16,8 @@
 //! Speeds are high enough that grains cross slab boundaries and the
 //! neighbour list is rebuilt many times.
 
+mod common;
+
 use grains::comm::{Comm, ThreadComm};
 use grains::md::decomp::{index_by_id, DecomposedMd};
 use grains::md::Md;
@@ -980,13 +982,7 @@ fn checkpoints_of_decomposed_runs_resume_anywhere_2d_gear_box() {
 
 /// The numbers of the DataArray `name` in a .vtp document.
 fn vtp_array(xml: &str, name: &str) -> Vec<f64> {
-    let at = xml
-        .find(&format!("Name=\"{name}\""))
-        .expect("array present");
-    let body = &xml[at..];
-    let open = body.find('>').unwrap() + 1;
-    let close = body.find("</DataArray>").unwrap();
-    let values = body[open..close].split_whitespace();
+    let values = common::vtk_tokens(xml, name).into_iter();
     values.map(|t| t.parse().unwrap()).collect()
 }
 
@@ -1014,11 +1010,7 @@ fn frames_in_pieces_hold_every_grain_once_across_ranks() {
         for rel in listed {
             assert!(rel.ends_with(".pvtp"), "{rel}");
             let pvtp = std::fs::read_to_string(dir.join(rel)).unwrap();
-            let sources: Vec<&str> = pvtp
-                .split("Source=\"")
-                .skip(1)
-                .map(|s| &s[..s.find('"').unwrap()])
-                .collect();
+            let sources = common::pvtp_sources(&pvtp);
             assert_eq!(sources.len(), ranks);
             let mut ids = Vec::new();
             for s in sources {

@@ -47,3 +47,22 @@ pub fn engine<D: Dim>(
     }
     Md::new(p, domain, Vec::new(), settings).expect("valid test set-up")
 }
+
+/// The whitespace-separated values of the VTK array `name` in `xml`.
+pub fn vtk_tokens<'a>(xml: &'a str, name: &str) -> Vec<&'a str> {
+    let at = xml
+        .find(&format!("Name=\"{name}\""))
+        .unwrap_or_else(|| panic!("array {name} missing"));
+    let body = &xml[at..];
+    let open = body.find('>').unwrap() + 1;
+    let close = body.find("</DataArray>").unwrap();
+    body[open..close].split_whitespace().collect()
+}
+
+/// The piece files a `.pvtp` lists, in rank order.
+pub fn pvtp_sources(pvtp: &str) -> Vec<&str> {
+    pvtp.split("Source=\"")
+        .skip(1)
+        .map(|s| &s[..s.find('"').unwrap()])
+        .collect()
+}
