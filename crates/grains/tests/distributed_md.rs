@@ -772,9 +772,11 @@ fn same_rows(a: &Path, b: &Path, file: &str, key: usize, tol: f64) -> usize {
 // serial run, on the closed 2D box with its floor vibrating at 50 Hz
 // (200 steps a cycle): snapshots at phases π/2, π, 3π/2 and 0 and the
 // displacement from phase 0 over 5 ms, trajectories every 5 steps over the
-// last half cycle. Rows by grain id (and step): positions within 1e-9 d0,
-// velocities within 1e-9 of the grains' speed scale (30 m/s), the rounding
-// bounds of the tests above, as only the summation order differs.
+// last half cycle. Rows by grain id (and step). A snapshot row holds a
+// position and a velocity, checked together at the velocity bound, 1e-9 of
+// the grains' speed scale (30 m/s) = 3e-8; displacement and trajectory rows
+// within 1e-9. These are the rounding bounds of the tests above, as only
+// the summation order differs.
 #[test]
 fn phases_and_trajectories_on_ranks_match_the_serial_run() {
     let text = format!(

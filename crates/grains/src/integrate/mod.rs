@@ -232,4 +232,32 @@ mod tests {
             assert_eq!(q.pos[0], DVec3::new(0.0, 2e3, 0.0), "frozen grains stay");
         }
     }
+
+    #[test]
+    fn fused_pass_names_the_first_non_finite_grain_on_any_thread_count() {
+        // Two bad grains in different chunks (10 000 grains span three
+        // chunks of CHUNK): the report must name the lower index whatever
+        // the threads, so the chunks' reports must join in order.
+        for integrator in [Integrator::Verlet, Integrator::Gear5] {
+            for threads in [1, 4] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let mut p = line(10_000);
+                if integrator == Integrator::Gear5 {
+                    gear5::initialize(&mut p, 0.1);
+                }
+                p.vel[9000].x = f64::NAN;
+                p.vel[5000].x = f64::NAN;
+                let report =
+                    pool.install(|| integrator.correct_predict(&mut p, (0.1, true), None, true));
+                assert_eq!(
+                    report.non_finite,
+                    Some(5000),
+                    "{integrator:?}, {threads} threads"
+                );
+            }
+        }
+    }
 }

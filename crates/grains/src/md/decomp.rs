@@ -680,11 +680,12 @@ fn drop_ghost_pairs<D: Dim>(list: &mut NeighborList<D>, owned: usize) {
     list.image.truncate(k);
 }
 
-fn put_vec<D: Dim>(w: &mut Writer, v: D::V) {
+/// A vector's `D::D` components.
+pub(crate) fn put_vec<D: Dim>(w: &mut Writer, v: D::V) {
     D::to_xyz(v)[..D::D].iter().for_each(|&x| w.f64(x));
 }
 
-fn get_vec<D: Dim>(r: &mut Reader) -> D::V {
+pub(crate) fn get_vec<D: Dim>(r: &mut Reader) -> D::V {
     let mut x = [0.0; 3];
     x.iter_mut().take(D::D).for_each(|c| *c = r.f64());
     D::from_xyz(x)

@@ -178,12 +178,14 @@ impl Halo {
     /// Refreshes every ghost's position, velocity and spin from its owner
     /// (called once per step, after the integrator's prediction).
     pub fn refresh<D: Dim>(&self, p: &mut Particles<D>, comm: &dyn Comm) {
+        // Position, velocity and spin (one component in 2D, three in 3D).
+        let per_ghost = 8 * (2 * D::D + if D::D == 2 { 1 } else { 3 });
         let mut out = vec![Vec::new(); self.recv_counts.len()];
         for (dest, shift, list) in &self.sends {
             let mut w = Writer {
                 buf: std::mem::take(&mut out[*dest]),
             };
-            w.buf.reserve(list.len() * 8 * (2 * D::D + 3));
+            w.buf.reserve(list.len() * per_ghost);
             for &i in list {
                 let i = i as usize;
                 put_v::<D>(&mut w, moved::<D>(p.pos[i], shift));
@@ -193,7 +195,6 @@ impl Halo {
             out[*dest] = w.buf;
         }
         // Only peers talk, and each knows how much the other sends.
-        let per_ghost = 8 * (2 * D::D + if D::D == 2 { 1 } else { 3 });
         let recv_len: Vec<usize> = self.recv_counts.iter().map(|&c| c * per_ghost).collect();
         let got = comm.exchange_with(&self.peers, &out, &recv_len);
         let mut g = p.n_owned();

@@ -4,8 +4,8 @@
 //! 1. [`Md::predict`]: the integrator's part before the forces; within a
 //!    step the same pass also measures every grain's displacement since the
 //!    last neighbour build (the test of step 2);
-//! 2. [`Md::refresh_neighbors`]: when a grain has moved more than half the
-//!    skin, wrap periodic positions, sort spatially (every few rebuilds),
+//! 2. `Md::rebuild_neighbors`, when the predictor found a grain moved more
+//!    than half the skin: wrap periodic positions, sort spatially (every few rebuilds),
 //!    rebuild the Verlet list and carry the tangential springs over by grain
 //!    identity;
 //! 3. [`Md::compute_forces`]: pair contacts, wall contacts, gravity;
@@ -411,14 +411,6 @@ impl<D: Dim> Md<D> {
         self.settings
             .integrator
             .correct(&mut self.particles, dt, rot);
-    }
-
-    /// Rebuilds the neighbour list when a grain moved more than half the skin.
-    pub fn refresh_neighbors(&mut self) -> Result<()> {
-        if self.neighbors.needs_rebuild(&self.particles.pos) {
-            self.rebuild_neighbors()?;
-        }
-        Ok(())
     }
 
     /// Number of neighbour-list builds so far.

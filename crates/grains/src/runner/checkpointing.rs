@@ -21,7 +21,7 @@ use crate::dim::{Dim, D2, D3};
 use crate::error::{Error, Result};
 use crate::md::Md;
 use crate::scenario::schema::{Dimension, Scenario};
-use crate::scenario::{build_md, Loaded};
+use crate::scenario::{build_md, Loaded, Resolved};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
@@ -181,10 +181,8 @@ impl Checkpointer {
                 ),
             })));
         }
-        if let Some(n) = self.interval {
-            if md.step.is_multiple_of(n) {
-                self.write(md, out, meas)?;
-            }
+        if self.due(md.step) {
+            self.write(md, out, meas)?;
         }
         Ok(None)
     }
@@ -540,6 +538,12 @@ impl Found {
     /// A fresh engine of the checkpoint's scenario with the checkpoint's MD
     /// state in it.
     pub fn restore_md<D: Dim>(&self) -> Result<Md<D>> {
+        self.restore_built::<D>().map(|(md, _)| md)
+    }
+
+    /// [`Found::restore_md`] with the scenario's resolved run parameters
+    /// from the same build.
+    fn restore_built<D: Dim>(&self) -> Result<(Md<D>, Resolved)> {
         if checkpoint::dsmc::is_dsmc(&self.engine) {
             return Err(Error::input(format!(
                 "checkpoint {}: holds a DSMC engine state, but its scenario is an MD run \
@@ -547,7 +551,7 @@ impl Found {
                 self.path.display()
             )));
         }
-        let (mut md, _) = build_md::<D>(&self.loaded)?;
+        let (mut md, resolved) = build_md::<D>(&self.loaded)?;
         engine::restore(&mut md, &self.engine)
             .map_err(|e| Error::input(format!("{}: {e}", self.path.display())))?;
         if md.step != self.step {
@@ -558,14 +562,13 @@ impl Found {
                 md.step
             )));
         }
-        Ok(md)
+        Ok((md, resolved))
     }
 
     /// Everything a resumed MD run needs, checked; `steps`: `--steps`.
     pub(super) fn restore<D: Dim>(&self, steps: Option<u64>) -> Result<Restored<D>> {
         let loaded = &self.loaded;
-        let md = self.restore_md::<D>()?;
-        let (_, resolved) = build_md::<D>(loaded)?;
+        let (md, resolved) = self.restore_built::<D>()?;
         let path = self.path.display();
         let (relax, measure) = resume_plan(self.plan, md.step, steps, &path.to_string())?;
         let measurements = match &self.measurements {

@@ -32,7 +32,7 @@ use super::{flow, md_summary, prepare, Measurements, Progress, RunOptions};
 use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
 use crate::error::Result;
-use crate::md::decomp::{index_by_id, DecomposedMd};
+use crate::md::decomp::{get_vec, index_by_id, put_vec, DecomposedMd};
 use crate::md::Md;
 use crate::measure::granular_temperature;
 use crate::scenario::{build_md, Loaded, Resolved};
@@ -206,7 +206,13 @@ fn drive<D: Dim>(
         progress.phase("relax", relax);
         for k in relax_done + 1..=relax {
             dec.step()?;
-            flow_step(loaded, &mut dec, (&mut mirror, &mut flow), &gather, comm);
+            flow_step(
+                loaded,
+                &mut dec,
+                (&mut mirror, &mut flow, &index),
+                &gather,
+                comm,
+            );
             if k % 256 == 0 || k == relax {
                 progress.advance(k, dec.md.time);
             }
@@ -237,7 +243,13 @@ fn drive<D: Dim>(
     };
     for k in measure_done + 1..=measure {
         dec.step()?;
-        let mut fresh = flow_step(loaded, &mut dec, (&mut mirror, &mut flow), &gather, comm);
+        let mut fresh = flow_step(
+            loaded,
+            &mut dec,
+            (&mut mirror, &mut flow, &index),
+            &gather,
+            comm,
+        );
         if per_step {
             // Rank 0 knows when the measurements read the grains.
             let due = state
@@ -335,7 +347,7 @@ fn drive<D: Dim>(
 fn flow_step<D: Dim>(
     loaded: &Loaded,
     dec: &mut DecomposedMd<D>,
-    (mirror, flow): (&mut Option<Md<D>>, &mut Option<flow::FlowRun<D>>),
+    (mirror, flow, index): MirrorFlow<D>,
     gather: &Gather<D>,
     comm: &dyn Comm,
 ) -> bool {
@@ -365,22 +377,21 @@ fn flow_step<D: Dim>(
         m.time = dec.md.time;
         m.step = dec.md.step;
         let placed = f.after_step(m);
-        put_xyz::<D>(&mut w, m.settings.gravity);
+        put_vec::<D>(&mut w, m.settings.gravity);
         for wall in &m.walls {
             w.f64(wall.remove_at.unwrap_or(f64::NAN));
         }
         w.u64(placed.len() as u64);
-        let at = index_by_id(&m.particles);
         for (id, x) in placed {
             w.u64(id);
-            put_xyz::<D>(&mut w, x);
-            w.u64(m.particles.frozen[at[&id]] as u64);
+            put_vec::<D>(&mut w, x);
+            w.u64(m.particles.frozen[index[&id]] as u64);
         }
     }
     let all = comm.all_gather_bytes(&w.buf);
     let mut rd = Reader::new(&all[0]);
     let md = &mut dec.md;
-    md.settings.gravity = get_xyz::<D>(&mut rd);
+    md.settings.gravity = get_vec::<D>(&mut rd);
     for wall in md.walls.iter_mut() {
         let t = rd.f64();
         wall.remove_at = (!t.is_nan()).then_some(t);
@@ -388,9 +399,9 @@ fn flow_step<D: Dim>(
     let moved = rd.u64();
     if moved > 0 {
         let p = &mut md.particles;
-        let owned: HashMap<u64, usize> = (0..p.n_owned()).map(|i| (p.id[i], i)).collect();
+        let owned = index_by_id(p);
         for _ in 0..moved {
-            let (id, x, frozen) = (rd.u64(), get_xyz::<D>(&mut rd), rd.u64() != 0);
+            let (id, x, frozen) = (rd.u64(), get_vec::<D>(&mut rd), rd.u64() != 0);
             if let Some(&i) = owned.get(&id) {
                 flow::place(p, i, x);
                 p.frozen[i] = frozen;
@@ -403,10 +414,10 @@ fn flow_step<D: Dim>(
 /// Gathers the ranks' grains into rank 0's mirror.
 type Gather<'a, D> = dyn Fn(&DecomposedMd<D>, &mut Option<Md<D>>) + 'a;
 
-fn put_xyz<D: Dim>(w: &mut Writer, v: D::V) {
-    D::to_xyz(v).iter().for_each(|&x| w.f64(x));
-}
-
-fn get_xyz<D: Dim>(r: &mut Reader) -> D::V {
-    D::from_xyz([r.f64(), r.f64(), r.f64()])
-}
+/// Rank 0's mirror and flow (none elsewhere), and the mirror's index of
+/// grain ids (it never re-sorts, so the index built at the start holds).
+type MirrorFlow<'a, D> = (
+    &'a mut Option<Md<D>>,
+    &'a mut Option<flow::FlowRun<D>>,
+    &'a HashMap<u64, usize>,
+);
