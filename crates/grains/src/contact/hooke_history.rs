@@ -14,11 +14,11 @@ use crate::dim::Dim;
 /// Coefficients of a contact law that has the Hooke-with-history shape.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HookeHistory {
-    kn: f64,
-    gamma_n: f64,
-    gamma_t: f64,
-    kt: f64,
-    mu: f64,
+    pub(super) kn: f64,
+    pub(super) gamma_n: f64,
+    pub(super) gamma_t: f64,
+    pub(super) kt: f64,
+    pub(super) mu: f64,
 }
 
 impl HookeHistory {

@@ -11,12 +11,14 @@
 //! [`law::ContactLaw`] puts the parts together. [`binary`] has the closed
 //! forms of a two-grain collision that the tests and the automatic time step use.
 //! [`hooke_history`] is the LAMMPS-shaped law fixed at compile time, for the
-//! pair loop.
+//! pair loop, and [`hooke_lanes`] the same law over batches of contacts in
+//! component rows, which the compiler vectorizes.
 
 pub mod binary;
 pub mod cundall_strack;
 pub mod damping;
 pub mod hooke_history;
+pub mod hooke_lanes;
 pub mod law;
 pub mod mass_scaling;
 pub mod normal_power_law;

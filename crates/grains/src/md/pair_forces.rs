@@ -14,6 +14,7 @@
 
 use super::MdStats;
 use crate::contact::hooke_history::HookeHistory;
+use crate::contact::hooke_lanes::{ContactLanes, LANES};
 use crate::contact::{ContactLaw, ContactOutcome};
 use crate::dim::Dim;
 use crate::neighbors::NeighborList;
@@ -312,6 +313,10 @@ pub fn pair_forces<D: Dim>(
 /// is compiled once for each.
 trait PairLaw: Sync {
     fn rotation(&self) -> bool;
+    /// The vectorized kernel, for the law that has one.
+    fn lanes(&self) -> Option<&HookeHistory> {
+        None
+    }
     fn damping_mass(&self, mi: f64, mj: f64) -> f64;
     fn force_factor(&self, m: f64) -> f64;
     #[allow(clippy::too_many_arguments)]
@@ -359,6 +364,10 @@ impl PairLaw for HookeHistory {
     #[inline(always)]
     fn rotation(&self) -> bool {
         true
+    }
+    #[inline(always)]
+    fn lanes(&self) -> Option<&HookeHistory> {
+        Some(self)
     }
     #[inline(always)]
     fn damping_mass(&self, mi: f64, mj: f64) -> f64 {
@@ -466,14 +475,106 @@ fn run_block<D: Dim, L: PairLaw>(
     t.slot_torque.fill(D::A::default());
 
     // Pass 2: the contact law on the touching pairs only.
-    let mut s = BlockStats::default();
-    let first = t.first;
-    let own = first..first + t.force.len();
-    for &k in touching.iter() {
+    let ctx = Pass2 {
+        pairs,
+        images,
+        slots,
+        touching,
+        list,
+    };
+    let dep = &mut Deposit {
+        first: t.first,
+        force: t.force,
+        torque: t.torque,
+        slot_force: t.slot_force,
+        slot_torque: t.slot_torque,
+        slot_first: t.slot_first,
+        rotation,
+        stats: BlockStats::default(),
+    };
+    match law.lanes() {
+        Some(h) => contacts_in_lanes(h, input, g, &ctx, t.springs, dep),
+        None => contacts_one_by_one(law, input, g, &ctx, t.springs, dep),
+    }
+    dep.stats
+}
+
+/// What the second pass reads about the block's pairs.
+struct Pass2<'a, D: Dim> {
+    pairs: &'a [[u32; 2]],
+    images: &'a [u8],
+    slots: &'a [u32],
+    touching: &'a [u32],
+    list: &'a NeighborList<D>,
+}
+
+/// Where a block puts each contact's force and torques.
+struct Deposit<'a, D: Dim> {
+    first: usize,
+    force: &'a mut [D::V],
+    torque: &'a mut [D::A],
+    slot_force: &'a mut [D::V],
+    slot_torque: &'a mut [D::A],
+    slot_first: usize,
+    rotation: bool,
+    stats: BlockStats,
+}
+
+impl<D: Dim> Deposit<'_, D> {
+    /// Adds listed pair `k`'s (grains `i`, `j`) force and torques: `fi` on
+    /// `i`, `fj` on `j`; the torques `ti`, `tj` are subtracted. A second
+    /// grain outside the block gets its share in the pair's deferred slot.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn add(&mut self, slot: u32, [i, j]: [u32; 2], fi: D::V, fj: D::V, ti: D::A, tj: D::A) {
+        let (i, j) = (i as usize - self.first, j as usize);
+        self.force[i] += fi;
+        if self.rotation {
+            self.torque[i] -= ti;
+        }
+        if j >= self.first && j - self.first < self.force.len() {
+            let j = j - self.first;
+            self.force[j] += fj;
+            if self.rotation {
+                self.torque[j] -= tj;
+            }
+        } else {
+            let at = slot as usize - self.slot_first;
+            self.slot_force[at] = fj;
+            self.slot_torque[at] = -tj;
+        }
+    }
+
+    /// Counts a contact and keeps the largest overlap and overlap fraction.
+    #[inline(always)]
+    fn count(&mut self, [i, j]: [u32; 2], overlap: f64, ri: f64, rj: f64) {
+        let s = &mut self.stats;
+        s.contacts += 1;
+        s.max_overlap = s.max_overlap.max(overlap);
+        // Compare before dividing: the fraction is needed only for a new worst.
+        let r_min = ri.min(rj);
+        if overlap > s.max_fraction * r_min {
+            s.max_fraction = overlap / r_min;
+            s.worst = (i as u64, j as u64);
+        }
+    }
+}
+
+/// The general law, one contact at a time.
+fn contacts_one_by_one<D: Dim, L: PairLaw>(
+    law: &L,
+    input: &PairInput<D>,
+    g: &Grains<D>,
+    c: &Pass2<D>,
+    springs: &mut [D::V],
+    dep: &mut Deposit<D>,
+) {
+    let rotation = law.rotation();
+    for &k in c.touching {
         let k = k as usize;
-        let [i, j] = pairs[k];
+        let [i, j] = c.pairs[k];
         // del points from j to i.
-        let del = at(g.pos, i) - (at(g.pos, j) + shift(images[k]));
+        let del = at(g.pos, i) - (at(g.pos, j) + c.list.shift(c.images[k]));
         let (ri, rj) = (at(g.radius, i), at(g.radius, j));
         let r = D::norm(del);
         let overlap = ri + rj - r;
@@ -485,22 +586,16 @@ fn run_block<D: Dim, L: PairLaw>(
             v_rel -= D::ang_cross(at(g.omega, i) * ri + at(g.omega, j) * rj, n);
         }
         let (mi, mj) = (at(g.mass, i), at(g.mass, j));
-        // Frozen grains count as infinitely heavy.
-        let mi_eff = if at(g.frozen, i) { f64::INFINITY } else { mi };
-        let mj_eff = if at(g.frozen, j) { f64::INFINITY } else { mj };
         let out = law.evaluate::<D>(
             overlap,
             n,
             v_rel,
-            law.damping_mass(mi_eff, mj_eff),
-            &mut t.springs[k],
+            law.damping_mass(effective_mass(g, i), effective_mass(g, j)),
+            &mut springs[k],
             input.dt,
             input.update,
         );
         let (fi, fj) = (law.force_factor(mi), law.force_factor(mj));
-        let (i, j) = (i as usize, j as usize);
-        t.force[i - first] += out.force * fi;
-        let fj_vec = -(out.force * fj);
         // Lever arms −r_i n and +r_j n, force on j is −F: both torques are
         // −r (n × F_t) with each grain's own radius and factor.
         let nt = if rotation {
@@ -508,29 +603,81 @@ fn run_block<D: Dim, L: PairLaw>(
         } else {
             D::A::default()
         };
-        if rotation {
-            t.torque[i - first] -= nt * (ri * fi);
-        }
-        if own.contains(&j) {
-            t.force[j - first] += fj_vec;
-            if rotation {
-                t.torque[j - first] -= nt * (rj * fj);
+        dep.add(
+            c.slots[k],
+            [i, j],
+            out.force * fi,
+            -(out.force * fj),
+            nt * (ri * fi),
+            nt * (rj * fj),
+        );
+        dep.count([i, j], overlap, ri, rj);
+    }
+}
+
+/// Frozen grains count as infinitely heavy.
+#[inline(always)]
+fn effective_mass<D: Dim>(g: &Grains<D>, i: u32) -> f64 {
+    if at(g.frozen, i) {
+        f64::INFINITY
+    } else {
+        at(g.mass, i)
+    }
+}
+
+/// The Hooke-with-history law over batches of contacts in component rows
+/// (vectorized; same bits as [`contacts_one_by_one`]): gather a batch, run
+/// the kernel, add the results back in the contacts' order.
+fn contacts_in_lanes<D: Dim>(
+    law: &HookeHistory,
+    input: &PairInput<D>,
+    g: &Grains<D>,
+    c: &Pass2<D>,
+    springs: &mut [D::V],
+    dep: &mut Deposit<D>,
+) {
+    let lanes = &mut ContactLanes::default();
+    for batch in c.touching.chunks(LANES) {
+        for (l, &k) in batch.iter().enumerate() {
+            let k = k as usize;
+            let [i, j] = c.pairs[k];
+            let del = at(g.pos, i) - (at(g.pos, j) + c.list.shift(c.images[k]));
+            let (ri, rj) = (at(g.radius, i), at(g.radius, j));
+            let v_rel = at(g.vel, i) - at(g.vel, j);
+            let spin = D::ang_to_xyz(at(g.omega, i) * ri + at(g.omega, j) * rj);
+            let spring = springs[k];
+            for a in 0..D::D {
+                lanes.del[a][l] = D::get(del, a);
+                lanes.v_rel[a][l] = D::get(v_rel, a);
+                lanes.spring[a][l] = D::get(spring, a);
             }
-        } else {
-            let at = slots[k] as usize - t.slot_first;
-            t.slot_force[at] = fj_vec;
-            t.slot_torque[at] = -(nt * (rj * fj));
+            for (a, w) in spin.into_iter().enumerate() {
+                lanes.spin[a][l] = w;
+            }
+            lanes.ri[l] = ri;
+            lanes.rj[l] = rj;
+            lanes.mi[l] = effective_mass(g, i);
+            lanes.mj[l] = effective_mass(g, j);
         }
-        s.contacts += 1;
-        s.max_overlap = s.max_overlap.max(overlap);
-        // Compare before dividing: the fraction is needed only for a new worst.
-        let r_min = ri.min(rj);
-        if overlap > s.max_fraction * r_min {
-            s.max_fraction = overlap / r_min;
-            s.worst = (i as u64, j as u64);
+        law.evaluate_lanes::<D>(lanes, input.dt, input.update);
+        for (l, &k) in batch.iter().enumerate() {
+            let k = k as usize;
+            let row = |r: &[[f64; LANES]; 3]| D::from_xyz([r[0][l], r[1][l], r[2][l]]);
+            let ang = |r: &[[f64; LANES]; 3]| D::ang_from_xyz([r[0][l], r[1][l], r[2][l]]);
+            springs[k] = row(&lanes.spring);
+            let force = row(&lanes.force);
+            let pair = c.pairs[k];
+            dep.add(
+                c.slots[k],
+                pair,
+                force,
+                -force,
+                ang(&lanes.torque_i),
+                ang(&lanes.torque_j),
+            );
+            dep.count(pair, lanes.overlap[l], lanes.ri[l], lanes.rj[l]);
         }
     }
-    s
 }
 
 #[cfg(test)]
