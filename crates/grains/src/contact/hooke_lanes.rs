@@ -310,8 +310,8 @@ mod tests {
                     let mut c = ContactLanes::default();
                     for (l, x) in cases.iter().enumerate() {
                         let spin = D::ang_to_xyz(x.spin);
-                        for a in 0..3 {
-                            c.spin[a][l] = spin[a];
+                        for (a, w) in spin.into_iter().enumerate() {
+                            c.spin[a][l] = w;
                             if a < D::D {
                                 c.del[a][l] = D::get(x.del, a);
                                 c.v_rel[a][l] = D::get(x.v_rel, a);
