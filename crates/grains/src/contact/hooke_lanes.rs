@@ -66,15 +66,28 @@ impl Default for ContactLanes {
 impl HookeHistory {
     /// [`HookeHistory::evaluate`] on every lane, with the geometry of the
     /// pair loop before it (distance, normal, contact-point velocity) and
-    /// the torques after it. Uses AVX2 where the processor has it (same
-    /// bits: no fused multiply-add is formed).
+    /// the torques after it. Uses AVX-512 or AVX2 where the processor has
+    /// them (same bits: no fused multiply-add is formed; a test compares
+    /// the dispatched and the plain kernel).
     pub fn evaluate_lanes<D: Dim>(&self, c: &mut ContactLanes, dt: f64, update: bool) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the processor has AVX-512F (checked just above).
+            unsafe { self.lanes_avx512::<D>(c, dt, update) };
+            return;
+        }
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the processor has AVX2 (checked just above).
             unsafe { self.lanes_avx2::<D>(c, dt, update) };
             return;
         }
+        self.lanes::<D>(c, dt, update);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn lanes_avx512<D: Dim>(&self, c: &mut ContactLanes, dt: f64, update: bool) {
         self.lanes::<D>(c, dt, update);
     }
 
