@@ -441,9 +441,7 @@ fn run_block<D: Dim, L: PairLaw>(
     let pairs = &list.pairs[range.clone()];
     let images = &list.image[range.clone()];
 
-    // Pass 1: which listed pairs touch. Without a branch on the test (about
-    // a third touch, in no predictable pattern): every index is written to a
-    // small buffer and the count advances only for a contact.
+    // Pass 1: which listed pairs touch.
     t.force.fill(D::zero());
     t.torque.fill(D::A::default());
     let [touching, was_touching] = t.touching;
