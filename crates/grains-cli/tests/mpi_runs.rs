@@ -14,6 +14,8 @@
 //! pieces on 2 ranks hold the serial run's particles, each once.
 #![cfg(feature = "mpi")]
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -512,20 +514,13 @@ fn md_bench_under_mpirun_reports_the_imbalance() {
 /// (id, point) of every particle in the `.vtp` pieces that `pvtp` lists,
 /// sorted by id (the coordinates as written: exact).
 fn piece_points(frames: &Path, pvtp: &str) -> Vec<(u64, Vec<String>)> {
-    let tokens = |xml: &str, name: &str| -> Vec<String> {
-        let body = &xml[xml.find(&format!("Name=\"{name}\"")).unwrap()..];
-        let (open, close) = (body.find('>').unwrap() + 1, body.find("</D").unwrap());
-        body[open..close]
-            .split_whitespace()
-            .map(String::from)
-            .collect()
-    };
     let mut out = Vec::new();
-    for s in pvtp.split("Source=\"").skip(1) {
-        let piece = String::from_utf8(read(&frames.join(&s[..s.find('"').unwrap()]))).unwrap();
-        let points = tokens(&piece, "Points");
-        for (j, id) in tokens(&piece, "id").iter().enumerate() {
-            out.push((id.parse().unwrap(), points[3 * j..3 * j + 3].to_vec()));
+    for s in common::pvtp_sources(pvtp) {
+        let piece = String::from_utf8(read(&frames.join(s))).unwrap();
+        let points = common::vtk_tokens(&piece, "Points");
+        for (j, id) in common::vtk_tokens(&piece, "id").iter().enumerate() {
+            let point = points[3 * j..3 * j + 3].iter().map(|x| x.to_string());
+            out.push((id.parse().unwrap(), point.collect()));
         }
     }
     out.sort();
@@ -553,11 +548,7 @@ fn dsmc_frames_in_pieces_on_2_ranks_hold_the_serial_particles() {
     let (serial, two) = (run(0), run(2));
     let pvd = String::from_utf8(read(&two.join("frames.pvd"))).unwrap();
     assert!(pvd == String::from_utf8(read(&serial.join("frames.pvd"))).unwrap());
-    let frames: Vec<&str> = pvd
-        .split("file=\"")
-        .skip(1)
-        .map(|s| &s[..s.find('"').unwrap()])
-        .collect();
+    let frames = common::pvd_files(&pvd);
     assert!(frames.len() > 3, "{pvd}");
     for f in frames {
         let pvtp = |d: &Path| String::from_utf8(read(&d.join(f))).unwrap();

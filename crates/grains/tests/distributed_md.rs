@@ -550,17 +550,13 @@ fn discharge(dir: &Path) -> Vec<(f64, f64)> {
 /// The ids in the pieces of the frame at each output step of `dir`.
 fn piece_ids(dir: &Path) -> Vec<Vec<u64>> {
     let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
-    let frames = pvd
-        .split("file=\"")
-        .skip(1)
-        .map(|s| &s[..s.find('"').unwrap()]);
-    frames
+    common::pvd_files(&pvd)
+        .into_iter()
         .map(|rel| {
             let pvtp = std::fs::read_to_string(dir.join(rel)).unwrap();
-            let sources = pvtp.split("Source=\"").skip(1);
-            let mut ids: Vec<u64> = sources
-                .flat_map(|s| {
-                    let name = &s[..s.find('"').unwrap()];
+            let mut ids: Vec<u64> = common::pvtp_sources(&pvtp)
+                .into_iter()
+                .flat_map(|name| {
                     let piece = std::fs::read_to_string(dir.join("frames").join(name)).unwrap();
                     vtp_array(&piece, "id").into_iter().map(|x| x as u64)
                 })
@@ -1002,11 +998,7 @@ fn frames_in_pieces_hold_every_grain_once_across_ranks() {
         let dir = scratch(&format!("pieces-{ranks}"));
         run_ranks(&l, &dir, ranks, 200, 1000);
         let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
-        let listed: Vec<&str> = pvd
-            .split("file=\"")
-            .skip(1)
-            .map(|s| &s[..s.find('"').unwrap()])
-            .collect();
+        let listed = common::pvd_files(&pvd);
         // Step 0 and every 50 steps to 200.
         assert_eq!(listed.len(), 5, "{pvd}");
         for rel in listed {
