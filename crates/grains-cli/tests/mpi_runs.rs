@@ -311,12 +311,10 @@ fn run_set(ranks: usize, scenario: &Path, steps: &str, dir: &Path, sets: &[&str]
 }
 
 /// The small silo of `grains/tests/distributed_md.rs` (150 grains over a
-/// wide outlet, recycled just below the floor; its overrides in
-/// `grains/tests/data/small-hopper.sets`) for 1000 steps on `ranks`.
+/// wide outlet, recycled just below the floor) for 1000 steps on `ranks`.
 fn hopper(ranks: usize, extra: &[&str]) -> (PathBuf, Output) {
     let dir = scratch(&format!("hopper-{ranks}"));
-    let sets = include_str!("../../grains/tests/data/small-hopper.sets");
-    let sets: Vec<&str> = sets.lines().chain(extra.iter().copied()).collect();
+    let sets = common::small_hopper_sets(extra);
     let path = repo().join("scenarios/hopper-2d.toml");
     let out = run_set(ranks, &path, "1000", &dir, &sets);
     (dir, out)
@@ -359,20 +357,14 @@ fn md_hopper_recycles_the_same_grains_on_2_ranks() {
 fn md_run_events_tilt_agrees_on_1_2_4_ranks() {
     // Settle 80 disks in a closed box, then tilt gravity every step: the
     // same gravity on every rank, the settle look from the whole state.
+    let sets = common::small_repose_sets(&[
+        "run.events.remove_wall=\"\"",
+        "run.events.tilt_rate=1500.0",
+        "run.events.fail_energy=5.0",
+    ]);
     check_md(
         &repo().join("scenarios/repose-2d.toml"),
-        &[
-            "gravity=[0.0,-30.0]",
-            "particles.count=80",
-            "particles.region={lo=[0.0,0.001],hi=[0.030,0.009]}",
-            "run.events.settle_min=0.003",
-            "run.events.settle_energy=100.0",
-            "run.events.remove_wall=\"\"",
-            "run.events.tilt_rate=1500.0",
-            "run.events.fail_energy=5.0",
-            "output.every=0.0003",
-            "output.picture=false",
-        ],
+        &sets,
         "1000",
         &[1, 2, 4],
     );

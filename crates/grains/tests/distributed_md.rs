@@ -651,19 +651,12 @@ fn hopper_recycling_on_two_ranks_matches_the_serial_run() {
 
 /// `scenarios/repose-2d.toml` cut down to 80 grains in a layer 8 d0 deep
 /// under 30 m/s², settled at the first look after 3 ms (the energy bound is
-/// loose: the test is the event's timing, not a settled pile), the sink
-/// just below the floor; `extra` adds keys.
+/// loose: the test is the event's timing, not a settled pile;
+/// `data/small-repose.sets`, shared with the mpirun test), the sink just
+/// below the floor; `extra` adds keys.
 fn small_repose(extra: &[&str]) -> Loaded {
-    let sets = [
-        "gravity=[0.0,-30.0]",
-        "particles.count=80",
-        "particles.region={lo=[0.0,0.001],hi=[0.030,0.009]}",
-        "run.events.settle_min=0.003",
-        "run.events.settle_energy=100.0",
-        "run.events.sink=-0.0005",
-        "output.every=0.0003",
-        "output.picture=false",
-    ];
+    let mut sets: Vec<&str> = include_str!("data/small-repose.sets").lines().collect();
+    sets.push("run.events.sink=-0.0005");
     scenario_with("repose-2d.toml", &sets, extra)
 }
 
