@@ -7,7 +7,8 @@ mod launch;
 mod progress;
 mod sweep;
 
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
+use grains::comm::Comm;
 use grains::runner::checkpointing::{self, Every};
 use grains::runner::{self, RunOptions};
 use grains::scenario::{self, Loaded};
@@ -56,22 +57,7 @@ enum Command {
     },
     /// Continue an interrupted run from its newest valid checkpoint,
     /// appending to its outputs.
-    Resume {
-        /// The run's output directory (or one checkpoint file in it).
-        run_dir: PathBuf,
-        /// Run this many more steps instead of to the scenario's end.
-        #[arg(long)]
-        steps: Option<u64>,
-        /// Change the checkpoint interval (default: the run's).
-        #[arg(long, value_name = "T")]
-        checkpoint_every: Option<String>,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        threads: Option<usize>,
-        /// Print nothing but errors.
-        #[arg(long)]
-        quiet: bool,
-    },
+    Resume(ResumeArgs),
     /// Validate a scenario and print the resolved parameters, without running.
     Check {
         scenario: PathBuf,
@@ -82,6 +68,24 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Run a grid of scenario variants; collect summaries in sweep.csv and plot one.
     Sweep(sweep::SweepArgs),
+}
+
+#[derive(Args)]
+struct ResumeArgs {
+    /// The run's output directory (or one checkpoint file in it).
+    run_dir: PathBuf,
+    /// Run this many more steps instead of to the scenario's end.
+    #[arg(long)]
+    steps: Option<u64>,
+    /// Change the checkpoint interval (default: the run's).
+    #[arg(long, value_name = "T")]
+    checkpoint_every: Option<String>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Print nothing but errors.
+    #[arg(long)]
+    quiet: bool,
 }
 
 fn load(path: Option<&Path>, sets: &[String]) -> grains::Result<Loaded> {
@@ -170,13 +174,7 @@ fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
                 let args = (scenario, out, sets, steps, threads, quiet);
                 run_distributed(args, checkpoint_every, comm)
             }
-            Command::Resume {
-                run_dir,
-                steps,
-                checkpoint_every,
-                threads,
-                quiet,
-            } => resume_distributed(run_dir, steps, checkpoint_every, threads, quiet, comm),
+            Command::Resume(args) => resume_distributed(&args, comm),
             Command::Bench(args) => bench::run_ranks(args, comm).map(|_| ExitCode::SUCCESS),
             _ => Err(Error::input(format!(
                 "only `grains run`, `grains resume` and `grains bench` run on several MPI ranks ({} here); start other commands without mpirun",
@@ -185,41 +183,16 @@ fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
         };
     }
     match cli.command {
-        Command::Resume {
-            run_dir,
-            steps,
-            checkpoint_every,
-            threads,
-            quiet,
-        } => {
-            if steps == Some(0) {
-                return Err(Error::input("--steps must be at least 1"));
-            }
-            let every = checkpoint_every.as_deref().map(Every::parse).transpose()?;
-            let (found, skipped) = checkpointing::find(&run_dir)?;
-            for s in &skipped {
-                eprintln!("grains: skipped {s}");
-            }
-            set_threads(threads)?;
-            if !quiet {
-                eprintln!(
-                    "grains: resuming from {} (step {})",
-                    found.path.display(),
-                    found.step
-                );
-            }
-            let opts = RunOptions {
-                checkpoint_every: every,
-                stop: Some(stop_flag()?),
-                ..RunOptions::default()
-            };
-            let mut progress = progress::for_terminal(quiet);
-            let summary = checkpointing::resume(found, steps, opts, progress.as_mut())?;
-            if report(&summary, quiet) {
+        Command::Resume(args) => {
+            let (found, mut opts) = resume_set_up(&args, None)?;
+            opts.stop = Some(stop_flag()?);
+            let mut progress = progress::for_terminal(args.quiet);
+            let summary = checkpointing::resume(found, args.steps, opts, progress.as_mut())?;
+            if report(&summary, args.quiet) {
                 return Ok(ExitCode::from(130));
             }
-            if !quiet {
-                eprintln!("grains: wrote {}", run_dir.display());
+            if !args.quiet {
+                eprintln!("grains: wrote {}", args.run_dir.display());
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -283,47 +256,62 @@ type DistributedArgs = (
     bool,
 );
 
-/// `grains resume` as one rank of `mpirun`: every rank reads the
-/// checkpoint and keeps its part; rank 0 reports and writes.
-fn resume_distributed(
-    run_dir: PathBuf,
-    steps: Option<u64>,
-    checkpoint_every: Option<String>,
-    threads: Option<usize>,
-    quiet: bool,
-    comm: &dyn grains::comm::Comm,
-) -> grains::Result<ExitCode> {
-    let root = comm.rank() == 0;
-    if steps == Some(0) {
+/// What `grains resume` starts from, alike in a plain process (`comm`
+/// None) and on each rank of `mpirun`: the arguments checked, the newest
+/// valid checkpoint found, the thread pool sized, and the run options (the
+/// checkpoint interval; the caller adds the stop flag where it has one).
+/// Says which checkpoints were skipped and which one resumes: a plain
+/// process names the skipped ones even when quiet, under `mpirun` only a
+/// talking rank 0 speaks.
+fn resume_set_up(
+    args: &ResumeArgs,
+    comm: Option<&dyn Comm>,
+) -> grains::Result<(checkpointing::Found, RunOptions)> {
+    if args.steps == Some(0) {
         return Err(Error::input("--steps must be at least 1"));
     }
-    let every = checkpoint_every.as_deref().map(Every::parse).transpose()?;
-    let (found, skipped) = checkpointing::find(&run_dir)?;
-    set_threads(threads)?;
-    if root && !quiet {
+    let every = args
+        .checkpoint_every
+        .as_deref()
+        .map(Every::parse)
+        .transpose()?;
+    let (found, skipped) = checkpointing::find(&args.run_dir)?;
+    let talks = !args.quiet && comm.is_none_or(|c| c.rank() == 0);
+    if talks || comm.is_none() {
         for s in &skipped {
             eprintln!("grains: skipped {s}");
         }
+    }
+    set_threads(args.threads)?;
+    if talks {
+        let on = comm.map(|c| format!(" on {} ranks", c.size()));
         eprintln!(
-            "grains: resuming from {} (step {}) on {} ranks",
+            "grains: resuming from {} (step {}){}",
             found.path.display(),
             found.step,
-            comm.size()
+            on.unwrap_or_default()
         );
     }
     let opts = RunOptions {
         checkpoint_every: every,
         ..RunOptions::default()
     };
-    on_ranks(comm, quiet, &run_dir, |progress| {
-        runner::distributed::resume(found, steps, opts, progress, comm)
+    Ok((found, opts))
+}
+
+/// `grains resume` as one rank of `mpirun`: every rank reads the
+/// checkpoint and keeps its part; rank 0 reports and writes.
+fn resume_distributed(args: &ResumeArgs, comm: &dyn Comm) -> grains::Result<ExitCode> {
+    let (found, opts) = resume_set_up(args, Some(comm))?;
+    on_ranks(comm, args.quiet, &args.run_dir, |progress| {
+        runner::distributed::resume(found, args.steps, opts, progress, comm)
     })
 }
 
 /// Runs `work` (a run or a resume as one rank of mpirun) on rayon's pool;
 /// rank 0 draws the progress and reports the summary.
 fn on_ranks(
-    comm: &dyn grains::comm::Comm,
+    comm: &dyn Comm,
     quiet: bool,
     dir: &Path,
     work: impl FnOnce(&mut dyn runner::Progress) -> grains::Result<serde_json::Value> + Send,
@@ -344,7 +332,7 @@ fn on_ranks(
 fn run_distributed(
     (scenario, out, sets, steps, threads, quiet): DistributedArgs,
     checkpoint_every: Option<String>,
-    comm: &dyn grains::comm::Comm,
+    comm: &dyn Comm,
 ) -> grains::Result<ExitCode> {
     let root = comm.rank() == 0;
     let loaded = load(scenario.as_deref(), &sets)?;
