@@ -32,29 +32,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run a scenario (without one: the seed's convection experiment).
-    Run {
-        /// Scenario file (TOML). Omit for the built-in default.
-        scenario: Option<PathBuf>,
-        /// Output directory [default: runs/<scenario name>].
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// Override a scenario key, e.g. --set contact.mu=0.3 (repeatable).
-        #[arg(long = "set", value_name = "KEY=VALUE")]
-        sets: Vec<String>,
-        /// Run this many steps instead of the scenario's length (no relaxation).
-        #[arg(long)]
-        steps: Option<u64>,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        threads: Option<usize>,
-        /// Write a checkpoint every T simulated seconds (e.g. 0.01) or N
-        /// steps (e.g. 500steps); the newest two are kept.
-        #[arg(long, value_name = "T")]
-        checkpoint_every: Option<String>,
-        /// Print nothing but errors.
-        #[arg(long)]
-        quiet: bool,
-    },
+    Run(RunArgs),
     /// Continue an interrupted run from its newest valid checkpoint,
     /// appending to its outputs.
     Resume(ResumeArgs),
@@ -68,6 +46,31 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Run a grid of scenario variants; collect summaries in sweep.csv and plot one.
     Sweep(sweep::SweepArgs),
+}
+
+#[derive(Args)]
+struct RunArgs {
+    /// Scenario file (TOML). Omit for the built-in default.
+    scenario: Option<PathBuf>,
+    /// Output directory [default: runs/<scenario name>].
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Override a scenario key, e.g. --set contact.mu=0.3 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// Run this many steps instead of the scenario's length (no relaxation).
+    #[arg(long)]
+    steps: Option<u64>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Write a checkpoint every T simulated seconds (e.g. 0.01) or N
+    /// steps (e.g. 500steps); the newest two are kept.
+    #[arg(long, value_name = "T")]
+    checkpoint_every: Option<String>,
+    /// Print nothing but errors.
+    #[arg(long)]
+    quiet: bool,
 }
 
 #[derive(Args)]
@@ -162,18 +165,7 @@ fn report(summary: &serde_json::Value, quiet: bool) -> bool {
 fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
     if let Some(comm) = ranks.several() {
         return match cli.command {
-            Command::Run {
-                scenario,
-                out,
-                sets,
-                steps,
-                threads,
-                checkpoint_every,
-                quiet,
-            } => {
-                let args = (scenario, out, sets, steps, threads, quiet);
-                run_distributed(args, checkpoint_every, comm)
-            }
+            Command::Run(args) => run_distributed(&args, comm),
             Command::Resume(args) => resume_distributed(&args, comm),
             Command::Bench(args) => bench::run_ranks(args, comm).map(|_| ExitCode::SUCCESS),
             _ => Err(Error::input(format!(
@@ -188,50 +180,14 @@ fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
             opts.stop = Some(stop_flag()?);
             let mut progress = progress::for_terminal(args.quiet);
             let summary = checkpointing::resume(found, args.steps, opts, progress.as_mut())?;
-            if report(&summary, args.quiet) {
-                return Ok(ExitCode::from(130));
-            }
-            if !args.quiet {
-                eprintln!("grains: wrote {}", args.run_dir.display());
-            }
-            Ok(ExitCode::SUCCESS)
+            Ok(finish(&summary, args.quiet, &args.run_dir))
         }
-        Command::Run {
-            scenario,
-            out,
-            sets,
-            steps,
-            threads,
-            checkpoint_every,
-            quiet,
-        } => {
-            let loaded = load(scenario.as_deref(), &sets)?;
-            let from_file = Some(loaded.scenario.run.threads).filter(|&n| n > 0);
-            set_threads(threads.or(from_file))?;
-            let out_dir =
-                out.unwrap_or_else(|| Path::new("runs").join(safe_dir_name(&loaded.scenario.name)));
-            if steps == Some(0) {
-                return Err(Error::input("--steps must be at least 1"));
-            }
-            let every = checkpoint_every.as_deref().map(Every::parse).transpose()?;
-            let opts = RunOptions {
-                out_dir: out_dir.clone(),
-                steps,
-                checkpoint_every: every,
-                stop: Some(stop_flag()?),
-            };
-            let mut progress = progress::for_terminal(quiet);
-            if !quiet {
-                eprintln!("grains: running {} -> {}", loaded.origin, out_dir.display());
-            }
+        Command::Run(args) => {
+            let (loaded, mut opts) = run_set_up(&args, None)?;
+            opts.stop = Some(stop_flag()?);
+            let mut progress = progress::for_terminal(args.quiet);
             let summary = runner::run(&loaded, &opts, progress.as_mut())?;
-            if report(&summary, quiet) {
-                return Ok(ExitCode::from(130));
-            }
-            if !quiet {
-                eprintln!("grains: wrote {}", out_dir.display());
-            }
-            Ok(ExitCode::SUCCESS)
+            Ok(finish(&summary, args.quiet, &opts.out_dir))
         }
         Command::Check { scenario, sets } => {
             let loaded = scenario::load_file(&scenario, &sets)?;
@@ -247,14 +203,57 @@ fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
     }
 }
 
-type DistributedArgs = (
-    Option<PathBuf>,
-    Option<PathBuf>,
-    Vec<String>,
-    Option<u64>,
-    Option<usize>,
-    bool,
-);
+/// Reports a run that returned `summary` (see [`report`]) and says where
+/// it wrote unless quiet: exit code 130 when it was interrupted.
+fn finish(summary: &serde_json::Value, quiet: bool, dir: &Path) -> ExitCode {
+    if report(summary, quiet) {
+        return ExitCode::from(130);
+    }
+    if !quiet {
+        eprintln!("grains: wrote {}", dir.display());
+    }
+    ExitCode::SUCCESS
+}
+
+/// What `grains run` runs, alike in a plain process (`comm` None) and on
+/// each rank of `mpirun`: the scenario loaded with the overrides, the
+/// thread pool sized (`--threads`, else the scenario's `run.threads`), and
+/// the run options (output directory, steps, checkpoint interval; the
+/// caller adds the stop flag where it has one). Rank 0 says what runs
+/// where unless quiet.
+fn run_set_up(args: &RunArgs, comm: Option<&dyn Comm>) -> grains::Result<(Loaded, RunOptions)> {
+    let loaded = load(args.scenario.as_deref(), &args.sets)?;
+    let from_file = Some(loaded.scenario.run.threads).filter(|&n| n > 0);
+    set_threads(args.threads.or(from_file))?;
+    let out_dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| Path::new("runs").join(safe_dir_name(&loaded.scenario.name)));
+    if args.steps == Some(0) {
+        return Err(Error::input("--steps must be at least 1"));
+    }
+    let every = args
+        .checkpoint_every
+        .as_deref()
+        .map(Every::parse)
+        .transpose()?;
+    if !args.quiet && comm.is_none_or(|c| c.rank() == 0) {
+        let on = comm.map(|c| format!(" on {} ranks", c.size()));
+        eprintln!(
+            "grains: running {}{} -> {}",
+            loaded.origin,
+            on.unwrap_or_default(),
+            out_dir.display()
+        );
+    }
+    let opts = RunOptions {
+        out_dir,
+        steps: args.steps,
+        checkpoint_every: every,
+        ..RunOptions::default()
+    };
+    Ok((loaded, opts))
+}
 
 /// What `grains resume` starts from, alike in a plain process (`comm`
 /// None) and on each rank of `mpirun`: the arguments checked, the newest
@@ -319,45 +318,16 @@ fn on_ranks(
     let root = comm.rank() == 0;
     let mut progress = progress::for_terminal(quiet || !root);
     let summary = grains::parallel::on_pool(|| work(progress.as_mut()))?;
-    if root {
-        report(&summary, quiet);
-        if !quiet {
-            eprintln!("grains: wrote {}", dir.display());
-        }
+    if !root {
+        return Ok(ExitCode::SUCCESS);
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(finish(&summary, quiet, dir))
 }
 
 /// `grains run` as one rank of `mpirun`: rank 0 reports and writes.
-fn run_distributed(
-    (scenario, out, sets, steps, threads, quiet): DistributedArgs,
-    checkpoint_every: Option<String>,
-    comm: &dyn Comm,
-) -> grains::Result<ExitCode> {
-    let root = comm.rank() == 0;
-    let loaded = load(scenario.as_deref(), &sets)?;
-    let from_file = Some(loaded.scenario.run.threads).filter(|&n| n > 0);
-    set_threads(threads.or(from_file))?;
-    let out_dir =
-        out.unwrap_or_else(|| Path::new("runs").join(safe_dir_name(&loaded.scenario.name)));
-    if steps == Some(0) {
-        return Err(Error::input("--steps must be at least 1"));
-    }
-    let opts = RunOptions {
-        out_dir: out_dir.clone(),
-        steps,
-        checkpoint_every: checkpoint_every.as_deref().map(Every::parse).transpose()?,
-        ..RunOptions::default()
-    };
-    if root && !quiet {
-        eprintln!(
-            "grains: running {} on {} ranks -> {}",
-            loaded.origin,
-            comm.size(),
-            out_dir.display()
-        );
-    }
-    on_ranks(comm, quiet, &out_dir, |progress| {
+fn run_distributed(args: &RunArgs, comm: &dyn Comm) -> grains::Result<ExitCode> {
+    let (loaded, opts) = run_set_up(args, Some(comm))?;
+    on_ranks(comm, args.quiet, &opts.out_dir, |progress| {
         runner::distributed::run(&loaded, &opts, progress, comm)
     })
 }
