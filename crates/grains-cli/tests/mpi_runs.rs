@@ -78,22 +78,7 @@ fn same_files(a: &Path, b: &Path) {
 
 fn check(scenario: &str, sets: &[&str], steps: &str) {
     let path = repo().join("scenarios").join(scenario);
-    let path = path.to_str().unwrap();
-    let run = |ranks: usize| {
-        let dir = scratch(&format!("{scenario}-{ranks}"));
-        let mut args = vec!["run", path, "--steps", steps, "--quiet", "--out"];
-        args.push(dir.to_str().unwrap());
-        for s in sets {
-            args.extend(["--set", s]);
-        }
-        let out = grains(ranks, &args);
-        assert!(
-            out.status.success(),
-            "{ranks} ranks: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        dir
-    };
+    let run = |ranks: usize| run_ok(ranks, &path, steps, &format!("{scenario}-{ranks}"), sets);
     let serial = run(0);
     for ranks in [1, 2, 4] {
         let dir = run(ranks);
@@ -193,23 +178,8 @@ fn same_thermo(dir: &Path, reference: &Path, what: &str) {
 /// forces in another order; the contact count is not compared: a contact
 /// across a slab boundary counts on both ranks) and the same frames.
 fn check_md(scenario: &Path, sets: &[&str], steps: &str, ranks: &[usize]) {
-    let path = scenario.to_str().unwrap();
     let name = scenario.file_stem().unwrap().to_string_lossy().to_string();
-    let run = |ranks: usize| {
-        let dir = scratch(&format!("{name}-{ranks}"));
-        let mut args = vec!["run", path, "--steps", steps, "--quiet", "--out"];
-        args.push(dir.to_str().unwrap());
-        for s in sets {
-            args.extend(["--set", s]);
-        }
-        let out = grains(ranks, &args);
-        assert!(
-            out.status.success(),
-            "{ranks} ranks: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        dir
-    };
+    let run = |ranks: usize| run_ok(ranks, scenario, steps, &format!("{name}-{ranks}"), sets);
     let serial = run(0);
     for &ranks in ranks {
         let dir = run(ranks);
@@ -310,6 +280,16 @@ fn run_set(ranks: usize, scenario: &Path, steps: &str, dir: &Path, sets: &[&str]
     grains(ranks, &args)
 }
 
+/// [`run_set`] into the scratch directory `name`, which must succeed: that
+/// directory.
+fn run_ok(ranks: usize, scenario: &Path, steps: &str, name: &str, sets: &[&str]) -> PathBuf {
+    let dir = scratch(name);
+    let out = run_set(ranks, scenario, steps, &dir, sets);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{ranks} ranks: {err}");
+    dir
+}
+
 /// The small silo of `grains/tests/distributed_md.rs` (150 grains over a
 /// wide outlet, recycled just below the floor) for 1000 steps on `ranks`.
 fn hopper(ranks: usize, extra: &[&str]) -> (PathBuf, Output) {
@@ -377,18 +357,12 @@ fn md_trajectories_agree_on_2_ranks() {
     // 1e-7 of a 1 mm grain (rounding, a few hundred steps of it).
     let path = repo().join("scenarios/seed-convection-walls.toml");
     let rows = |ranks: usize| {
-        let dir = scratch(&format!("traj-{ranks}"));
         let sets = [
             "output.picture=false",
             "particles.random_velocity=0.2",
             "measure.trajectories={every=5,cycles=0.1}",
         ];
-        let out = run_set(ranks, &path, "600", &dir, &sets);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let dir = run_ok(ranks, &path, "600", &format!("traj-{ranks}"), &sets);
         let text = String::from_utf8(read(&dir.join("trajectories.csv"))).unwrap();
         let _ = std::fs::remove_dir_all(&dir);
         let mut rows: Vec<(u64, u64, Vec<f64>)> = text
@@ -522,21 +496,12 @@ fn piece_points(frames: &Path, pvtp: &str) -> Vec<(u64, Vec<String>)> {
 #[test]
 fn dsmc_frames_in_pieces_on_2_ranks_hold_the_serial_particles() {
     let path = repo().join("scenarios/gas-vibrated-2d.toml");
-    let run = |ranks: usize| {
-        let dir = scratch(&format!("dsmc-pieces-{ranks}"));
-        let sets = [
-            "output.frames=true",
-            "output.every=0.001",
-            "output.frames_layout=\"pieces\"",
-        ];
-        let out = run_set(ranks, &path, "100", &dir, &sets);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        dir
-    };
+    let sets = [
+        "output.frames=true",
+        "output.every=0.001",
+        "output.frames_layout=\"pieces\"",
+    ];
+    let run = |ranks: usize| run_ok(ranks, &path, "100", &format!("dsmc-pieces-{ranks}"), &sets);
     let (serial, two) = (run(0), run(2));
     let pvd = String::from_utf8(read(&two.join("frames.pvd"))).unwrap();
     assert!(pvd == String::from_utf8(read(&serial.join("frames.pvd"))).unwrap());
