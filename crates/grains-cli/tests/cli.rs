@@ -726,7 +726,7 @@ fn set_takes_effect() {
 /// The `Step` field of a .vtp frame.
 fn vtp_step(path: &Path) -> u64 {
     let text = std::fs::read_to_string(path).expect("read frame");
-    let step = common::vtk_tokens(&text, "Step");
+    let step = common::vtk::vtk_tokens(&text, "Step");
     assert_eq!(step.len(), 1, "Step holds one value: {step:?}");
     step[0].parse().expect("Step is an integer")
 }
@@ -752,7 +752,7 @@ fn check_run_dir(out: &Path, steps: u64, particles: u64) -> Value {
     assert!(pvd.contains("type=\"Collection\""), "{pvd}");
     assert!(out.join("frames/frame_000000.vtp").is_file());
     assert_eq!(vtp_step(&out.join("frames/frame_000000.vtp")), 0);
-    let files = common::pvd_files(&pvd);
+    let files = common::vtk::pvd_files(&pvd);
     assert_eq!(files.first(), Some(&"frames/frame_000000.vtp"), "{pvd}");
     for f in &files {
         assert!(out.join(f).is_file(), "frames.pvd lists missing {f}");

@@ -481,10 +481,10 @@ fn md_bench_under_mpirun_reports_the_imbalance() {
 /// sorted by id (the coordinates as written: exact).
 fn piece_points(frames: &Path, pvtp: &str) -> Vec<(u64, Vec<String>)> {
     let mut out = Vec::new();
-    for s in common::pvtp_sources(pvtp) {
+    for s in common::vtk::pvtp_sources(pvtp) {
         let piece = String::from_utf8(read(&frames.join(s))).unwrap();
-        let points = common::vtk_tokens(&piece, "Points");
-        for (j, id) in common::vtk_tokens(&piece, "id").iter().enumerate() {
+        let points = common::vtk::vtk_tokens(&piece, "Points");
+        for (j, id) in common::vtk::vtk_tokens(&piece, "id").iter().enumerate() {
             let point = points[3 * j..3 * j + 3].iter().map(|x| x.to_string());
             out.push((id.parse().unwrap(), point.collect()));
         }
@@ -505,7 +505,7 @@ fn dsmc_frames_in_pieces_on_2_ranks_hold_the_serial_particles() {
     let (serial, two) = (run(0), run(2));
     let pvd = String::from_utf8(read(&two.join("frames.pvd"))).unwrap();
     assert!(pvd == String::from_utf8(read(&serial.join("frames.pvd"))).unwrap());
-    let frames = common::pvd_files(&pvd);
+    let frames = common::vtk::pvd_files(&pvd);
     assert!(frames.len() > 3, "{pvd}");
     for f in frames {
         let pvtp = |d: &Path| String::from_utf8(read(&d.join(f))).unwrap();

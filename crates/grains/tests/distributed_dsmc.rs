@@ -15,7 +15,8 @@
 
 mod common;
 
-use common::{pvtp_sources, run_on_threads, vtk_tokens};
+use common::run_on_threads;
+use common::vtk::{pvtp_sources, vtk_tokens};
 use grains::comm::{Comm, ThreadComm};
 use grains::dsmc::collide::GasDim;
 use grains::dsmc::decomp::Decomposed;

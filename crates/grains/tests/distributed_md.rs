@@ -546,11 +546,11 @@ fn discharge(dir: &Path) -> Vec<(f64, f64)> {
 /// The ids in the pieces of the frame at each output step of `dir`.
 fn piece_ids(dir: &Path) -> Vec<Vec<u64>> {
     let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
-    common::pvd_files(&pvd)
+    common::vtk::pvd_files(&pvd)
         .into_iter()
         .map(|rel| {
             let pvtp = std::fs::read_to_string(dir.join(rel)).unwrap();
-            let mut ids: Vec<u64> = common::pvtp_sources(&pvtp)
+            let mut ids: Vec<u64> = common::vtk::pvtp_sources(&pvtp)
                 .into_iter()
                 .flat_map(|name| {
                     let piece = std::fs::read_to_string(dir.join("frames").join(name)).unwrap();
@@ -960,7 +960,7 @@ fn checkpoints_of_decomposed_runs_resume_anywhere_2d_gear_box() {
 
 /// The numbers of the DataArray `name` in a .vtp document.
 fn vtp_array(xml: &str, name: &str) -> Vec<f64> {
-    let values = common::vtk_tokens(xml, name).into_iter();
+    let values = common::vtk::vtk_tokens(xml, name).into_iter();
     values.map(|t| t.parse().unwrap()).collect()
 }
 
@@ -978,13 +978,13 @@ fn frames_in_pieces_hold_every_grain_once_across_ranks() {
         let dir = scratch(&format!("pieces-{ranks}"));
         run_ranks(&l, &dir, ranks, 200, 1000);
         let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
-        let listed = common::pvd_files(&pvd);
+        let listed = common::vtk::pvd_files(&pvd);
         // Step 0 and every 50 steps to 200.
         assert_eq!(listed.len(), 5, "{pvd}");
         for rel in listed {
             assert!(rel.ends_with(".pvtp"), "{rel}");
             let pvtp = std::fs::read_to_string(dir.join(rel)).unwrap();
-            let sources = common::pvtp_sources(&pvtp);
+            let sources = common::vtk::pvtp_sources(&pvtp);
             assert_eq!(sources.len(), ranks);
             let mut ids = Vec::new();
             for s in sources {

@@ -3,8 +3,7 @@
 
 // The library's tests read the VTK files back with the same helpers.
 #[path = "../../../grains/tests/common/vtk.rs"]
-mod vtk;
-pub use vtk::*;
+pub mod vtk;
 
 /// The `--set` overrides of the small silo of the library's thread-rank
 /// tests (`grains/tests/distributed_md.rs`: 150 grains over a wide outlet,

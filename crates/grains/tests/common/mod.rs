@@ -1,8 +1,7 @@
 //! Small builders shared by the physics tests.
 #![allow(dead_code)]
 
-mod vtk;
-pub use vtk::*;
+pub mod vtk;
 
 use grains::comm::{Comm, ThreadComm};
 use grains::contact::{ContactLaw, MassScaling};
