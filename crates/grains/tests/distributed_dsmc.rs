@@ -15,7 +15,7 @@
 
 mod common;
 
-use common::run_on_threads;
+use common::runs::run_on_threads;
 use common::vtk::{pvtp_sources, vtk_tokens};
 use grains::comm::{Comm, ThreadComm};
 use grains::dsmc::collide::GasDim;

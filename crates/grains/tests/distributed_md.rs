@@ -471,7 +471,7 @@ fn distributed_md_run_writes_the_serial_run_to_rounding() {
             out_dir: dir.clone(),
             ..Default::default()
         };
-        let s = &common::run_on_threads(&l, &opts, ranks);
+        let s = &common::runs::run_on_threads(&l, &opts, ranks);
         assert_eq!(s["ranks"], ranks);
         assert!(s["migrations"].as_u64().unwrap() > 0);
         assert!(s["rebalances"].as_u64().is_some());
@@ -589,7 +589,7 @@ fn hopper_recycling_on_two_ranks_matches_the_serial_run() {
     };
     let s0 = run(&l, &opts(&serial_dir), &mut Silent).unwrap();
     let dir = scratch("hopper-2");
-    let s = &common::run_on_threads(&l, &opts(&dir), 2);
+    let s = &common::runs::run_on_threads(&l, &opts(&dir), 2);
     assert!(s["migrations"].as_u64().unwrap() > 0);
     let exits = s0["discharged_grains"].as_u64().unwrap();
     assert!(exits >= 10, "the test needs grains to leave: {exits}");
@@ -667,7 +667,7 @@ fn events_both(l: &Loaded, steps: u64, name: &str) -> (Value, Value) {
     };
     let (d0, d2) = (scratch(&format!("{name}-1")), scratch(&format!("{name}-2")));
     let s0 = run(l, &opts(&d0), &mut Silent).unwrap();
-    let s2 = common::run_on_threads(l, &opts(&d2), 2);
+    let s2 = common::runs::run_on_threads(l, &opts(&d2), 2);
     let ((h0, rows0), (h, rows)) = (thermo(&d0), thermo(&d2));
     assert_eq!(h, h0);
     assert_eq!(rows.len(), rows0.len());
@@ -776,7 +776,7 @@ fn phases_and_trajectories_on_ranks_match_the_serial_run() {
     run(&l, &opts(&serial), &mut Silent).unwrap();
     for ranks in [2, 3] {
         let dir = scratch(&format!("measure-{ranks}"));
-        common::run_on_threads(&l, &opts(&dir), ranks);
+        common::runs::run_on_threads(&l, &opts(&dir), ranks);
         for k in 0..4 {
             let n = same_rows(&dir, &serial, &format!("phase_{k}.csv"), 1, 3e-8);
             assert_eq!(n, 83, "phase {k}: every grain");
@@ -860,7 +860,7 @@ fn run_ranks(l: &Loaded, dir: &Path, ranks: usize, steps: u64, every: u64) {
         run(l, &opts, &mut Silent).unwrap();
         return;
     }
-    common::run_on_threads(l, &opts, ranks);
+    common::runs::run_on_threads(l, &opts, ranks);
 }
 
 /// Resumes the newest checkpoint of `dir` for `steps` steps on `ranks`.

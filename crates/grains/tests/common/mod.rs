@@ -1,13 +1,11 @@
 //! Small builders shared by the physics tests.
 #![allow(dead_code)]
 
+pub mod runs;
 pub mod vtk;
 
-use grains::comm::{Comm, ThreadComm};
 use grains::contact::{ContactLaw, MassScaling};
 use grains::md::{Md, MdSettings};
-use grains::runner::{distributed, RunOptions, Silent};
-use grains::scenario::Loaded;
 use grains::{Dim, Domain, ParticleRecord, Particles};
 
 pub fn hooke(kn: f64, gamma_n: f64, scaling: MassScaling) -> ContactLaw {
@@ -51,14 +49,4 @@ pub fn engine<D: Dim>(
         p.push_record(g);
     }
     Md::new(p, domain, Vec::new(), settings).expect("valid test set-up")
-}
-
-/// `l` through the distributed runner with `opts` on `ranks` thread ranks:
-/// rank 0's summary (the runner gives one on rank 0 only).
-pub fn run_on_threads(l: &Loaded, opts: &RunOptions, ranks: usize) -> serde_json::Value {
-    let out = ThreadComm::run(ranks, |c| {
-        distributed::run(l, opts, &mut Silent, c as &dyn Comm).unwrap()
-    });
-    assert!(out[1..].iter().all(|v| v.is_null()), "a summary off rank 0");
-    out.into_iter().next().unwrap()
 }
