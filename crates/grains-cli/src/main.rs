@@ -215,6 +215,27 @@ fn finish(summary: &serde_json::Value, quiet: bool, dir: &Path) -> ExitCode {
     ExitCode::SUCCESS
 }
 
+/// The checks `grains run` and `grains resume` share: at least one step
+/// when `--steps` is given; the `--checkpoint-every` interval parsed.
+fn checked_steps(steps: Option<u64>, every: Option<&str>) -> grains::Result<Option<Every>> {
+    if steps == Some(0) {
+        return Err(Error::input("--steps must be at least 1"));
+    }
+    every.map(Every::parse).transpose()
+}
+
+/// Whether this process says what it runs: unless quiet, a plain process
+/// or rank 0 of `mpirun`.
+fn talks(quiet: bool, comm: Option<&dyn Comm>) -> bool {
+    !quiet && comm.is_none_or(|c| c.rank() == 0)
+}
+
+/// " on N ranks" under `mpirun`, nothing for a plain process.
+fn on_ranks_note(comm: Option<&dyn Comm>) -> String {
+    comm.map(|c| format!(" on {} ranks", c.size()))
+        .unwrap_or_default()
+}
+
 /// What `grains run` runs, alike in a plain process (`comm` None) and on
 /// each rank of `mpirun`: the scenario loaded with the overrides, the
 /// thread pool sized (`--threads`, else the scenario's `run.threads`), and
@@ -229,20 +250,12 @@ fn run_set_up(args: &RunArgs, comm: Option<&dyn Comm>) -> grains::Result<(Loaded
         .out
         .clone()
         .unwrap_or_else(|| Path::new("runs").join(safe_dir_name(&loaded.scenario.name)));
-    if args.steps == Some(0) {
-        return Err(Error::input("--steps must be at least 1"));
-    }
-    let every = args
-        .checkpoint_every
-        .as_deref()
-        .map(Every::parse)
-        .transpose()?;
-    if !args.quiet && comm.is_none_or(|c| c.rank() == 0) {
-        let on = comm.map(|c| format!(" on {} ranks", c.size()));
+    let every = checked_steps(args.steps, args.checkpoint_every.as_deref())?;
+    if talks(args.quiet, comm) {
         eprintln!(
             "grains: running {}{} -> {}",
             loaded.origin,
-            on.unwrap_or_default(),
+            on_ranks_note(comm),
             out_dir.display()
         );
     }
@@ -266,16 +279,9 @@ fn resume_set_up(
     args: &ResumeArgs,
     comm: Option<&dyn Comm>,
 ) -> grains::Result<(checkpointing::Found, RunOptions)> {
-    if args.steps == Some(0) {
-        return Err(Error::input("--steps must be at least 1"));
-    }
-    let every = args
-        .checkpoint_every
-        .as_deref()
-        .map(Every::parse)
-        .transpose()?;
+    let every = checked_steps(args.steps, args.checkpoint_every.as_deref())?;
     let (found, skipped) = checkpointing::find(&args.run_dir)?;
-    let talks = !args.quiet && comm.is_none_or(|c| c.rank() == 0);
+    let talks = talks(args.quiet, comm);
     if talks || comm.is_none() {
         for s in &skipped {
             eprintln!("grains: skipped {s}");
@@ -283,12 +289,11 @@ fn resume_set_up(
     }
     set_threads(args.threads)?;
     if talks {
-        let on = comm.map(|c| format!(" on {} ranks", c.size()));
         eprintln!(
             "grains: resuming from {} (step {}){}",
             found.path.display(),
             found.step,
-            on.unwrap_or_default()
+            on_ranks_note(comm)
         );
     }
     let opts = RunOptions {

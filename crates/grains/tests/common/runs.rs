@@ -26,12 +26,12 @@ pub fn run_scenario_kept(
     all.extend(sets.iter().map(|s| s.to_string()));
     let loaded = grains::scenario::load_file(&path, &all).expect("scenario loads");
     let out = std::env::temp_dir().join(format!("grains-test-{name}-{tag}-{}", std::process::id()));
-    let opts = grains::runner::RunOptions {
+    let opts = RunOptions {
         out_dir: out.clone(),
         steps: None,
         ..Default::default()
     };
-    let s = grains::runner::run(&loaded, &opts, &mut grains::runner::Silent).expect("run");
+    let s = grains::runner::run(&loaded, &opts, &mut Silent).expect("run");
     (s, out)
 }
 
@@ -49,6 +49,7 @@ pub fn read_csv(path: &std::path::Path) -> Vec<Vec<f64>> {
         .collect()
 }
 
+/// The number `key` of a summary.
 pub fn num(s: &serde_json::Value, key: &str) -> f64 {
     s[key]
         .as_f64()
