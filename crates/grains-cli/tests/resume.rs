@@ -84,6 +84,14 @@ fn run_ok(args: &[&str]) {
     assert_eq!(code(&o), Some(0), "{}", stderr(&o));
 }
 
+/// `grains run <scen> --out <out> --quiet <extra>...`, which must succeed.
+fn run_quiet(scen: &Path, out: &Path, extra: &[&str]) {
+    let (scen, out) = (scen.to_str().unwrap(), out.to_str().unwrap());
+    let mut args = vec!["run", scen, "--out", out, "--quiet"];
+    args.extend_from_slice(extra);
+    run_ok(&args);
+}
+
 fn code(o: &Output) -> Option<i32> {
     o.status.code()
 }
@@ -178,24 +186,14 @@ fn sigkill_at_random_moments_then_resume_matches_straight_run() {
     let scen = sb.path("s.toml");
     std::fs::write(&scen, SCENARIO).unwrap();
     let straight = sb.path("straight");
-    run_ok(&[
-        "run",
-        scen.to_str().unwrap(),
-        "--out",
-        straight.to_str().unwrap(),
-        "--quiet",
-    ]);
+    run_quiet(&scen, &straight, &[]);
 
     let t0 = Instant::now();
-    run_ok(&[
-        "run",
-        scen.to_str().unwrap(),
-        "--out",
-        sb.path("timing").to_str().unwrap(),
-        "--quiet",
-        "--checkpoint-every",
-        "50steps",
-    ]);
+    run_quiet(
+        &scen,
+        &sb.path("timing"),
+        &["--checkpoint-every", "50steps"],
+    );
     let full = t0.elapsed().as_millis().max(50) as u64;
 
     let dir = sb.path("killed");
@@ -287,17 +285,11 @@ fn one_checkpoint(sb: &Sandbox) -> (PathBuf, Vec<u8>) {
     let scen = sb.path("s.toml");
     std::fs::write(&scen, SCENARIO).unwrap();
     let dir = sb.path("run");
-    run_ok(&[
-        "run",
-        scen.to_str().unwrap(),
-        "--out",
-        dir.to_str().unwrap(),
-        "--steps",
-        "200",
-        "--checkpoint-every",
-        "100steps",
-        "--quiet",
-    ]);
+    run_quiet(
+        &scen,
+        &dir,
+        &["--steps", "200", "--checkpoint-every", "100steps"],
+    );
     let p = dir.join("checkpoint-000000000200.grck");
     let bytes = std::fs::read(&p).unwrap();
     for e in std::fs::read_dir(&dir).unwrap() {
@@ -460,13 +452,7 @@ trajectories = { every = 40, cycles = 0.5 }
     std::fs::write(&scen, text).unwrap();
     let straight = sb.path("straight");
     let t0 = Instant::now();
-    run_ok(&[
-        "run",
-        scen.to_str().unwrap(),
-        "--out",
-        straight.to_str().unwrap(),
-        "--quiet",
-    ]);
+    run_quiet(&scen, &straight, &[]);
     let full = t0.elapsed().as_millis().max(60) as u64;
 
     let dir = sb.path("stopped");
