@@ -7,7 +7,8 @@ mod launch;
 mod progress;
 mod sweep;
 
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
+use grains::comm::Comm;
 use grains::runner::checkpointing::{self, Every};
 use grains::runner::{self, RunOptions};
 use grains::scenario::{self, Loaded};
@@ -31,47 +32,10 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run a scenario (without one: the seed's convection experiment).
-    Run {
-        /// Scenario file (TOML). Omit for the built-in default.
-        scenario: Option<PathBuf>,
-        /// Output directory [default: runs/<scenario name>].
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// Override a scenario key, e.g. --set contact.mu=0.3 (repeatable).
-        #[arg(long = "set", value_name = "KEY=VALUE")]
-        sets: Vec<String>,
-        /// Run this many steps instead of the scenario's length (no relaxation).
-        #[arg(long)]
-        steps: Option<u64>,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        threads: Option<usize>,
-        /// Write a checkpoint every T simulated seconds (e.g. 0.01) or N
-        /// steps (e.g. 500steps); the newest two are kept.
-        #[arg(long, value_name = "T")]
-        checkpoint_every: Option<String>,
-        /// Print nothing but errors.
-        #[arg(long)]
-        quiet: bool,
-    },
+    Run(RunArgs),
     /// Continue an interrupted run from its newest valid checkpoint,
     /// appending to its outputs.
-    Resume {
-        /// The run's output directory (or one checkpoint file in it).
-        run_dir: PathBuf,
-        /// Run this many more steps instead of to the scenario's end.
-        #[arg(long)]
-        steps: Option<u64>,
-        /// Change the checkpoint interval (default: the run's).
-        #[arg(long, value_name = "T")]
-        checkpoint_every: Option<String>,
-        /// Worker threads (default: all cores).
-        #[arg(long)]
-        threads: Option<usize>,
-        /// Print nothing but errors.
-        #[arg(long)]
-        quiet: bool,
-    },
+    Resume(ResumeArgs),
     /// Validate a scenario and print the resolved parameters, without running.
     Check {
         scenario: PathBuf,
@@ -82,6 +46,49 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Run a grid of scenario variants; collect summaries in sweep.csv and plot one.
     Sweep(sweep::SweepArgs),
+}
+
+#[derive(Args)]
+struct RunArgs {
+    /// Scenario file (TOML). Omit for the built-in default.
+    scenario: Option<PathBuf>,
+    /// Output directory [default: runs/<scenario name>].
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Override a scenario key, e.g. --set contact.mu=0.3 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// Run this many steps instead of the scenario's length (no relaxation).
+    #[arg(long)]
+    steps: Option<u64>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Write a checkpoint every T simulated seconds (e.g. 0.01) or N
+    /// steps (e.g. 500steps); the newest two are kept.
+    #[arg(long, value_name = "T")]
+    checkpoint_every: Option<String>,
+    /// Print nothing but errors.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Args)]
+struct ResumeArgs {
+    /// The run's output directory (or one checkpoint file in it).
+    run_dir: PathBuf,
+    /// Run this many more steps instead of to the scenario's end.
+    #[arg(long)]
+    steps: Option<u64>,
+    /// Change the checkpoint interval (default: the run's).
+    #[arg(long, value_name = "T")]
+    checkpoint_every: Option<String>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Print nothing but errors.
+    #[arg(long)]
+    quiet: bool,
 }
 
 fn load(path: Option<&Path>, sets: &[String]) -> grains::Result<Loaded> {
@@ -158,25 +165,8 @@ fn report(summary: &serde_json::Value, quiet: bool) -> bool {
 fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
     if let Some(comm) = ranks.several() {
         return match cli.command {
-            Command::Run {
-                scenario,
-                out,
-                sets,
-                steps,
-                threads,
-                checkpoint_every,
-                quiet,
-            } => {
-                let args = (scenario, out, sets, steps, threads, quiet);
-                run_distributed(args, checkpoint_every, comm)
-            }
-            Command::Resume {
-                run_dir,
-                steps,
-                checkpoint_every,
-                threads,
-                quiet,
-            } => resume_distributed(run_dir, steps, checkpoint_every, threads, quiet, comm),
+            Command::Run(args) => run_distributed(&args, comm),
+            Command::Resume(args) => resume_distributed(&args, comm),
             Command::Bench(args) => bench::run_ranks(args, comm).map(|_| ExitCode::SUCCESS),
             _ => Err(Error::input(format!(
                 "only `grains run`, `grains resume` and `grains bench` run on several MPI ranks ({} here); start other commands without mpirun",
@@ -185,80 +175,19 @@ fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
         };
     }
     match cli.command {
-        Command::Resume {
-            run_dir,
-            steps,
-            checkpoint_every,
-            threads,
-            quiet,
-        } => {
-            if steps == Some(0) {
-                return Err(Error::input("--steps must be at least 1"));
-            }
-            let every = checkpoint_every.as_deref().map(Every::parse).transpose()?;
-            let (found, skipped) = checkpointing::find(&run_dir)?;
-            for s in &skipped {
-                eprintln!("grains: skipped {s}");
-            }
-            set_threads(threads)?;
-            if !quiet {
-                eprintln!(
-                    "grains: resuming from {} (step {})",
-                    found.path.display(),
-                    found.step
-                );
-            }
-            let opts = RunOptions {
-                checkpoint_every: every,
-                stop: Some(stop_flag()?),
-                ..RunOptions::default()
-            };
-            let mut progress = progress::for_terminal(quiet);
-            let summary = checkpointing::resume(found, steps, opts, progress.as_mut())?;
-            if report(&summary, quiet) {
-                return Ok(ExitCode::from(130));
-            }
-            if !quiet {
-                eprintln!("grains: wrote {}", run_dir.display());
-            }
-            Ok(ExitCode::SUCCESS)
+        Command::Resume(args) => {
+            let (found, mut opts) = resume_set_up(&args, None)?;
+            opts.stop = Some(stop_flag()?);
+            let mut progress = progress::for_terminal(args.quiet);
+            let summary = checkpointing::resume(found, args.steps, opts, progress.as_mut())?;
+            Ok(finish(&summary, args.quiet, &args.run_dir))
         }
-        Command::Run {
-            scenario,
-            out,
-            sets,
-            steps,
-            threads,
-            checkpoint_every,
-            quiet,
-        } => {
-            let loaded = load(scenario.as_deref(), &sets)?;
-            let from_file = Some(loaded.scenario.run.threads).filter(|&n| n > 0);
-            set_threads(threads.or(from_file))?;
-            let out_dir =
-                out.unwrap_or_else(|| Path::new("runs").join(safe_dir_name(&loaded.scenario.name)));
-            if steps == Some(0) {
-                return Err(Error::input("--steps must be at least 1"));
-            }
-            let every = checkpoint_every.as_deref().map(Every::parse).transpose()?;
-            let opts = RunOptions {
-                out_dir: out_dir.clone(),
-                steps,
-                checkpoint_every: every,
-                stop: Some(stop_flag()?),
-            };
-            let mut progress = progress::for_terminal(quiet);
-            if !quiet {
-                eprintln!("grains: running {} -> {}", loaded.origin, out_dir.display());
-            }
+        Command::Run(args) => {
+            let (loaded, mut opts) = run_set_up(&args, None)?;
+            opts.stop = Some(stop_flag()?);
+            let mut progress = progress::for_terminal(args.quiet);
             let summary = runner::run(&loaded, &opts, progress.as_mut())?;
-            if report(&summary, quiet) {
-                return Ok(ExitCode::from(130));
-            }
-            if !quiet {
-                eprintln!("grains: wrote {}", out_dir.display());
-            }
-            Ok(ExitCode::SUCCESS)
+            Ok(finish(&summary, args.quiet, &opts.out_dir))
         }
         Command::Check { scenario, sets } => {
             let loaded = scenario::load_file(&scenario, &sets)?;
@@ -274,56 +203,119 @@ fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
     }
 }
 
-type DistributedArgs = (
-    Option<PathBuf>,
-    Option<PathBuf>,
-    Vec<String>,
-    Option<u64>,
-    Option<usize>,
-    bool,
-);
+/// Reports a run that returned `summary` (see [`report`]) and says where
+/// it wrote unless quiet: exit code 130 when it was interrupted.
+fn finish(summary: &serde_json::Value, quiet: bool, dir: &Path) -> ExitCode {
+    if report(summary, quiet) {
+        return ExitCode::from(130);
+    }
+    if !quiet {
+        eprintln!("grains: wrote {}", dir.display());
+    }
+    ExitCode::SUCCESS
+}
 
-/// `grains resume` as one rank of `mpirun`: every rank reads the
-/// checkpoint and keeps its part; rank 0 reports and writes.
-fn resume_distributed(
-    run_dir: PathBuf,
-    steps: Option<u64>,
-    checkpoint_every: Option<String>,
-    threads: Option<usize>,
-    quiet: bool,
-    comm: &dyn grains::comm::Comm,
-) -> grains::Result<ExitCode> {
-    let root = comm.rank() == 0;
+/// The checks `grains run` and `grains resume` share: at least one step
+/// when `--steps` is given; the `--checkpoint-every` interval parsed.
+fn checked_steps(steps: Option<u64>, every: Option<&str>) -> grains::Result<Option<Every>> {
     if steps == Some(0) {
         return Err(Error::input("--steps must be at least 1"));
     }
-    let every = checkpoint_every.as_deref().map(Every::parse).transpose()?;
-    let (found, skipped) = checkpointing::find(&run_dir)?;
-    set_threads(threads)?;
-    if root && !quiet {
+    every.map(Every::parse).transpose()
+}
+
+/// Whether this process says what it runs: unless quiet, a plain process
+/// or rank 0 of `mpirun`.
+fn talks(quiet: bool, comm: Option<&dyn Comm>) -> bool {
+    !quiet && comm.is_none_or(|c| c.rank() == 0)
+}
+
+/// " on N ranks" under `mpirun`, nothing for a plain process.
+fn on_ranks_note(comm: Option<&dyn Comm>) -> String {
+    comm.map(|c| format!(" on {} ranks", c.size()))
+        .unwrap_or_default()
+}
+
+/// What `grains run` runs, alike in a plain process (`comm` None) and on
+/// each rank of `mpirun`: the scenario loaded with the overrides, the
+/// thread pool sized (`--threads`, else the scenario's `run.threads`), and
+/// the run options (output directory, steps, checkpoint interval; the
+/// caller adds the stop flag where it has one). Rank 0 says what runs
+/// where unless quiet.
+fn run_set_up(args: &RunArgs, comm: Option<&dyn Comm>) -> grains::Result<(Loaded, RunOptions)> {
+    let loaded = load(args.scenario.as_deref(), &args.sets)?;
+    let from_file = Some(loaded.scenario.run.threads).filter(|&n| n > 0);
+    set_threads(args.threads.or(from_file))?;
+    let out_dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| Path::new("runs").join(safe_dir_name(&loaded.scenario.name)));
+    let every = checked_steps(args.steps, args.checkpoint_every.as_deref())?;
+    if talks(args.quiet, comm) {
+        eprintln!(
+            "grains: running {}{} -> {}",
+            loaded.origin,
+            on_ranks_note(comm),
+            out_dir.display()
+        );
+    }
+    let opts = RunOptions {
+        out_dir,
+        steps: args.steps,
+        checkpoint_every: every,
+        ..RunOptions::default()
+    };
+    Ok((loaded, opts))
+}
+
+/// What `grains resume` starts from, alike in a plain process (`comm`
+/// None) and on each rank of `mpirun`: the arguments checked, the newest
+/// valid checkpoint found, the thread pool sized, and the run options (the
+/// checkpoint interval; the caller adds the stop flag where it has one).
+/// Says which checkpoints were skipped and which one resumes: a plain
+/// process names the skipped ones even when quiet, under `mpirun` only a
+/// talking rank 0 speaks.
+fn resume_set_up(
+    args: &ResumeArgs,
+    comm: Option<&dyn Comm>,
+) -> grains::Result<(checkpointing::Found, RunOptions)> {
+    let every = checked_steps(args.steps, args.checkpoint_every.as_deref())?;
+    let (found, skipped) = checkpointing::find(&args.run_dir)?;
+    let talks = talks(args.quiet, comm);
+    if talks || comm.is_none() {
         for s in &skipped {
             eprintln!("grains: skipped {s}");
         }
+    }
+    set_threads(args.threads)?;
+    if talks {
         eprintln!(
-            "grains: resuming from {} (step {}) on {} ranks",
+            "grains: resuming from {} (step {}){}",
             found.path.display(),
             found.step,
-            comm.size()
+            on_ranks_note(comm)
         );
     }
     let opts = RunOptions {
         checkpoint_every: every,
         ..RunOptions::default()
     };
-    on_ranks(comm, quiet, &run_dir, |progress| {
-        runner::distributed::resume(found, steps, opts, progress, comm)
+    Ok((found, opts))
+}
+
+/// `grains resume` as one rank of `mpirun`: every rank reads the
+/// checkpoint and keeps its part; rank 0 reports and writes.
+fn resume_distributed(args: &ResumeArgs, comm: &dyn Comm) -> grains::Result<ExitCode> {
+    let (found, opts) = resume_set_up(args, Some(comm))?;
+    on_ranks(comm, args.quiet, &args.run_dir, |progress| {
+        runner::distributed::resume(found, args.steps, opts, progress, comm)
     })
 }
 
 /// Runs `work` (a run or a resume as one rank of mpirun) on rayon's pool;
 /// rank 0 draws the progress and reports the summary.
 fn on_ranks(
-    comm: &dyn grains::comm::Comm,
+    comm: &dyn Comm,
     quiet: bool,
     dir: &Path,
     work: impl FnOnce(&mut dyn runner::Progress) -> grains::Result<serde_json::Value> + Send,
@@ -331,45 +323,16 @@ fn on_ranks(
     let root = comm.rank() == 0;
     let mut progress = progress::for_terminal(quiet || !root);
     let summary = grains::parallel::on_pool(|| work(progress.as_mut()))?;
-    if root {
-        report(&summary, quiet);
-        if !quiet {
-            eprintln!("grains: wrote {}", dir.display());
-        }
+    if !root {
+        return Ok(ExitCode::SUCCESS);
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(finish(&summary, quiet, dir))
 }
 
 /// `grains run` as one rank of `mpirun`: rank 0 reports and writes.
-fn run_distributed(
-    (scenario, out, sets, steps, threads, quiet): DistributedArgs,
-    checkpoint_every: Option<String>,
-    comm: &dyn grains::comm::Comm,
-) -> grains::Result<ExitCode> {
-    let root = comm.rank() == 0;
-    let loaded = load(scenario.as_deref(), &sets)?;
-    let from_file = Some(loaded.scenario.run.threads).filter(|&n| n > 0);
-    set_threads(threads.or(from_file))?;
-    let out_dir =
-        out.unwrap_or_else(|| Path::new("runs").join(safe_dir_name(&loaded.scenario.name)));
-    if steps == Some(0) {
-        return Err(Error::input("--steps must be at least 1"));
-    }
-    let opts = RunOptions {
-        out_dir: out_dir.clone(),
-        steps,
-        checkpoint_every: checkpoint_every.as_deref().map(Every::parse).transpose()?,
-        ..RunOptions::default()
-    };
-    if root && !quiet {
-        eprintln!(
-            "grains: running {} on {} ranks -> {}",
-            loaded.origin,
-            comm.size(),
-            out_dir.display()
-        );
-    }
-    on_ranks(comm, quiet, &out_dir, |progress| {
+fn run_distributed(args: &RunArgs, comm: &dyn Comm) -> grains::Result<ExitCode> {
+    let (loaded, opts) = run_set_up(args, Some(comm))?;
+    on_ranks(comm, args.quiet, &opts.out_dir, |progress| {
         runner::distributed::run(&loaded, &opts, progress, comm)
     })
 }

@@ -3,6 +3,8 @@
 //! a good run writes every output file. Each test works in its own
 //! temporary directory with small scenarios (30 grains, 50 steps).
 
+mod common;
+
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -724,11 +726,9 @@ fn set_takes_effect() {
 /// The `Step` field of a .vtp frame.
 fn vtp_step(path: &Path) -> u64 {
     let text = std::fs::read_to_string(path).expect("read frame");
-    let at = text.find("Name=\"Step\"").expect("frame has a Step field");
-    let rest = &text[at..];
-    let start = rest.find('>').expect("Step value") + 1;
-    let end = rest.find("</DataArray>").expect("Step end");
-    rest[start..end].trim().parse().expect("Step is an integer")
+    let step = common::vtk::vtk_tokens(&text, "Step");
+    assert_eq!(step.len(), 1, "Step holds one value: {step:?}");
+    step[0].parse().expect("Step is an integer")
 }
 
 /// Checks the files of a finished run of `steps` steps of `particles` grains.
@@ -752,11 +752,7 @@ fn check_run_dir(out: &Path, steps: u64, particles: u64) -> Value {
     assert!(pvd.contains("type=\"Collection\""), "{pvd}");
     assert!(out.join("frames/frame_000000.vtp").is_file());
     assert_eq!(vtp_step(&out.join("frames/frame_000000.vtp")), 0);
-    let files: Vec<&str> = pvd
-        .split("file=\"")
-        .skip(1)
-        .map(|rest| &rest[..rest.find('"').unwrap()])
-        .collect();
+    let files = common::vtk::pvd_files(&pvd);
     assert_eq!(files.first(), Some(&"frames/frame_000000.vtp"), "{pvd}");
     for f in &files {
         assert!(out.join(f).is_file(), "frames.pvd lists missing {f}");

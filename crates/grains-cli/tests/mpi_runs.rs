@@ -14,6 +14,8 @@
 //! pieces on 2 ranks hold the serial run's particles, each once.
 #![cfg(feature = "mpi")]
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -76,22 +78,7 @@ fn same_files(a: &Path, b: &Path) {
 
 fn check(scenario: &str, sets: &[&str], steps: &str) {
     let path = repo().join("scenarios").join(scenario);
-    let path = path.to_str().unwrap();
-    let run = |ranks: usize| {
-        let dir = scratch(&format!("{scenario}-{ranks}"));
-        let mut args = vec!["run", path, "--steps", steps, "--quiet", "--out"];
-        args.push(dir.to_str().unwrap());
-        for s in sets {
-            args.extend(["--set", s]);
-        }
-        let out = grains(ranks, &args);
-        assert!(
-            out.status.success(),
-            "{ranks} ranks: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        dir
-    };
+    let run = |ranks: usize| run_ok(ranks, &path, steps, &format!("{scenario}-{ranks}"), sets);
     let serial = run(0);
     for ranks in [1, 2, 4] {
         let dir = run(ranks);
@@ -191,23 +178,8 @@ fn same_thermo(dir: &Path, reference: &Path, what: &str) {
 /// forces in another order; the contact count is not compared: a contact
 /// across a slab boundary counts on both ranks) and the same frames.
 fn check_md(scenario: &Path, sets: &[&str], steps: &str, ranks: &[usize]) {
-    let path = scenario.to_str().unwrap();
     let name = scenario.file_stem().unwrap().to_string_lossy().to_string();
-    let run = |ranks: usize| {
-        let dir = scratch(&format!("{name}-{ranks}"));
-        let mut args = vec!["run", path, "--steps", steps, "--quiet", "--out"];
-        args.push(dir.to_str().unwrap());
-        for s in sets {
-            args.extend(["--set", s]);
-        }
-        let out = grains(ranks, &args);
-        assert!(
-            out.status.success(),
-            "{ranks} ranks: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        dir
-    };
+    let run = |ranks: usize| run_ok(ranks, scenario, steps, &format!("{name}-{ranks}"), sets);
     let serial = run(0);
     for &ranks in ranks {
         let dir = run(ranks);
@@ -308,13 +280,21 @@ fn run_set(ranks: usize, scenario: &Path, steps: &str, dir: &Path, sets: &[&str]
     grains(ranks, &args)
 }
 
+/// [`run_set`] into the scratch directory `name`, which must succeed: that
+/// directory.
+fn run_ok(ranks: usize, scenario: &Path, steps: &str, name: &str, sets: &[&str]) -> PathBuf {
+    let dir = scratch(name);
+    let out = run_set(ranks, scenario, steps, &dir, sets);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{ranks} ranks: {err}");
+    dir
+}
+
 /// The small silo of `grains/tests/distributed_md.rs` (150 grains over a
-/// wide outlet, recycled just below the floor; its overrides in
-/// `grains/tests/data/small-hopper.sets`) for 1000 steps on `ranks`.
+/// wide outlet, recycled just below the floor) for 1000 steps on `ranks`.
 fn hopper(ranks: usize, extra: &[&str]) -> (PathBuf, Output) {
     let dir = scratch(&format!("hopper-{ranks}"));
-    let sets = include_str!("../../grains/tests/data/small-hopper.sets");
-    let sets: Vec<&str> = sets.lines().chain(extra.iter().copied()).collect();
+    let sets = common::small_hopper_sets(extra);
     let path = repo().join("scenarios/hopper-2d.toml");
     let out = run_set(ranks, &path, "1000", &dir, &sets);
     (dir, out)
@@ -357,20 +337,14 @@ fn md_hopper_recycles_the_same_grains_on_2_ranks() {
 fn md_run_events_tilt_agrees_on_1_2_4_ranks() {
     // Settle 80 disks in a closed box, then tilt gravity every step: the
     // same gravity on every rank, the settle look from the whole state.
+    let sets = common::small_repose_sets(&[
+        "run.events.remove_wall=\"\"",
+        "run.events.tilt_rate=1500.0",
+        "run.events.fail_energy=5.0",
+    ]);
     check_md(
         &repo().join("scenarios/repose-2d.toml"),
-        &[
-            "gravity=[0.0,-30.0]",
-            "particles.count=80",
-            "particles.region={lo=[0.0,0.001],hi=[0.030,0.009]}",
-            "run.events.settle_min=0.003",
-            "run.events.settle_energy=100.0",
-            "run.events.remove_wall=\"\"",
-            "run.events.tilt_rate=1500.0",
-            "run.events.fail_energy=5.0",
-            "output.every=0.0003",
-            "output.picture=false",
-        ],
+        &sets,
         "1000",
         &[1, 2, 4],
     );
@@ -383,18 +357,12 @@ fn md_trajectories_agree_on_2_ranks() {
     // 1e-7 of a 1 mm grain (rounding, a few hundred steps of it).
     let path = repo().join("scenarios/seed-convection-walls.toml");
     let rows = |ranks: usize| {
-        let dir = scratch(&format!("traj-{ranks}"));
         let sets = [
             "output.picture=false",
             "particles.random_velocity=0.2",
             "measure.trajectories={every=5,cycles=0.1}",
         ];
-        let out = run_set(ranks, &path, "600", &dir, &sets);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let dir = run_ok(ranks, &path, "600", &format!("traj-{ranks}"), &sets);
         let text = String::from_utf8(read(&dir.join("trajectories.csv"))).unwrap();
         let _ = std::fs::remove_dir_all(&dir);
         let mut rows: Vec<(u64, u64, Vec<f64>)> = text
@@ -512,20 +480,13 @@ fn md_bench_under_mpirun_reports_the_imbalance() {
 /// (id, point) of every particle in the `.vtp` pieces that `pvtp` lists,
 /// sorted by id (the coordinates as written: exact).
 fn piece_points(frames: &Path, pvtp: &str) -> Vec<(u64, Vec<String>)> {
-    let tokens = |xml: &str, name: &str| -> Vec<String> {
-        let body = &xml[xml.find(&format!("Name=\"{name}\"")).unwrap()..];
-        let (open, close) = (body.find('>').unwrap() + 1, body.find("</D").unwrap());
-        body[open..close]
-            .split_whitespace()
-            .map(String::from)
-            .collect()
-    };
     let mut out = Vec::new();
-    for s in pvtp.split("Source=\"").skip(1) {
-        let piece = String::from_utf8(read(&frames.join(&s[..s.find('"').unwrap()]))).unwrap();
-        let points = tokens(&piece, "Points");
-        for (j, id) in tokens(&piece, "id").iter().enumerate() {
-            out.push((id.parse().unwrap(), points[3 * j..3 * j + 3].to_vec()));
+    for s in common::vtk::pvtp_sources(pvtp) {
+        let piece = String::from_utf8(read(&frames.join(s))).unwrap();
+        let points = common::vtk::vtk_tokens(&piece, "Points");
+        for (j, id) in common::vtk::vtk_tokens(&piece, "id").iter().enumerate() {
+            let point = points[3 * j..3 * j + 3].iter().map(|x| x.to_string());
+            out.push((id.parse().unwrap(), point.collect()));
         }
     }
     out.sort();
@@ -535,29 +496,16 @@ fn piece_points(frames: &Path, pvtp: &str) -> Vec<(u64, Vec<String>)> {
 #[test]
 fn dsmc_frames_in_pieces_on_2_ranks_hold_the_serial_particles() {
     let path = repo().join("scenarios/gas-vibrated-2d.toml");
-    let run = |ranks: usize| {
-        let dir = scratch(&format!("dsmc-pieces-{ranks}"));
-        let sets = [
-            "output.frames=true",
-            "output.every=0.001",
-            "output.frames_layout=\"pieces\"",
-        ];
-        let out = run_set(ranks, &path, "100", &dir, &sets);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        dir
-    };
+    let sets = [
+        "output.frames=true",
+        "output.every=0.001",
+        "output.frames_layout=\"pieces\"",
+    ];
+    let run = |ranks: usize| run_ok(ranks, &path, "100", &format!("dsmc-pieces-{ranks}"), &sets);
     let (serial, two) = (run(0), run(2));
     let pvd = String::from_utf8(read(&two.join("frames.pvd"))).unwrap();
     assert!(pvd == String::from_utf8(read(&serial.join("frames.pvd"))).unwrap());
-    let frames: Vec<&str> = pvd
-        .split("file=\"")
-        .skip(1)
-        .map(|s| &s[..s.find('"').unwrap()])
-        .collect();
+    let frames = common::vtk::pvd_files(&pvd);
     assert!(frames.len() > 3, "{pvd}");
     for f in frames {
         let pvtp = |d: &Path| String::from_utf8(read(&d.join(f))).unwrap();

@@ -5,7 +5,7 @@
 //! wrong-version and wrong-scenario checkpoints exit 2 with a message.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 /// 40 disks on a vibrating floor with frictional springs; about 1 s of CPU.
@@ -78,6 +78,20 @@ fn run(args: &[&str]) -> Output {
     out
 }
 
+/// [`run`], which must succeed.
+fn run_ok(args: &[&str]) {
+    let o = run(args);
+    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+}
+
+/// `grains run <scen> --out <out> --quiet <extra>...`, which must succeed.
+fn run_quiet(scen: &Path, out: &Path, extra: &[&str]) {
+    let (scen, out) = (scen.to_str().unwrap(), out.to_str().unwrap());
+    let mut args = vec!["run", scen, "--out", out, "--quiet"];
+    args.extend_from_slice(extra);
+    run_ok(&args);
+}
+
 fn code(o: &Output) -> Option<i32> {
     o.status.code()
 }
@@ -121,6 +135,39 @@ fn summary_state(dir: &Path) -> String {
     keys.iter().map(|k| format!("{k}={} ", s[*k])).collect()
 }
 
+/// The seed of the random interruption times: `GRAINS_KILL_SEED`, else
+/// `default` mixed with the process id (other moments on every run).
+fn kill_seed(default: u64) -> u64 {
+    std::env::var("GRAINS_KILL_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default ^ std::process::id() as u64)
+}
+
+/// Starts the next try at the interrupted run in `dir`: `grains resume`
+/// once it holds a checkpoint; at the `first` try, or while none was
+/// written, a fresh `grains run` of `scen` with a checkpoint every
+/// `every`, the directory cleared. Standard error piped.
+fn next_attempt(first: bool, scen: &Path, dir: &Path, every: &str) -> Child {
+    let has_ckpt = dir.exists()
+        && std::fs::read_dir(dir)
+            .unwrap()
+            .any(|e| e.unwrap().file_name().to_string_lossy().ends_with(".grck"));
+    let d = dir.to_str().unwrap();
+    let mut cmd = grains();
+    if first || !has_ckpt {
+        let _ = std::fs::remove_dir_all(dir);
+        cmd.args(["run", scen.to_str().unwrap(), "--out", d, "--quiet"])
+            .args(["--checkpoint-every", every]);
+    } else {
+        cmd.args(["resume", d, "--quiet"]);
+    }
+    cmd.stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
 /// A small deterministic pseudo-random sequence (no extra dependency).
 struct Lcg(u64);
 impl Lcg {
@@ -139,56 +186,24 @@ fn sigkill_at_random_moments_then_resume_matches_straight_run() {
     let scen = sb.path("s.toml");
     std::fs::write(&scen, SCENARIO).unwrap();
     let straight = sb.path("straight");
-    let o = run(&[
-        "run",
-        scen.to_str().unwrap(),
-        "--out",
-        straight.to_str().unwrap(),
-        "--quiet",
-    ]);
-    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+    run_quiet(&scen, &straight, &[]);
 
     let t0 = Instant::now();
-    let o = run(&[
-        "run",
-        scen.to_str().unwrap(),
-        "--out",
-        sb.path("timing").to_str().unwrap(),
-        "--quiet",
-        "--checkpoint-every",
-        "50steps",
-    ]);
-    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+    run_quiet(
+        &scen,
+        &sb.path("timing"),
+        &["--checkpoint-every", "50steps"],
+    );
     let full = t0.elapsed().as_millis().max(50) as u64;
 
     let dir = sb.path("killed");
-    let d = dir.to_str().unwrap();
-    let seed = std::env::var("GRAINS_KILL_SEED")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0x5eed_u64 ^ std::process::id() as u64);
+    let seed = kill_seed(0x5eed_u64);
     let mut rng = Lcg(seed);
     let mut kills = 0;
     let mut started = false;
     loop {
-        let has_ckpt = dir.exists()
-            && std::fs::read_dir(&dir)
-                .unwrap()
-                .any(|e| e.unwrap().file_name().to_string_lossy().ends_with(".grck"));
-        let mut cmd = grains();
-        if !started || !has_ckpt {
-            let _ = std::fs::remove_dir_all(&dir);
-            cmd.args(["run", scen.to_str().unwrap(), "--out", d, "--quiet"])
-                .args(["--checkpoint-every", "50steps"]);
-            started = true;
-        } else {
-            cmd.args(["resume", d, "--quiet"]);
-        }
-        let mut child = cmd
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
+        let mut child = next_attempt(!started, &scen, &dir, "50steps");
+        started = true;
         if kills < 4 {
             let wait = Duration::from_millis(rng.below(full * 2 / 3) + 5);
             let until = Instant::now() + wait;
@@ -262,8 +277,7 @@ fn sigint_writes_a_checkpoint_and_says_how_to_resume() {
         err.contains("grains resume") && err.contains("checkpoint"),
         "{err}"
     );
-    let o = run(&["resume", dir.to_str().unwrap(), "--steps", "20", "--quiet"]);
-    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+    run_ok(&["resume", dir.to_str().unwrap(), "--steps", "20", "--quiet"]);
 }
 
 /// Runs 200 steps with checkpoints, returns the newest checkpoint's bytes.
@@ -271,18 +285,11 @@ fn one_checkpoint(sb: &Sandbox) -> (PathBuf, Vec<u8>) {
     let scen = sb.path("s.toml");
     std::fs::write(&scen, SCENARIO).unwrap();
     let dir = sb.path("run");
-    let o = run(&[
-        "run",
-        scen.to_str().unwrap(),
-        "--out",
-        dir.to_str().unwrap(),
-        "--steps",
-        "200",
-        "--checkpoint-every",
-        "100steps",
-        "--quiet",
-    ]);
-    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+    run_quiet(
+        &scen,
+        &dir,
+        &["--steps", "200", "--checkpoint-every", "100steps"],
+    );
     let p = dir.join("checkpoint-000000000200.grck");
     let bytes = std::fs::read(&p).unwrap();
     for e in std::fs::read_dir(&dir).unwrap() {
@@ -341,8 +348,7 @@ fn damaged_checkpoints_are_refused_with_exit_2() {
     }
     // The good one resumes.
     std::fs::write(&target, &good).unwrap();
-    let o = run(&["resume", dir.to_str().unwrap(), "--steps", "10", "--quiet"]);
-    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+    run_ok(&["resume", dir.to_str().unwrap(), "--steps", "10", "--quiet"]);
 }
 
 #[test]
@@ -446,43 +452,16 @@ trajectories = { every = 40, cycles = 0.5 }
     std::fs::write(&scen, text).unwrap();
     let straight = sb.path("straight");
     let t0 = Instant::now();
-    let o = run(&[
-        "run",
-        scen.to_str().unwrap(),
-        "--out",
-        straight.to_str().unwrap(),
-        "--quiet",
-    ]);
-    assert_eq!(code(&o), Some(0), "{}", stderr(&o));
+    run_quiet(&scen, &straight, &[]);
     let full = t0.elapsed().as_millis().max(60) as u64;
 
     let dir = sb.path("stopped");
-    let d = dir.to_str().unwrap();
-    let seed = std::env::var("GRAINS_KILL_SEED")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0xc0ffee_u64 ^ std::process::id() as u64);
+    let seed = kill_seed(0xc0ffee_u64);
     let mut rng = Lcg(seed);
     let (mut stops, mut started) = (0, false);
     loop {
-        let has_ckpt = dir.exists()
-            && std::fs::read_dir(&dir)
-                .unwrap()
-                .any(|e| e.unwrap().file_name().to_string_lossy().ends_with(".grck"));
-        let mut cmd = grains();
-        if !started || !has_ckpt {
-            let _ = std::fs::remove_dir_all(&dir);
-            cmd.args(["run", scen.to_str().unwrap(), "--out", d, "--quiet"])
-                .args(["--checkpoint-every", "700steps"]);
-            started = true;
-        } else {
-            cmd.args(["resume", d, "--quiet"]);
-        }
-        let child = cmd
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
+        let child = next_attempt(!started, &scen, &dir, "700steps");
+        started = true;
         if stops < 4 {
             let wait = Duration::from_millis(rng.below(full / 2) + 30);
             std::thread::sleep(wait);

@@ -15,12 +15,13 @@
 
 mod common;
 
-use common::{pvtp_sources, vtk_tokens};
+use common::runs::run_on_threads;
+use common::vtk::{pvtp_sources, vtk_tokens};
 use grains::comm::{Comm, ThreadComm};
 use grains::dsmc::collide::GasDim;
 use grains::dsmc::decomp::Decomposed;
 use grains::dsmc::Dsmc;
-use grains::runner::{distributed, dsmc::build, run, RunOptions, Silent};
+use grains::runner::{dsmc::build, run, RunOptions, Silent};
 use grains::scenario::{load_str, Loaded};
 use grains::{D2, D3};
 use std::path::{Path, PathBuf};
@@ -237,11 +238,7 @@ fn distributed_run_writes_the_serial_files() {
             out_dir: dir.clone(),
             ..Default::default()
         };
-        let out = ThreadComm::run(ranks, |c| {
-            distributed::run(&l, &opts, &mut Silent, c as &dyn Comm).unwrap()
-        });
-        assert!(out[1..].iter().all(|v| v.is_null()));
-        let s = &out[0];
+        let s = run_on_threads(&l, &opts, ranks);
         assert_eq!(s["ranks"], ranks);
         for key in [
             "kinetic_energy",
@@ -309,9 +306,7 @@ fn frames_in_pieces_hold_the_gathered_frame_once_across_ranks() {
             out_dir: dir.clone(),
             ..Default::default()
         };
-        ThreadComm::run(ranks, |c| {
-            distributed::run(&lp, &opts, &mut Silent, c as &dyn Comm).unwrap();
-        });
+        run_on_threads(&lp, &opts, ranks);
         let pvd = String::from_utf8(read(&dir.join("frames.pvd"))).unwrap();
         let listed = pvd.matches(".pvtp\"").count();
         // 100 steps, a frame at step 0 and every 10 steps.

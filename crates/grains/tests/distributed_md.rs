@@ -471,11 +471,7 @@ fn distributed_md_run_writes_the_serial_run_to_rounding() {
             out_dir: dir.clone(),
             ..Default::default()
         };
-        let out = ThreadComm::run(ranks, |c| {
-            distributed::run(&l, &opts, &mut Silent, c as &dyn Comm).unwrap()
-        });
-        assert!(out[1..].iter().all(|v| v.is_null()));
-        let s = &out[0];
+        let s = &common::runs::run_on_threads(&l, &opts, ranks);
         assert_eq!(s["ranks"], ranks);
         assert!(s["migrations"].as_u64().unwrap() > 0);
         assert!(s["rebalances"].as_u64().is_some());
@@ -550,17 +546,13 @@ fn discharge(dir: &Path) -> Vec<(f64, f64)> {
 /// The ids in the pieces of the frame at each output step of `dir`.
 fn piece_ids(dir: &Path) -> Vec<Vec<u64>> {
     let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
-    let frames = pvd
-        .split("file=\"")
-        .skip(1)
-        .map(|s| &s[..s.find('"').unwrap()]);
-    frames
+    common::vtk::pvd_files(&pvd)
+        .into_iter()
         .map(|rel| {
             let pvtp = std::fs::read_to_string(dir.join(rel)).unwrap();
-            let sources = pvtp.split("Source=\"").skip(1);
-            let mut ids: Vec<u64> = sources
-                .flat_map(|s| {
-                    let name = &s[..s.find('"').unwrap()];
+            let mut ids: Vec<u64> = common::vtk::pvtp_sources(&pvtp)
+                .into_iter()
+                .flat_map(|name| {
                     let piece = std::fs::read_to_string(dir.join("frames").join(name)).unwrap();
                     vtp_array(&piece, "id").into_iter().map(|x| x as u64)
                 })
@@ -597,10 +589,7 @@ fn hopper_recycling_on_two_ranks_matches_the_serial_run() {
     };
     let s0 = run(&l, &opts(&serial_dir), &mut Silent).unwrap();
     let dir = scratch("hopper-2");
-    let out = ThreadComm::run(2, |c| {
-        distributed::run(&l, &opts(&dir), &mut Silent, c as &dyn Comm).unwrap()
-    });
-    let s = &out[0];
+    let s = &common::runs::run_on_threads(&l, &opts(&dir), 2);
     assert!(s["migrations"].as_u64().unwrap() > 0);
     let exits = s0["discharged_grains"].as_u64().unwrap();
     assert!(exits >= 10, "the test needs grains to leave: {exits}");
@@ -655,19 +644,12 @@ fn hopper_recycling_on_two_ranks_matches_the_serial_run() {
 
 /// `scenarios/repose-2d.toml` cut down to 80 grains in a layer 8 d0 deep
 /// under 30 m/s², settled at the first look after 3 ms (the energy bound is
-/// loose: the test is the event's timing, not a settled pile), the sink
-/// just below the floor; `extra` adds keys.
+/// loose: the test is the event's timing, not a settled pile;
+/// `data/small-repose.sets`, shared with the mpirun test), the sink just
+/// below the floor; `extra` adds keys.
 fn small_repose(extra: &[&str]) -> Loaded {
-    let sets = [
-        "gravity=[0.0,-30.0]",
-        "particles.count=80",
-        "particles.region={lo=[0.0,0.001],hi=[0.030,0.009]}",
-        "run.events.settle_min=0.003",
-        "run.events.settle_energy=100.0",
-        "run.events.sink=-0.0005",
-        "output.every=0.0003",
-        "output.picture=false",
-    ];
+    let mut sets: Vec<&str> = include_str!("data/small-repose.sets").lines().collect();
+    sets.push("run.events.sink=-0.0005");
     scenario_with("repose-2d.toml", &sets, extra)
 }
 
@@ -685,9 +667,7 @@ fn events_both(l: &Loaded, steps: u64, name: &str) -> (Value, Value) {
     };
     let (d0, d2) = (scratch(&format!("{name}-1")), scratch(&format!("{name}-2")));
     let s0 = run(l, &opts(&d0), &mut Silent).unwrap();
-    let out = ThreadComm::run(2, |c| {
-        distributed::run(l, &opts(&d2), &mut Silent, c as &dyn Comm).unwrap()
-    });
+    let s2 = common::runs::run_on_threads(l, &opts(&d2), 2);
     let ((h0, rows0), (h, rows)) = (thermo(&d0), thermo(&d2));
     assert_eq!(h, h0);
     assert_eq!(rows.len(), rows0.len());
@@ -704,7 +684,7 @@ fn events_both(l: &Loaded, steps: u64, name: &str) -> (Value, Value) {
     }
     let _ = std::fs::remove_dir_all(&d0);
     let _ = std::fs::remove_dir_all(&d2);
-    (s0, out.into_iter().next().unwrap())
+    (s0, s2)
 }
 
 #[test]
@@ -796,9 +776,7 @@ fn phases_and_trajectories_on_ranks_match_the_serial_run() {
     run(&l, &opts(&serial), &mut Silent).unwrap();
     for ranks in [2, 3] {
         let dir = scratch(&format!("measure-{ranks}"));
-        ThreadComm::run(ranks, |c| {
-            distributed::run(&l, &opts(&dir), &mut Silent, c as &dyn Comm).unwrap();
-        });
+        common::runs::run_on_threads(&l, &opts(&dir), ranks);
         for k in 0..4 {
             let n = same_rows(&dir, &serial, &format!("phase_{k}.csv"), 1, 3e-8);
             assert_eq!(n, 83, "phase {k}: every grain");
@@ -882,9 +860,7 @@ fn run_ranks(l: &Loaded, dir: &Path, ranks: usize, steps: u64, every: u64) {
         run(l, &opts, &mut Silent).unwrap();
         return;
     }
-    ThreadComm::run(ranks, |c| {
-        distributed::run(l, &opts, &mut Silent, c as &dyn Comm).unwrap();
-    });
+    common::runs::run_on_threads(l, &opts, ranks);
 }
 
 /// Resumes the newest checkpoint of `dir` for `steps` steps on `ranks`.
@@ -984,7 +960,7 @@ fn checkpoints_of_decomposed_runs_resume_anywhere_2d_gear_box() {
 
 /// The numbers of the DataArray `name` in a .vtp document.
 fn vtp_array(xml: &str, name: &str) -> Vec<f64> {
-    let values = common::vtk_tokens(xml, name).into_iter();
+    let values = common::vtk::vtk_tokens(xml, name).into_iter();
     values.map(|t| t.parse().unwrap()).collect()
 }
 
@@ -1002,17 +978,13 @@ fn frames_in_pieces_hold_every_grain_once_across_ranks() {
         let dir = scratch(&format!("pieces-{ranks}"));
         run_ranks(&l, &dir, ranks, 200, 1000);
         let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
-        let listed: Vec<&str> = pvd
-            .split("file=\"")
-            .skip(1)
-            .map(|s| &s[..s.find('"').unwrap()])
-            .collect();
+        let listed = common::vtk::pvd_files(&pvd);
         // Step 0 and every 50 steps to 200.
         assert_eq!(listed.len(), 5, "{pvd}");
         for rel in listed {
             assert!(rel.ends_with(".pvtp"), "{rel}");
             let pvtp = std::fs::read_to_string(dir.join(rel)).unwrap();
-            let sources = common::pvtp_sources(&pvtp);
+            let sources = common::vtk::pvtp_sources(&pvtp);
             assert_eq!(sources.len(), ranks);
             let mut ids = Vec::new();
             for s in sources {

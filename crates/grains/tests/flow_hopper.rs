@@ -1,38 +1,15 @@
 //! Silo discharge in 2D, reduced to fit CI: no steady flow through an
 //! outlet below about 2 d (an arch forms), and the flow rate grows with D.
 
-use grains::runner::{run, RunOptions, Silent};
-use grains::scenario::load_file;
+mod common;
+
+use common::runs::run_scenario;
 use serde_json::Value;
-use std::path::PathBuf;
 
 fn discharge(outlet_d0: f64) -> Value {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/hopper-2d.toml");
-    let loaded = load_file(
-        &path,
-        &[
-            format!("hopper.outlet={}", outlet_d0 * 1e-3),
-            "run.duration=0.7".into(),
-            "output.picture=false".into(),
-        ],
-    )
-    .unwrap();
-    let dir = std::env::temp_dir().join(format!(
-        "grains-flow-hopper-{outlet_d0}-{}",
-        std::process::id()
-    ));
-    let s = run(
-        &loaded,
-        &RunOptions {
-            out_dir: dir.clone(),
-            steps: None,
-            ..Default::default()
-        },
-        &mut Silent,
-    )
-    .unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
-    s
+    let outlet = format!("hopper.outlet={}", outlet_d0 * 1e-3);
+    let sets = [outlet.as_str(), "run.duration=0.7", "output.picture=false"];
+    run_scenario("hopper-2d", &outlet_d0.to_string(), &sets)
 }
 
 #[test]

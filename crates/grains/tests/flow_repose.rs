@@ -6,43 +6,22 @@
 
 mod common;
 
+use common::runs::run_scenario;
 use glam::DVec2;
 use grains::contact::{ContactLaw, MassScaling};
 use grains::integrate::Integrator;
 use grains::md::MdSettings;
-use grains::runner::{run, RunOptions, Silent};
-use grains::scenario::load_file;
 use grains::D2;
 use serde_json::Value;
-use std::path::PathBuf;
 
 const SEEDS: [u64; 3] = [3, 4, 5];
 
 fn run_repose(mu: f64, seed: u64, extra: &[&str]) -> Value {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/repose-2d.toml");
-    let mut sets = vec![
-        format!("contact.mu={mu}"),
-        format!("seed={seed}"),
-        "output.picture=false".into(),
-    ];
-    sets.extend(extra.iter().map(|s| s.to_string()));
-    let loaded = load_file(&path, &sets).unwrap();
-    let dir = std::env::temp_dir().join(format!(
-        "grains-flow-repose-{mu}-{seed}-{}-{}",
-        extra.join("_").replace(['=', '.'], ""),
-        std::process::id()
-    ));
-    let s = run(
-        &loaded,
-        &RunOptions {
-            out_dir: dir.clone(),
-            steps: None,
-            ..Default::default()
-        },
-        &mut Silent,
-    )
-    .unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
+    let (mu_set, seed_set) = (format!("contact.mu={mu}"), format!("seed={seed}"));
+    let mut sets = vec![mu_set.as_str(), seed_set.as_str(), "output.picture=false"];
+    sets.extend_from_slice(extra);
+    let tag = format!("{mu}-{seed}-{}", extra.join("_").replace(['=', '.'], ""));
+    let s = run_scenario("repose-2d", &tag, &sets);
     assert_eq!(s["settled"], 1, "the pile must settle before the wall goes");
     s
 }

@@ -1,9 +1,9 @@
 //! Seed 002 Figs. 2-3 at reduced length: convection from a modulated plate
 //! amplitude and from side walls, through the shipped scenarios.
 
-#[path = "seed_util.rs"]
-mod seed_util;
-use seed_util::{num, read_csv, run_scenario, run_scenario_kept};
+mod common;
+
+use common::runs::{num, read_csv, run_scenario, run_scenario_kept};
 
 // The shipped length (10 + 15 cycles, about 2.5 s in release): shorter runs
 // are dominated by the bed's breathing and do not give a stable sign.

@@ -1,8 +1,8 @@
 //! Seed 002 Fig. 4 at reduced length: transport on a vibrating conveyor.
 
-#[path = "seed_util.rs"]
-mod seed_util;
-use seed_util::{num, run_scenario};
+mod common;
+
+use common::runs::{num, run_scenario};
 
 /// Mean transport velocity over `run.cycles=10` after 10 relaxation cycles;
 /// `extra` may override both (later `--set`s win).

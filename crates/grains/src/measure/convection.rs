@@ -83,12 +83,7 @@ impl Convection {
     /// Mean height of the grains in each column (m); NaN for a column no
     /// grain visited.
     fn mean_heights(&self) -> Vec<f64> {
-        (0..COLUMNS)
-            .map(|k| match self.column_n[k] {
-                0 => f64::NAN,
-                n => self.height_sum[k] / n as f64,
-            })
-            .collect()
+        column_means(&self.height_sum, &self.column_n)
     }
 
     /// Mean grain height in the columns of the edge bands minus that in the
@@ -110,27 +105,18 @@ impl Convection {
 
     /// Mean vertical velocity in the central band (m/s).
     pub fn center_vz(&self) -> f64 {
-        if self.center_n == 0 {
-            0.0
-        } else {
-            self.center_sum / self.center_n as f64
-        }
+        band_mean(self.center_sum, self.center_n)
     }
 
     /// Mean vertical velocity per column across the box whose x runs from
     /// `lo` over `width`: (column centre in m, mean v_z in m/s, samples);
     /// NaN for a column no grain visited.
     fn profile(&self, lo: f64, width: f64) -> Vec<(f64, f64, u64)> {
+        let means = column_means(&self.column_sum, &self.column_n);
         (0..COLUMNS)
             .map(|k| {
                 let x = lo + (k as f64 + 0.5) / COLUMNS as f64 * width;
-                let n = self.column_n[k];
-                let v = if n == 0 {
-                    f64::NAN
-                } else {
-                    self.column_sum[k] / n as f64
-                };
-                (x, v, n)
+                (x, means[k], self.column_n[k])
             })
             .collect()
     }
@@ -175,11 +161,26 @@ impl Convection {
 
     /// Mean vertical velocity in the edge bands (m/s).
     pub fn edge_vz(&self) -> f64 {
-        if self.edge_n == 0 {
-            0.0
-        } else {
-            self.edge_sum / self.edge_n as f64
-        }
+        band_mean(self.edge_sum, self.edge_n)
+    }
+}
+
+/// Per column, the sum over its samples divided by their count; NaN for a
+/// column no grain visited (so a plot leaves a gap instead of a false zero).
+fn column_means(sums: &[f64], counts: &[u64]) -> Vec<f64> {
+    sums.iter()
+        .zip(counts)
+        .map(|(&s, &n)| if n == 0 { f64::NAN } else { s / n as f64 })
+        .collect()
+}
+
+/// Mean of a band's samples; 0 before any grain was in the band (the
+/// summary holds a number: JSON has no NaN).
+fn band_mean(sum: f64, count: u64) -> f64 {
+    if count == 0 {
+        0.0
+    } else {
+        sum / count as f64
     }
 }
 

@@ -1,6 +1,9 @@
 //! Small builders shared by the physics tests.
 #![allow(dead_code)]
 
+pub mod runs;
+pub mod vtk;
+
 use grains::contact::{ContactLaw, MassScaling};
 use grains::md::{Md, MdSettings};
 use grains::{Dim, Domain, ParticleRecord, Particles};
@@ -46,23 +49,4 @@ pub fn engine<D: Dim>(
         p.push_record(g);
     }
     Md::new(p, domain, Vec::new(), settings).expect("valid test set-up")
-}
-
-/// The whitespace-separated values of the VTK array `name` in `xml`.
-pub fn vtk_tokens<'a>(xml: &'a str, name: &str) -> Vec<&'a str> {
-    let at = xml
-        .find(&format!("Name=\"{name}\""))
-        .unwrap_or_else(|| panic!("array {name} missing"));
-    let body = &xml[at..];
-    let open = body.find('>').unwrap() + 1;
-    let close = body.find("</DataArray>").unwrap();
-    body[open..close].split_whitespace().collect()
-}
-
-/// The piece files a `.pvtp` lists, in rank order.
-pub fn pvtp_sources(pvtp: &str) -> Vec<&str> {
-    pvtp.split("Source=\"")
-        .skip(1)
-        .map(|s| &s[..s.find('"').unwrap()])
-        .collect()
 }

@@ -1,5 +1,9 @@
-//! Helpers for the seed 002 tests (included by them with `#[path]`).
-#![allow(dead_code)]
+//! Whole runs of scenarios through the library's runner, serially or on
+//! thread ranks, and reading their results.
+
+use grains::comm::{Comm, ThreadComm};
+use grains::runner::{distributed, RunOptions, Silent};
+use grains::scenario::Loaded;
 
 /// Runs a shipped scenario (scenarios/NAME.toml) through the library runner
 /// with `sets` applied and no frames or pictures; returns summary.json.
@@ -22,12 +26,12 @@ pub fn run_scenario_kept(
     all.extend(sets.iter().map(|s| s.to_string()));
     let loaded = grains::scenario::load_file(&path, &all).expect("scenario loads");
     let out = std::env::temp_dir().join(format!("grains-test-{name}-{tag}-{}", std::process::id()));
-    let opts = grains::runner::RunOptions {
+    let opts = RunOptions {
         out_dir: out.clone(),
         steps: None,
         ..Default::default()
     };
-    let s = grains::runner::run(&loaded, &opts, &mut grains::runner::Silent).expect("run");
+    let s = grains::runner::run(&loaded, &opts, &mut Silent).expect("run");
     (s, out)
 }
 
@@ -45,8 +49,19 @@ pub fn read_csv(path: &std::path::Path) -> Vec<Vec<f64>> {
         .collect()
 }
 
+/// The number `key` of a summary.
 pub fn num(s: &serde_json::Value, key: &str) -> f64 {
     s[key]
         .as_f64()
         .unwrap_or_else(|| panic!("{key} missing in {s}"))
+}
+
+/// `l` through the distributed runner with `opts` on `ranks` thread ranks:
+/// rank 0's summary (the runner gives one on rank 0 only).
+pub fn run_on_threads(l: &Loaded, opts: &RunOptions, ranks: usize) -> serde_json::Value {
+    let out = ThreadComm::run(ranks, |c| {
+        distributed::run(l, opts, &mut Silent, c as &dyn Comm).unwrap()
+    });
+    assert!(out[1..].iter().all(|v| v.is_null()), "a summary off rank 0");
+    out.into_iter().next().unwrap()
 }
