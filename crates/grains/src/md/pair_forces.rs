@@ -369,66 +369,6 @@ fn at<T: Copy>(v: &[T], i: u32) -> T {
     unsafe { *v.get_unchecked(i as usize) }
 }
 
-/// Appends to `touching` the indices of the listed pairs whose grains
-/// overlap. Without a branch on the test (about a third touch, in no
-/// predictable pattern): the test fills a row of flags that the compiler
-/// vectorizes, then the flagged indices are packed.
-fn find_touching<D: Dim>(
-    pairs: &[[u32; 2]],
-    images: &[u8],
-    g: &Grains<D>,
-    list: &NeighborList<D>,
-    touching: &mut Vec<u32>,
-) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx512f") {
-        // SAFETY: the processor has AVX-512F (checked just above).
-        unsafe { find_touching_avx512(pairs, images, g, list, touching) };
-        return;
-    }
-    find_touching_plain(pairs, images, g, list, touching);
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn find_touching_avx512<D: Dim>(
-    pairs: &[[u32; 2]],
-    images: &[u8],
-    g: &Grains<D>,
-    list: &NeighborList<D>,
-    touching: &mut Vec<u32>,
-) {
-    find_touching_plain(pairs, images, g, list, touching);
-}
-
-#[inline(always)]
-fn find_touching_plain<D: Dim>(
-    pairs: &[[u32; 2]],
-    images: &[u8],
-    g: &Grains<D>,
-    list: &NeighborList<D>,
-    touching: &mut Vec<u32>,
-) {
-    const CHUNK: usize = 256;
-    let mut flag = [0u8; CHUNK];
-    let mut buf = [0u32; CHUNK];
-    let shifts = list.shifts();
-    for (c, (pairs, images)) in pairs.chunks(CHUNK).zip(images.chunks(CHUNK)).enumerate() {
-        for ((&[i, j], &code), f) in pairs.iter().zip(images).zip(flag.iter_mut()) {
-            let del = at(g.pos, i) - (at(g.pos, j) + at(shifts, code as u32));
-            let radsum = at(g.radius, i) + at(g.radius, j);
-            *f = (D::norm2(del) < radsum * radsum) as u8;
-        }
-        let base = (c * CHUNK) as u32;
-        let mut m = 0;
-        for (k, &f) in flag[..pairs.len()].iter().enumerate() {
-            buf[m] = base + k as u32;
-            m += f as usize;
-        }
-        touching.extend_from_slice(&buf[..m]);
-    }
-}
-
 fn run_block<D: Dim, L: PairLaw>(
     law: &L,
     input: &PairInput<D>,
@@ -440,6 +380,7 @@ fn run_block<D: Dim, L: PairLaw>(
     let range = t.pairs.clone();
     let pairs = &list.pairs[range.clone()];
     let images = &list.image[range.clone()];
+    let shift = |code: u8| list.shift(code);
 
     // Pass 1: which listed pairs touch.
     t.force.fill(D::zero());
@@ -447,7 +388,18 @@ fn run_block<D: Dim, L: PairLaw>(
     let [touching, was_touching] = t.touching;
     std::mem::swap(touching, was_touching);
     touching.clear();
-    find_touching(pairs, images, g, list, touching);
+    const CHUNK: usize = 256;
+    let mut buf = [0u32; CHUNK];
+    for (c, (pairs, images)) in pairs.chunks(CHUNK).zip(images.chunks(CHUNK)).enumerate() {
+        let mut m = 0;
+        for (k, (&[i, j], &code)) in pairs.iter().zip(images).enumerate() {
+            let del = at(g.pos, i) - (at(g.pos, j) + shift(code));
+            let radsum = at(g.radius, i) + at(g.radius, j);
+            buf[m] = (c * CHUNK + k) as u32;
+            m += (D::norm2(del) < radsum * radsum) as usize;
+        }
+        touching.extend_from_slice(&buf[..m]);
+    }
     // Contacts that opened drop their spring. Both lists are ascending, so
     // a merge finds them; after a rebuild, every stretched spring outside
     // the contacts is dropped instead.

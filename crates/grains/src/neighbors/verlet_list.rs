@@ -241,11 +241,6 @@ impl<D: Dim> NeighborList<D> {
         self.shifts[code as usize]
     }
 
-    /// The shift of every image code (27 entries).
-    pub fn shifts(&self) -> &[D::V; 27] {
-        &self.shifts
-    }
-
     /// Number of pairs.
     pub fn len(&self) -> usize {
         self.pairs.len()
