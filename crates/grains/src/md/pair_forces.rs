@@ -382,7 +382,9 @@ fn run_block<D: Dim, L: PairLaw>(
     let images = &list.image[range.clone()];
     let shift = |code: u8| list.shift(code);
 
-    // Pass 1: which listed pairs touch.
+    // Pass 1: which listed pairs touch. Without a branch on the test (about
+    // a third touch, in no predictable pattern): every index is written to a
+    // small buffer and the count advances only for a contact.
     t.force.fill(D::zero());
     t.torque.fill(D::A::default());
     let [touching, was_touching] = t.touching;
