@@ -13,9 +13,11 @@
 //! history inside its record.
 //!
 //! One step on every rank:
-//! 1. predict (owned grains);
+//! 1. predict (owned grains), testing in the same pass whether one moved
+//!    more than skin/2 since the last build;
 //! 2. refresh the ghosts' position, velocity and spin from their owners;
-//! 3. if any rank's grain moved more than skin/2: wrap, migrate the grains
+//! 3. if any rank's grain (owned, or a ghost once refreshed) moved more
+//!    than skin/2 (one all-reduce): wrap, migrate the grains
 //!    that left the box; when the owned counts are out of balance (max/mean
 //!    − 1 above `[parallel] rebalance`), cut the boxes again by count
 //!    ([`super::balance`]) and migrate again; sort, send new ghost shells,
@@ -29,7 +31,7 @@
 //! with the serial run to rounding: forces on a grain are summed in another
 //! order (the list order differs), never a different physics.
 
-use super::balance::{counts_of_ranks, imbalance};
+use super::balance::imbalance;
 use super::halo::{get_record, put_record, Halo};
 use super::parallel_spec::ParallelSpec;
 use super::subdomains::Subdomains;
@@ -123,7 +125,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         if comm.size() > 1 {
             dec.split()?;
         }
-        dec.balance.initial = dec.measure_imbalance();
+        dec.balance.initial = dec.tally(0);
         Ok(dec)
     }
 
@@ -162,8 +164,8 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         if self.comm.size() == 1 {
             return self.md.step();
         }
-        self.md.predict();
-        self.forces_after_predict()?;
+        let moved = self.md.predict_owned_checked();
+        self.forces_after_predict(moved)?;
         self.md.correct();
         self.check_stability()
     }
@@ -179,30 +181,33 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         if n == 0 {
             return Ok(());
         }
-        self.md.predict();
+        let mut moved = self.md.predict_owned_checked();
         for left in (0..n).rev() {
-            self.forces_after_predict()?;
+            self.forces_after_predict(moved)?;
             if left == 0 {
                 break;
             }
             let local = self.md.check_overlap();
-            let local = local.and_then(|()| self.md.correct_predict());
-            self.reduce_stability(local)?;
+            let local = local.and_then(|()| self.md.correct_predict_owned_checked());
+            moved = matches!(local, Ok(true));
+            self.reduce_stability(local.map(|_| ()))?;
         }
         self.md.correct();
         self.check_stability()
     }
 
     /// Steps 2–4 of a step: the clock, the ghosts, the rebuild vote (and
-    /// rebuild), the forces.
-    fn forces_after_predict(&mut self) -> Result<()> {
+    /// rebuild), the forces. `moved`: whether the predictor found an owned
+    /// grain beyond skin/2 (its displacement test); the ghosts are tested
+    /// here, once refreshed, which together is the list's `needs_rebuild`.
+    fn forces_after_predict(&mut self, moved: bool) -> Result<()> {
         self.md.time = (self.md.step + 1) as f64 * self.md.settings.dt;
         self.md.step += 1;
         let comm = self.comm;
         let t = Instant::now();
         self.halo.refresh(&mut self.md.particles, comm);
         self.comm_seconds += t.elapsed().as_secs_f64();
-        let mut rebuild = [self.md.neighbors.needs_rebuild(&self.md.particles.pos) as u64];
+        let mut rebuild = [(moved || self.md.ghosts_beyond_skin()) as u64];
         let t = Instant::now();
         comm.sum_u64(&mut rebuild);
         self.comm_seconds += t.elapsed().as_secs_f64();
@@ -233,33 +238,42 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         for i in 0..p.n_owned() {
             p.pos[i] = self.global.wrap(p.pos[i]);
         }
-        self.migrate(&mut saved, &mut walls);
-        let imbalance = self.measure_imbalance();
+        let arrived = self.migrate(&mut saved, &mut walls);
+        let imbalance = self.tally(arrived);
         if self.balance.threshold > 0.0 && imbalance > self.balance.threshold {
             let p = &self.md.particles;
             let n = p.n_owned();
             self.sub
                 .cut_by_count(self.comm, || p.pos[..n].iter().map(|&x| D::to_xyz(x)));
             self.md.domain = self.sub.local_domain(&self.global, self.comm.rank());
-            self.migrate(&mut saved, &mut walls);
+            let arrived = self.migrate(&mut saved, &mut walls);
             self.balance.rebalances += 1;
-            self.measure_imbalance();
+            self.tally(arrived);
         }
         self.finish_rebuild(saved, walls, true)
     }
 
-    /// Owned grains per rank now: max/mean − 1, recorded in the report.
-    fn measure_imbalance(&mut self) -> f64 {
-        let counts = counts_of_ranks(self.comm, self.md.particles.n_owned());
-        let x = imbalance(&counts);
+    /// One all-reduce after a migration: the grains that changed rank
+    /// (`arrived` here) added to [`Self::migrations`], and the owned grains
+    /// per rank now, whose imbalance (max/mean − 1) is recorded in the
+    /// report and returned.
+    fn tally(&mut self, arrived: u64) -> f64 {
+        let size = self.comm.size();
+        let mut counts = vec![0u64; size + 1];
+        counts[self.comm.rank()] = self.md.particles.n_owned() as u64;
+        counts[size] = arrived;
+        self.comm.sum_u64(&mut counts);
+        self.migrations += counts[size];
+        let x = imbalance(&counts[..size]);
         self.balance.last = x;
         self.balance.max = self.balance.max.max(x);
         x
     }
 
     /// Sends the owned grains (wrapped) that another rank owns there, with
-    /// their pair and wall springs, and takes in those that arrive.
-    fn migrate(&mut self, saved: &mut PairSprings<D>, walls: &mut Vec<(u64, u32, D::V)>) {
+    /// their pair and wall springs, and takes in those that arrive; returns
+    /// how many arrived (see [`Self::tally`]).
+    fn migrate(&mut self, saved: &mut PairSprings<D>, walls: &mut Vec<(u64, u32, D::V)>) -> u64 {
         let (r, size) = (self.comm.rank(), self.comm.size());
         let p = &mut self.md.particles;
         // Leaving grains travel with their springs.
@@ -348,9 +362,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             }
             assert!(rd.done(), "migration message longer than its layout");
         }
-        let mut moved = [arrived];
-        self.comm.sum_u64(&mut moved);
-        self.migrations += moved[0];
+        arrived
     }
 
     /// With this rank's owned grains in place: sort (every few rebuilds),
