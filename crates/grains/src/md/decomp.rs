@@ -165,7 +165,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             return self.md.step();
         }
         let moved = self.md.predict_owned_checked();
-        self.forces_after_predict(moved)?;
+        self.forces_after_predict(moved, None)?;
         self.md.correct();
         self.check_stability()
     }
@@ -181,37 +181,47 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         if n == 0 {
             return Ok(());
         }
-        let mut moved = self.md.predict_owned_checked();
+        let moved = self.md.predict_owned_checked();
+        let mut agreed = None;
         for left in (0..n).rev() {
-            self.forces_after_predict(moved)?;
+            self.forces_after_predict(moved, agreed)?;
             if left == 0 {
                 break;
             }
             let local = self.md.check_overlap();
             let local = local.and_then(|()| self.md.correct_predict_owned_checked());
-            moved = matches!(local, Ok(true));
-            self.reduce_stability(local.map(|_| ()))?;
+            // The next step's rebuild vote rides in this step's gather.
+            let far = matches!(local, Ok(true)) || self.sent_beyond_skin();
+            agreed = Some(self.reduce_stability(local.map(|_| ()), far)?);
         }
         self.md.correct();
         self.check_stability()
     }
 
     /// Steps 2–4 of a step: the clock, the ghosts, the rebuild vote (and
-    /// rebuild), the forces. `moved`: whether the predictor found an owned
-    /// grain beyond skin/2 (its displacement test); the ghosts are tested
-    /// here, once refreshed, which together is the list's `needs_rebuild`.
-    fn forces_after_predict(&mut self, moved: bool) -> Result<()> {
+    /// rebuild), the forces. `agreed`: the vote when already reduced over
+    /// the ranks (in the previous step's stability gather); else it is
+    /// taken here: `moved` (the predictor's displacement test of the owned
+    /// grains) or a refreshed ghost beyond skin/2 on some rank — together
+    /// the list's `needs_rebuild`.
+    fn forces_after_predict(&mut self, moved: bool, agreed: Option<bool>) -> Result<()> {
         self.md.time = (self.md.step + 1) as f64 * self.md.settings.dt;
         self.md.step += 1;
         let comm = self.comm;
         let t = Instant::now();
         self.halo.refresh(&mut self.md.particles, comm);
         self.comm_seconds += t.elapsed().as_secs_f64();
-        let mut rebuild = [(moved || self.md.ghosts_beyond_skin()) as u64];
-        let t = Instant::now();
-        comm.sum_u64(&mut rebuild);
-        self.comm_seconds += t.elapsed().as_secs_f64();
-        if rebuild[0] > 0 {
+        let rebuild = match agreed {
+            Some(vote) => vote,
+            None => {
+                let mut vote = [(moved || self.md.ghosts_beyond_skin()) as u64];
+                let t = Instant::now();
+                comm.sum_u64(&mut vote);
+                self.comm_seconds += t.elapsed().as_secs_f64();
+                vote[0] > 0
+            }
+        };
+        if rebuild {
             self.rebuild()?;
         }
         self.md.compute_forces(true);
@@ -425,12 +435,25 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
     /// rank when one of them finds the state unstable.
     fn check_stability(&mut self) -> Result<()> {
         let local = self.md.check_stability();
-        self.reduce_stability(local)
+        self.reduce_stability(local, false).map(|_| ())
+    }
+
+    /// Whether a grain this rank sends as a ghost moved beyond skin/2 (the
+    /// ghosts' displacement test of the receivers, see
+    /// [`Halo::sent_beyond`]), with the positions as they will be sent.
+    fn sent_beyond_skin(&self) -> bool {
+        let p = &self.md.particles;
+        match self.md.neighbors.skin_reference(p.len()) {
+            Some((reference, limit2)) => self.halo.sent_beyond::<D>(&p.pos, reference, limit2),
+            None => true,
+        }
     }
 
     /// Sums the step's contact statistics over the ranks and turns any
-    /// rank's `local` failure into every rank's error.
-    fn reduce_stability(&mut self, local: Result<()>) -> Result<()> {
+    /// rank's `local` failure into every rank's error; `vote` (this rank's
+    /// call for a rebuild at the next step) rides along: whether any rank
+    /// called.
+    fn reduce_stability(&mut self, local: Result<()>, vote: bool) -> Result<bool> {
         let s = &self.md.stats;
         let mut w = Writer::default();
         w.f64(s.max_overlap_fraction);
@@ -439,6 +462,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         w.u64(s.contacts as u64);
         w.f64(s.max_overlap);
         w.u64(local.is_err() as u64);
+        w.u64(vote as u64);
         // Fixed size: one collective per step; the messages travel only
         // when some rank failed.
         let t = Instant::now();
@@ -446,6 +470,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         self.comm_seconds += t.elapsed().as_secs_f64();
         let mut total = MdStats::default();
         let mut failed = false;
+        let mut rebuild = false;
         for blob in &all {
             let mut rd = Reader::new(blob);
             let frac = rd.f64();
@@ -457,6 +482,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
                 total.worst_pair = (a, b.checked_sub(1));
             }
             failed |= rd.u64() != 0;
+            rebuild |= rd.u64() != 0;
         }
         self.md.stats = total;
         let failure = failed.then(|| {
@@ -472,7 +498,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         match failure {
             // Every rank returns the first failing rank's message.
             Some(m) => Err(Error::Unstable(m)),
-            None => Ok(()),
+            None => Ok(rebuild),
         }
     }
 

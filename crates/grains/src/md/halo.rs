@@ -222,6 +222,21 @@ impl Halo {
         }
     }
 
+    /// Whether a ghost sent from here moved more than `sqrt(limit2)` from
+    /// `reference` (the positions of the last build, as the receivers keep
+    /// them): the receivers' displacement test of their ghosts, done by the
+    /// owner before the refresh with the same arithmetic (position and
+    /// reference shifted alike), so the same answer.
+    pub fn sent_beyond<D: Dim>(&self, pos: &[D::V], reference: &[D::V], limit2: f64) -> bool {
+        self.sends.iter().any(|(_, shift, list)| {
+            list.iter().any(|&i| {
+                let i = i as usize;
+                let (x, x0) = (moved::<D>(pos[i], shift), moved::<D>(reference[i], shift));
+                D::norm2(x - x0) > limit2
+            })
+        })
+    }
+
     /// Ghost entries in all.
     pub fn ghosts(&self) -> usize {
         self.recv_counts.iter().sum()
