@@ -3,7 +3,10 @@
 //! bit equal, in 2D and 3D, with Gear-5 and velocity Verlet, with tangential
 //! springs stretched at the stop. The comparison is on the encoded state
 //! (every particle array, Gear history, pair list, image codes, skin
-//! reference positions, springs, counters).
+//! reference positions, springs, counters). And the scenario runner, which
+//! advances in fused stretches between the steps its hooks act at, against
+//! the same engine taken one `Md::step` at a time: frames, a measurement
+//! file and checkpoints bit for bit.
 
 use grains::checkpoint::{codec::Enc, engine, state::encode_md};
 use grains::dim::{Dim, D2, D3};
