@@ -13,9 +13,11 @@
 //! history inside its record.
 //!
 //! One step on every rank:
-//! 1. predict (owned grains);
+//! 1. predict (owned grains), testing in the same pass whether one moved
+//!    more than skin/2 since the last build;
 //! 2. refresh the ghosts' position, velocity and spin from their owners;
-//! 3. if any rank's grain moved more than skin/2: wrap, migrate the grains
+//! 3. if any rank's grain (owned, or a ghost once refreshed) moved more
+//!    than skin/2 (one all-reduce): wrap, migrate the grains
 //!    that left the box; when the owned counts are out of balance (max/mean
 //!    − 1 above `[parallel] rebalance`), cut the boxes again by count
 //!    ([`super::balance`]) and migrate again; sort, send new ghost shells,
@@ -29,7 +31,7 @@
 //! with the serial run to rounding: forces on a grain are summed in another
 //! order (the list order differs), never a different physics.
 
-use super::balance::{counts_of_ranks, imbalance};
+use super::balance::imbalance;
 use super::halo::{get_record, put_record, Halo};
 use super::parallel_spec::ParallelSpec;
 use super::subdomains::Subdomains;
@@ -123,7 +125,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         if comm.size() > 1 {
             dec.split()?;
         }
-        dec.balance.initial = dec.measure_imbalance();
+        dec.balance.initial = dec.tally(0);
         Ok(dec)
     }
 
@@ -162,8 +164,8 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         if self.comm.size() == 1 {
             return self.md.step();
         }
-        self.md.predict();
-        self.forces_after_predict()?;
+        let moved = self.md.predict_owned_checked();
+        self.forces_after_predict(moved, None)?;
         self.md.correct();
         self.check_stability()
     }
@@ -179,34 +181,47 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         if n == 0 {
             return Ok(());
         }
-        self.md.predict();
+        let moved = self.md.predict_owned_checked();
+        let mut agreed = None;
         for left in (0..n).rev() {
-            self.forces_after_predict()?;
+            self.forces_after_predict(moved, agreed)?;
             if left == 0 {
                 break;
             }
             let local = self.md.check_overlap();
-            let local = local.and_then(|()| self.md.correct_predict());
-            self.reduce_stability(local)?;
+            let local = local.and_then(|()| self.md.correct_predict_owned_checked());
+            // The next step's rebuild vote rides in this step's gather.
+            let far = matches!(local, Ok(true)) || self.sent_beyond_skin();
+            agreed = Some(self.reduce_stability(local.map(|_| ()), far)?);
         }
         self.md.correct();
         self.check_stability()
     }
 
     /// Steps 2–4 of a step: the clock, the ghosts, the rebuild vote (and
-    /// rebuild), the forces.
-    fn forces_after_predict(&mut self) -> Result<()> {
+    /// rebuild), the forces. `agreed`: the vote when already reduced over
+    /// the ranks (in the previous step's stability gather); else it is
+    /// taken here: `moved` (the predictor's displacement test of the owned
+    /// grains) or a refreshed ghost beyond skin/2 on some rank — together
+    /// the list's `needs_rebuild`.
+    fn forces_after_predict(&mut self, moved: bool, agreed: Option<bool>) -> Result<()> {
         self.md.time = (self.md.step + 1) as f64 * self.md.settings.dt;
         self.md.step += 1;
         let comm = self.comm;
         let t = Instant::now();
         self.halo.refresh(&mut self.md.particles, comm);
         self.comm_seconds += t.elapsed().as_secs_f64();
-        let mut rebuild = [self.md.neighbors.needs_rebuild(&self.md.particles.pos) as u64];
-        let t = Instant::now();
-        comm.sum_u64(&mut rebuild);
-        self.comm_seconds += t.elapsed().as_secs_f64();
-        if rebuild[0] > 0 {
+        let rebuild = match agreed {
+            Some(vote) => vote,
+            None => {
+                let mut vote = [(moved || self.md.ghosts_beyond_skin()) as u64];
+                let t = Instant::now();
+                comm.sum_u64(&mut vote);
+                self.comm_seconds += t.elapsed().as_secs_f64();
+                vote[0] > 0
+            }
+        };
+        if rebuild {
             self.rebuild()?;
         }
         self.md.compute_forces(true);
@@ -233,33 +248,42 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         for i in 0..p.n_owned() {
             p.pos[i] = self.global.wrap(p.pos[i]);
         }
-        self.migrate(&mut saved, &mut walls);
-        let imbalance = self.measure_imbalance();
+        let arrived = self.migrate(&mut saved, &mut walls);
+        let imbalance = self.tally(arrived);
         if self.balance.threshold > 0.0 && imbalance > self.balance.threshold {
             let p = &self.md.particles;
             let n = p.n_owned();
             self.sub
                 .cut_by_count(self.comm, || p.pos[..n].iter().map(|&x| D::to_xyz(x)));
             self.md.domain = self.sub.local_domain(&self.global, self.comm.rank());
-            self.migrate(&mut saved, &mut walls);
+            let arrived = self.migrate(&mut saved, &mut walls);
             self.balance.rebalances += 1;
-            self.measure_imbalance();
+            self.tally(arrived);
         }
         self.finish_rebuild(saved, walls, true)
     }
 
-    /// Owned grains per rank now: max/mean − 1, recorded in the report.
-    fn measure_imbalance(&mut self) -> f64 {
-        let counts = counts_of_ranks(self.comm, self.md.particles.n_owned());
-        let x = imbalance(&counts);
+    /// One all-reduce after a migration: the grains that changed rank
+    /// (`arrived` here) added to [`Self::migrations`], and the owned grains
+    /// per rank now, whose imbalance (max/mean − 1) is recorded in the
+    /// report and returned.
+    fn tally(&mut self, arrived: u64) -> f64 {
+        let size = self.comm.size();
+        let mut counts = vec![0u64; size + 1];
+        counts[self.comm.rank()] = self.md.particles.n_owned() as u64;
+        counts[size] = arrived;
+        self.comm.sum_u64(&mut counts);
+        self.migrations += counts[size];
+        let x = imbalance(&counts[..size]);
         self.balance.last = x;
         self.balance.max = self.balance.max.max(x);
         x
     }
 
     /// Sends the owned grains (wrapped) that another rank owns there, with
-    /// their pair and wall springs, and takes in those that arrive.
-    fn migrate(&mut self, saved: &mut PairSprings<D>, walls: &mut Vec<(u64, u32, D::V)>) {
+    /// their pair and wall springs, and takes in those that arrive; returns
+    /// how many arrived (see [`Self::tally`]).
+    fn migrate(&mut self, saved: &mut PairSprings<D>, walls: &mut Vec<(u64, u32, D::V)>) -> u64 {
         let (r, size) = (self.comm.rank(), self.comm.size());
         let p = &mut self.md.particles;
         // Leaving grains travel with their springs.
@@ -348,9 +372,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             }
             assert!(rd.done(), "migration message longer than its layout");
         }
-        let mut moved = [arrived];
-        self.comm.sum_u64(&mut moved);
-        self.migrations += moved[0];
+        arrived
     }
 
     /// With this rank's owned grains in place: sort (every few rebuilds),
@@ -413,12 +435,25 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
     /// rank when one of them finds the state unstable.
     fn check_stability(&mut self) -> Result<()> {
         let local = self.md.check_stability();
-        self.reduce_stability(local)
+        self.reduce_stability(local, false).map(|_| ())
+    }
+
+    /// Whether a grain this rank sends as a ghost moved beyond skin/2 (the
+    /// ghosts' displacement test of the receivers, see
+    /// [`Halo::sent_beyond`]), with the positions as they will be sent.
+    fn sent_beyond_skin(&self) -> bool {
+        let p = &self.md.particles;
+        match self.md.neighbors.skin_reference(p.len()) {
+            Some((reference, limit2)) => self.halo.sent_beyond::<D>(&p.pos, reference, limit2),
+            None => true,
+        }
     }
 
     /// Sums the step's contact statistics over the ranks and turns any
-    /// rank's `local` failure into every rank's error.
-    fn reduce_stability(&mut self, local: Result<()>) -> Result<()> {
+    /// rank's `local` failure into every rank's error; `vote` (this rank's
+    /// call for a rebuild at the next step) rides along: whether any rank
+    /// called.
+    fn reduce_stability(&mut self, local: Result<()>, vote: bool) -> Result<bool> {
         let s = &self.md.stats;
         let mut w = Writer::default();
         w.f64(s.max_overlap_fraction);
@@ -427,6 +462,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         w.u64(s.contacts as u64);
         w.f64(s.max_overlap);
         w.u64(local.is_err() as u64);
+        w.u64(vote as u64);
         // Fixed size: one collective per step; the messages travel only
         // when some rank failed.
         let t = Instant::now();
@@ -434,6 +470,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         self.comm_seconds += t.elapsed().as_secs_f64();
         let mut total = MdStats::default();
         let mut failed = false;
+        let mut rebuild = false;
         for blob in &all {
             let mut rd = Reader::new(blob);
             let frac = rd.f64();
@@ -445,6 +482,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
                 total.worst_pair = (a, b.checked_sub(1));
             }
             failed |= rd.u64() != 0;
+            rebuild |= rd.u64() != 0;
         }
         self.md.stats = total;
         let failure = failed.then(|| {
@@ -460,7 +498,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         match failure {
             // Every rank returns the first failing rank's message.
             Some(m) => Err(Error::Unstable(m)),
-            None => Ok(()),
+            None => Ok(rebuild),
         }
     }
 

@@ -55,6 +55,12 @@ fn moved<D: Dim>(v: D::V, d: &[f64; 3]) -> D::V {
     D::from_xyz(x)
 }
 
+/// Bytes of one ghost in a refresh: position, velocity and spin (one
+/// component in 2D, three in 3D).
+fn refresh_bytes<D: Dim>() -> usize {
+    8 * (2 * D::D + if D::D == 2 { 1 } else { 3 })
+}
+
 /// A whole grain (what migrates, and a ghost's first copy), its position
 /// moved by `shift`.
 pub fn put_record<D: Dim>(w: &mut Writer, r: &ParticleRecord<D>, shift: &[f64; 3]) {
@@ -108,6 +114,9 @@ pub struct Halo {
     pub sends: Vec<(usize, [f64; 3], Vec<u32>)>,
     /// Ghost entries received from each rank, in rank order.
     pub recv_counts: Vec<usize>,
+    /// Bytes of each rank's refresh message (its ghosts' position,
+    /// velocity and spin), kept so that a refresh allocates no list.
+    recv_bytes: Vec<usize>,
     /// The ranks this one exchanges ghosts with (symmetric: r sends to s
     /// or s to r), ascending.
     pub peers: Vec<usize>,
@@ -168,9 +177,14 @@ impl Halo {
         let peers = (0..got.len())
             .filter(|&s| recv_counts[s] > 0 || sends.iter().any(|e| e.0 == s))
             .collect();
+        let recv_bytes = recv_counts
+            .iter()
+            .map(|&c| c * refresh_bytes::<D>())
+            .collect();
         Self {
             sends,
             recv_counts,
+            recv_bytes,
             peers,
         }
     }
@@ -178,8 +192,7 @@ impl Halo {
     /// Refreshes every ghost's position, velocity and spin from its owner
     /// (called once per step, after the integrator's prediction).
     pub fn refresh<D: Dim>(&self, p: &mut Particles<D>, comm: &dyn Comm) {
-        // Position, velocity and spin (one component in 2D, three in 3D).
-        let per_ghost = 8 * (2 * D::D + if D::D == 2 { 1 } else { 3 });
+        let per_ghost = refresh_bytes::<D>();
         let mut out = vec![Vec::new(); self.recv_counts.len()];
         for (dest, shift, list) in &self.sends {
             let mut w = Writer {
@@ -195,8 +208,7 @@ impl Halo {
             out[*dest] = w.buf;
         }
         // Only peers talk, and each knows how much the other sends.
-        let recv_len: Vec<usize> = self.recv_counts.iter().map(|&c| c * per_ghost).collect();
-        let got = comm.exchange_with(&self.peers, &out, &recv_len);
+        let got = comm.exchange_with(&self.peers, &out, &self.recv_bytes);
         let mut g = p.n_owned();
         for (buf, &count) in got.iter().zip(&self.recv_counts) {
             let mut rd = Reader::new(buf);
@@ -208,6 +220,21 @@ impl Halo {
             }
             assert!(rd.done(), "ghost refresh longer than the shell");
         }
+    }
+
+    /// Whether a ghost sent from here moved more than `sqrt(limit2)` from
+    /// `reference` (the positions of the last build, as the receivers keep
+    /// them): the receivers' displacement test of their ghosts, done by the
+    /// owner before the refresh with the same arithmetic (position and
+    /// reference shifted alike), so the same answer.
+    pub fn sent_beyond<D: Dim>(&self, pos: &[D::V], reference: &[D::V], limit2: f64) -> bool {
+        self.sends.iter().any(|(_, shift, list)| {
+            list.iter().any(|&i| {
+                let i = i as usize;
+                let (x, x0) = (moved::<D>(pos[i], shift), moved::<D>(reference[i], shift));
+                D::norm2(x - x0) > limit2
+            })
+        })
     }
 
     /// Ghost entries in all.

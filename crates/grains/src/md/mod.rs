@@ -337,12 +337,19 @@ impl<D: Dim> Md<D> {
     /// same pass over the grains: whether the list must be rebuilt (the
     /// answer of [`NeighborList::needs_rebuild`] after the move).
     fn predict_checked(&mut self) -> bool {
+        self.predict_owned_checked() || self.ghosts_beyond_skin()
+    }
+
+    /// [`Md::predict_checked`] without the ghosts' test: a decomposed run
+    /// tests its ghosts ([`Md::ghosts_beyond_skin`]) after their owners
+    /// sent their new positions.
+    pub(crate) fn predict_owned_checked(&mut self) -> bool {
         let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
         let integrator = self.settings.integrator;
         let pass = |p: &mut Particles<D>, skin: Option<SkinCheck<D::V>>| {
             integrator.predict(p, dt, rot, skin)
         };
-        self.moved_beyond_skin(pass)
+        self.owned_beyond_skin(pass)
     }
 
     /// [`Md::correct`], the finite-state test of [`Md::check_stability`]
@@ -358,19 +365,25 @@ impl<D: Dim> Md<D> {
             non_finite = r.non_finite;
             r.far
         };
-        let moved = self.moved_beyond_skin(pass);
+        let moved = self.owned_beyond_skin(pass) || self.ghosts_beyond_skin();
         self.finite_or_error(non_finite).map(|()| moved)
     }
 
     /// [`Md::correct`], the finite-state test (when due) and the next
-    /// step's [`Md::predict`] in one pass, without the displacement test: a
-    /// decomposed run votes on the rebuild after its ghosts moved.
-    pub(crate) fn correct_predict(&mut self) -> Result<()> {
+    /// step's [`Md::predict`] in one pass, with the displacement test of
+    /// the owned grains only (as [`Md::predict_owned_checked`]).
+    pub(crate) fn correct_predict_owned_checked(&mut self) -> Result<bool> {
         let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
         let finite = self.finite_check_due();
         let integrator = self.settings.integrator;
-        let r = integrator.correct_predict(&mut self.particles, (dt, rot), None, finite);
-        self.finite_or_error(r.non_finite)
+        let mut non_finite = None;
+        let pass = |p: &mut Particles<D>, skin: Option<SkinCheck<D::V>>| {
+            let r = integrator.correct_predict(p, (dt, rot), skin, finite);
+            non_finite = r.non_finite;
+            r.far
+        };
+        let moved = self.owned_beyond_skin(pass);
+        self.finite_or_error(non_finite).map(|()| moved)
     }
 
     fn finite_or_error(&self, non_finite: Option<usize>) -> Result<()> {
@@ -380,10 +393,10 @@ impl<D: Dim> Md<D> {
         }
     }
 
-    /// Runs `pass` (an integrator pass that moves the grains) with the
-    /// displacement test of the neighbour list, and adds the ghosts' test:
-    /// whether the list must be rebuilt.
-    fn moved_beyond_skin(
+    /// Runs `pass` (an integrator pass that moves the owned grains) with
+    /// the displacement test of the neighbour list: whether one of them
+    /// calls for a rebuild (always, when the list must be built anyway).
+    fn owned_beyond_skin(
         &mut self,
         pass: impl FnOnce(&mut Particles<D>, Option<SkinCheck<D::V>>) -> bool,
     ) -> bool {
@@ -397,9 +410,19 @@ impl<D: Dim> Md<D> {
             reference: &reference[..n],
             limit2,
         });
-        let far = pass(p, skin);
-        // Ghosts are not integrated here, but their owner may have moved them.
-        far || p.pos[n..]
+        pass(p, skin)
+    }
+
+    /// The displacement test of the ghosts: not integrated here, but their
+    /// owner may have moved them (with [`Md::owned_beyond_skin`], the answer
+    /// of [`NeighborList::needs_rebuild`]).
+    pub(crate) fn ghosts_beyond_skin(&self) -> bool {
+        let p = &self.particles;
+        let n = p.n_owned();
+        let Some((reference, limit2)) = self.neighbors.skin_reference(p.len()) else {
+            return true;
+        };
+        p.pos[n..]
             .iter()
             .zip(&reference[n..])
             .any(|(&a, &b)| D::norm2(a - b) > limit2)

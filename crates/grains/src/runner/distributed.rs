@@ -21,7 +21,7 @@
 
 use super::checkpointing::{self, Found};
 use super::dsmc::{build, describe, frame, gas_summary, spec, Measure, Outputs};
-use super::output::in_pieces;
+use super::output::Pieces;
 use super::{prepare, Progress, RunOptions};
 use crate::comm::Comm;
 use crate::dim::{D2, D3};
@@ -121,14 +121,13 @@ fn run_dim<D: GasDim>(
     }
     // Frames in pieces: each rank writes its own particles at an output
     // step, with their serial store positions as ids (as when gathered).
-    let pieces = in_pieces(&loaded.scenario.output, comm.size());
-    let write_piece = |dec: &Decomposed<D>| match pieces {
-        true => {
+    let pieces = Pieces::new(&loaded.scenario.output, &opts.out_dir, comm);
+    let write_piece = |dec: &Decomposed<D>| {
+        pieces.write(|| {
             let mut f = frame(&dec.sim);
             f.id = dec.keys().iter().map(|k| k + 1).collect();
-            crate::io::write_piece(&opts.out_dir, &f, comm.rank())
-        }
-        false => Ok(()),
+            f
+        })
     };
     let ds = spec(loaded);
     let every = plan.output_every;

@@ -168,11 +168,8 @@ fn drive<D: Dim>(
     }
     // Frames in pieces: each rank writes its own grains at an output step.
     let spec = &loaded.scenario.output;
-    let pieces = super::output::in_pieces(spec, comm.size());
-    let write_piece = |dec: &DecomposedMd<D>| match pieces {
-        true => crate::io::write_piece(&opts.out_dir, &dec.md.frame(), comm.rank()),
-        false => Ok(()),
-    };
+    let pieces = super::output::Pieces::new(spec, &opts.out_dir, comm);
+    let write_piece = |dec: &DecomposedMd<D>| pieces.write(|| dec.md.frame());
     let started = Instant::now();
     // A checkpoint at `dec.md.step` when due (all ranks call this).
     let checkpoint = |dec: &DecomposedMd<D>,

@@ -4,8 +4,9 @@
 //! flow rate, dynamic angle of a drum, space–time density).
 //!
 //! The runner calls [`expand`] before building the engine, then
-//! [`FlowRun::after_step`] after every step (relaxation included),
-//! [`FlowRun::sample`] at every sample and [`FlowRun::finish`] at the end.
+//! [`FlowRun::after_step`] after every step at which [`FlowRun::acts_at`]
+//! (relaxation included), [`FlowRun::sample`] at every sample and
+//! [`FlowRun::finish`] at the end.
 
 use crate::dim::Dim;
 use crate::error::{Error, Result};
@@ -265,6 +266,22 @@ impl<D: Dim> FlowRun<D> {
                 .as_ref()
                 .map(|m| Spacetime::new(md, m.bin * d0)),
         })
+    }
+
+    /// Whether [`FlowRun::after_step`] after engine step `step` may read or
+    /// change the grains or the gravity; at every other step it does
+    /// nothing, so the serial runner advances over those steps without
+    /// calling it. A sink (recycling, parking) is checked after every step,
+    /// a tilt turns gravity after every step; the stage changes only at a
+    /// look, so the answer for later steps holds until the next call.
+    pub fn acts_at(&self, step: u64) -> bool {
+        let Some(e) = &self.events else {
+            return self.hopper.is_some();
+        };
+        self.hopper.is_some()
+            || e.sink.is_some()
+            || matches!(self.stage, Stage::Tilting { .. })
+            || step.is_multiple_of(LOOK_EVERY)
     }
 
     /// Kinetic energy per mobile grain in units of m g d0.

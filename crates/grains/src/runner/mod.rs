@@ -37,8 +37,9 @@ pub struct RunOptions {
     pub steps: Option<u64>,
     /// Write a checkpoint at this interval (see [`checkpointing`]).
     pub checkpoint_every: Option<checkpointing::Every>,
-    /// Set (by a signal handler) to stop after the current step with a
-    /// checkpoint; the summary then says `"interrupted"`.
+    /// Set (by a signal handler) to stop with a checkpoint at the end of
+    /// the current stretch of steps (at most 256 steps on); the summary
+    /// then says `"interrupted"`.
     pub stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
 }
 
@@ -293,7 +294,10 @@ impl Measurements {
     }
 
     /// Whether [`Self::step`] after engine step `step` at time `t` reads the
-    /// grains (a decomposed run gathers them then).
+    /// grains (a decomposed run gathers them then). At any other step it
+    /// only notes the drive's phase, so the serial runner skips it: judged
+    /// from an older phase the answer is the same, as no target phase (nor
+    /// cycle start) was crossed in between — else that step was due.
     fn due(&self, step: u64, t: f64) -> bool {
         self.phases.as_ref().is_some_and(|p| p.due(t))
             || self.trajectories.as_ref().is_some_and(|x| x.due(step))
@@ -387,6 +391,18 @@ fn run_dim<D: Dim>(
     )
 }
 
+/// Steps between progress reports; also the longest stretch the run loop
+/// advances without looking at a stop request.
+const PROGRESS_EVERY: u64 = 256;
+
+/// The step that ends the stretch after step `from`: the first step before
+/// `end` after which a hook reads or changes the run (`hooks`), else `end`.
+/// The run loop advances to it with [`Md::advance`] (the fused pass) and
+/// runs its hooks there only: at the steps in between they do nothing.
+fn stretch_end(from: u64, end: u64, hooks: impl Fn(u64) -> bool) -> u64 {
+    (from + 1..end).find(|&k| hooks(k)).unwrap_or(end)
+}
+
 /// The run loop from wherever `md` stands (step 0, or a restored
 /// checkpoint) to `relax + measure` steps, then the final files.
 #[allow(clippy::too_many_arguments)] // the loop's whole context, shared by run and resume
@@ -413,10 +429,15 @@ fn run_loop<D: Dim>(
     let relax_done = md.step.min(relax);
     if relax > relax_done {
         progress.phase("relax", relax);
-        for k in relax_done + 1..=relax {
-            md.step()?;
+        let mut k = relax_done;
+        while k < relax {
+            // Relaxing, step k is engine step k.
+            let hooks = |j: u64| j.is_multiple_of(PROGRESS_EVERY) || flow.acts_at(j) || ckpt.due(j);
+            let next = stretch_end(k, relax, hooks);
+            md.advance(next - k)?;
+            k = next;
             flow.after_step(&mut md);
-            if k % 256 == 0 || k == relax {
+            if k.is_multiple_of(PROGRESS_EVERY) || k == relax {
                 progress.advance(k, md.time);
             }
             if let Some(stop) = ckpt.after_step(&md, &outputs, None)? {
@@ -439,18 +460,34 @@ fn run_loop<D: Dim>(
     if measure_done == 0 {
         outputs.record(&md, &md.frame(), granular_temperature(&md.particles))?;
     }
-    for k in measure_done + 1..=measure {
-        md.step()?;
+    // Measured step k is engine step `base + k`, at time (base + k) dt (as
+    // `Md::step` sets it).
+    let base = md.step - measure_done;
+    let dt = md.settings.dt;
+    let mut k = measure_done;
+    while k < measure {
+        let hooks = |j: u64| {
+            let step = base + j;
+            j.is_multiple_of(PROGRESS_EVERY)
+                || j.is_multiple_of(sample_every)
+                || j.is_multiple_of(every)
+                || flow.acts_at(step)
+                || measurements.due(step, step as f64 * dt)
+                || ckpt.due(step)
+        };
+        let next = stretch_end(k, measure, hooks);
+        md.advance(next - k)?;
+        k = next;
         flow.after_step(&mut md);
         measurements.step(&md);
-        if k % sample_every == 0 {
+        if k.is_multiple_of(sample_every) {
             measurements.sample(&md);
             flow.sample(&md);
         }
-        if k % every == 0 || k == measure {
+        if k.is_multiple_of(every) || k == measure {
             outputs.record(&md, &md.frame(), granular_temperature(&md.particles))?;
         }
-        if k % 256 == 0 || k == measure {
+        if k.is_multiple_of(PROGRESS_EVERY) || k == measure {
             progress.advance(k, md.time);
         }
         if let Some(stop) = ckpt.after_step(&md, &outputs, Some(&measurements))? {

@@ -1,5 +1,6 @@
 //! The files a run writes in its output directory.
 
+use crate::comm::Comm;
 use crate::dim::Dim;
 use crate::error::Error;
 use crate::error::Result;
@@ -89,8 +90,36 @@ pub(super) fn frame_series(
 
 /// Whether each of `ranks` ranks writes its own piece of every frame (in
 /// pieces on one rank, the frame series writes the single piece itself).
-pub(super) fn in_pieces(spec: &OutputSpec, ranks: usize) -> bool {
+fn in_pieces(spec: &OutputSpec, ranks: usize) -> bool {
     spec.frames && spec.frames_layout == FramesLayout::Pieces && ranks > 1
+}
+
+/// One rank's pieces of the frames of a distributed run (MD or DSMC):
+/// with frames in pieces on several ranks, each rank writes its own grains
+/// at an output step; otherwise nothing.
+pub(super) struct Pieces<'a> {
+    dir: &'a Path,
+    rank: usize,
+    on: bool,
+}
+
+impl<'a> Pieces<'a> {
+    pub(super) fn new(spec: &OutputSpec, dir: &'a Path, comm: &dyn Comm) -> Self {
+        Self {
+            dir,
+            rank: comm.rank(),
+            on: in_pieces(spec, comm.size()),
+        }
+    }
+
+    /// Writes this rank's piece, `frame()` (built only when pieces are
+    /// written).
+    pub(super) fn write(&self, frame: impl FnOnce() -> Frame) -> Result<()> {
+        match self.on {
+            true => crate::io::write_piece(self.dir, &frame(), self.rank),
+            false => Ok(()),
+        }
+    }
 }
 
 pub struct Outputs {
