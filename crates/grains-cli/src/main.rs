@@ -132,8 +132,8 @@ pub(crate) fn set_threads(threads: Option<usize>) -> grains::Result<()> {
     Ok(())
 }
 
-/// Asks the run to stop after the current step on SIGINT or SIGTERM; a
-/// second signal ends the process at once.
+/// Asks the run to stop at its next check (at most 256 steps on) on SIGINT or
+/// SIGTERM; a second signal ends the process at once.
 fn stop_flag() -> grains::Result<Arc<AtomicBool>> {
     use signal_hook::consts::{SIGINT, SIGTERM};
     let flag = Arc::new(AtomicBool::new(false));
