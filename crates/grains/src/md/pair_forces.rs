@@ -749,7 +749,11 @@ mod tests {
             assert!(md.blocks.n_blocks() == 4 && shares > 500, "{shares} shares");
             let total = md.particles.force.iter().fold(DVec3::ZERO, |a, &f| a + f);
             let scale: f64 = md.particles.force.iter().map(|f: &DVec3| f.length()).sum();
-            assert!(md.stats.contacts > 2 * 3375 && scale > 0.0, "{}", md.stats.contacts);
+            assert!(
+                md.stats.contacts > 2 * 3375 && scale > 0.0,
+                "{}",
+                md.stats.contacts
+            );
             assert!(total.length() < 1e-12 * scale, "{total} against {scale}");
         }
     }
