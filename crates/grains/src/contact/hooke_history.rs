@@ -88,6 +88,22 @@ impl HookeHistory {
     }
 }
 
+/// A law of the Hooke-with-history shape (LAMMPS chute's coefficients),
+/// for tests.
+#[cfg(test)]
+pub(crate) fn lammps_law(gamma_t: f64) -> ContactLaw {
+    ContactLaw {
+        kn: 2e5,
+        beta: 1.0,
+        gamma_n: 50.0,
+        gamma_t,
+        kt: 2e5 * 2.0 / 7.0,
+        mu: 0.5,
+        scaling: MassScaling::Reduced,
+        rotation: true,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -95,19 +111,6 @@ mod tests {
     use glam::{DVec2, DVec3};
     use rand::{Rng, SeedableRng};
     use rand_xoshiro::Xoshiro256PlusPlus;
-
-    fn lammps_law(gamma_t: f64) -> ContactLaw {
-        ContactLaw {
-            kn: 2e5,
-            beta: 1.0,
-            gamma_n: 50.0,
-            gamma_t,
-            kt: 2e5 * 2.0 / 7.0,
-            mu: 0.5,
-            scaling: MassScaling::Reduced,
-            rotation: true,
-        }
-    }
 
     #[test]
     fn only_the_hooke_history_shape_gets_the_kernel() {

@@ -221,7 +221,7 @@ impl HookeHistory {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contact::{ContactLaw, MassScaling};
+    use crate::contact::hooke_history::lammps_law;
     use crate::dim::{D2, D3};
     use rand::{Rng, SeedableRng};
     use rand_xoshiro::Xoshiro256PlusPlus;
@@ -283,16 +283,7 @@ mod tests {
         let mut sliding = 0;
         let mut total = 0;
         for gamma_t in [0.0, 25.0] {
-            let law = ContactLaw {
-                kn: 2e5,
-                beta: 1.0,
-                gamma_n: 50.0,
-                gamma_t,
-                kt: 2e5 * 2.0 / 7.0,
-                mu: 0.5,
-                scaling: MassScaling::Reduced,
-                rotation: true,
-            };
+            let law = lammps_law(gamma_t);
             let k = HookeHistory::of(&law).unwrap();
             for update in [true, false] {
                 for _batch in 0..40 {

@@ -632,13 +632,22 @@ fn contacts_in_lanes<D: Dim>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contact::MassScaling;
+    use crate::contact::hooke_history::lammps_law;
     use crate::dim::D3;
     use crate::domain::Domain;
     use crate::integrate::Integrator;
     use crate::md::{Md, MdSettings};
     use crate::particles::ParticleRecord;
     use glam::DVec3;
+
+    /// The Hooke-with-history law (its own kernel) and a Hertz law (the
+    /// general one).
+    fn both_compiled_laws() -> [ContactLaw; 2] {
+        let hooke = lammps_law(0.0);
+        let mut general = hooke.clone();
+        general.beta = 1.5;
+        [hooke, general]
+    }
 
     /// Two spheres touching, the second sliding past the first.
     fn sliding_pair(law: ContactLaw) -> Md<D3> {
@@ -657,19 +666,7 @@ mod tests {
     /// rebuilt since the previous evaluation, with either compiled law.
     #[test]
     fn opened_contacts_drop_their_spring() {
-        let hooke = ContactLaw {
-            kn: 2e5,
-            beta: 1.0,
-            gamma_n: 50.0,
-            gamma_t: 0.0,
-            kt: 2e5 * 2.0 / 7.0,
-            mu: 0.5,
-            scaling: MassScaling::Reduced,
-            rotation: true,
-        };
-        let mut general = hooke.clone();
-        general.beta = 1.5;
-        for law in [hooke, general] {
+        for law in both_compiled_laws() {
             for rebuild in [false, true] {
                 let mut md = sliding_pair(law.clone());
                 md.run(20).unwrap();
@@ -715,19 +712,7 @@ mod tests {
     /// blocks would leave a force of the order of one contact.
     #[test]
     fn shares_across_blocks_arrive_once() {
-        let law = ContactLaw {
-            kn: 2e5,
-            beta: 1.0,
-            gamma_n: 50.0,
-            gamma_t: 0.0,
-            kt: 2e5 * 2.0 / 7.0,
-            mu: 0.5,
-            scaling: MassScaling::Reduced,
-            rotation: true,
-        };
-        let mut general = law.clone();
-        general.beta = 1.5;
-        for law in [law, general] {
+        for law in both_compiled_laws() {
             let side = 15;
             let spacing = 0.995;
             let mut p = Particles::<D3>::new();
