@@ -1,20 +1,14 @@
 //! Forces that act on one grain at a time: contacts with walls and gravity.
-//! Grains are independent here, so the loop runs in parallel chunks; each
-//! grain's sum is formed in wall order, whatever the threads.
+//! Grains are independent here: the pair loop adds them block by block,
+//! in parallel, once a block's contact sums are complete (one pass over the
+//! force sums fewer); each grain's sum is formed in wall order, whatever
+//! the threads.
 
 use super::wall_springs::{ChunkSprings, WallSprings};
 use super::MdStats;
 use crate::boundary::Wall;
 use crate::contact::ContactLaw;
 use crate::dim::Dim;
-use crate::particles::Particles;
-use rayon::prelude::*;
-
-/// Grains per parallel chunk.
-const CHUNK: usize = 2048;
-/// Fewest chunks handed to one parallel job (as many grains as the pair
-/// loop's smallest job).
-const MIN_CHUNKS_PER_JOB: usize = 2;
 
 pub struct FieldInput<'a, D: Dim> {
     pub law: &'a ContactLaw,
@@ -26,95 +20,119 @@ pub struct FieldInput<'a, D: Dim> {
 }
 
 #[derive(Clone, Copy, Debug, Default)]
-struct ChunkStats {
+struct PartStats {
     contacts: usize,
     max_overlap: f64,
     max_fraction: f64,
     worst: u64,
 }
 
-/// Adds wall contacts and gravity to every owned, non-frozen grain, and
-/// updates the wall contacts' springs.
-pub fn field_forces<D: Dim>(
+/// The grain data the wall contacts read.
+pub struct FieldGrains<'a, D: Dim> {
+    pub pos: &'a [D::V],
+    pub vel: &'a [D::V],
+    pub omega: &'a [D::A],
+    pub radius: &'a [f64],
+    pub mass: &'a [f64],
+    pub frozen: &'a [bool],
+    pub id: &'a [u64],
+    /// Grains past this index (ghosts) get no field force.
+    pub owned: usize,
+}
+
+/// One range of grains' wall contacts and gravity, and their springs.
+pub struct FieldPart<D: Dim> {
+    stats: PartStats,
+    kept: ChunkSprings<D>,
+}
+
+impl<D: Dim> FieldInput<'_, D> {
+    /// Whether there is anything to add.
+    pub fn acts(&self) -> bool {
+        !self.walls.is_empty() || self.gravity != D::zero()
+    }
+}
+
+/// Adds wall contacts and gravity to the owned, non-frozen grains among
+/// `first..first + force.len()`, after whatever their sums already hold
+/// (each grain's walls in wall order, then gravity). The pair loop calls it
+/// per block, once the block's contact sums are complete.
+pub fn field_part<D: Dim>(
     input: &FieldInput<D>,
-    p: &mut Particles<D>,
+    g: &FieldGrains<D>,
+    springs_in: &WallSprings<D>,
+    first: usize,
+    force: &mut [D::V],
+    torque: &mut [D::A],
+) -> FieldPart<D> {
+    let mut s = PartStats::default();
+    let mut kept = ChunkSprings::default();
+    let len = force.len().min(g.owned.saturating_sub(first));
+    if !input.acts() || len == 0 {
+        return FieldPart { stats: s, kept };
+    }
+    let has_gravity = input.gravity != D::zero();
+    let law = input.law;
+    let mut springs = springs_in.cursor(first..first + len);
+    for (k, (f, t)) in force[..len].iter_mut().zip(torque).enumerate() {
+        let i = first + k;
+        if g.frozen[i] {
+            continue;
+        }
+        let (ri, mi) = (g.radius[i], g.mass[i]);
+        for (w, wall) in input.walls.iter().enumerate() {
+            // An open contact keeps no spring.
+            let Some(contact) = wall.contact(g.pos[i], ri, input.time) else {
+                continue;
+            };
+            let mut spring = springs.get(i, w);
+            let mut v_rel = g.vel[i] - contact.velocity;
+            if law.rotation {
+                v_rel -= D::ang_cross(g.omega[i] * ri, contact.normal);
+            }
+            let out = law.evaluate::<D>(
+                contact.overlap,
+                contact.normal,
+                v_rel,
+                law.damping_mass(mi, f64::INFINITY),
+                &mut spring,
+                input.dt,
+                input.update,
+            );
+            kept.keep(i, w, spring);
+            let fi = law.scaling.force_factor(mi);
+            *f += out.force * fi;
+            if law.rotation {
+                *t -= D::torque(contact.normal, out.tangential) * (ri * fi);
+            }
+            s.contacts += 1;
+            s.max_overlap = s.max_overlap.max(contact.overlap);
+            let frac = contact.overlap / ri;
+            if frac > s.max_fraction {
+                s.max_fraction = frac;
+                s.worst = g.id[i];
+            }
+        }
+        if has_gravity {
+            *f += input.gravity * mi;
+        }
+    }
+    FieldPart { stats: s, kept }
+}
+
+/// Keeps the parts' springs (given in grain order) and adds their
+/// statistics.
+pub fn finish_fields<D: Dim>(
+    parts: Vec<FieldPart<D>>,
     wall_springs: &mut WallSprings<D>,
     stats: &mut MdStats,
 ) {
-    let nw = input.walls.len();
-    let n = p.n_owned();
-    let has_gravity = input.gravity != D::zero();
-    if nw == 0 && !has_gravity {
-        return;
-    }
-    let (pos, vel, omega, radius, mass, frozen, id) = (
-        &p.pos, &p.vel, &p.omega, &p.radius, &p.mass, &p.frozen, &p.id,
-    );
-    let law = input.law;
-    let springs_in = &*wall_springs;
-    let chunks: Vec<(ChunkStats, ChunkSprings<D>)> = p.force[..n]
-        .par_chunks_mut(CHUNK)
-        .zip(p.torque[..n].par_chunks_mut(CHUNK))
-        // A small system stays on one thread rather than wake another.
-        .with_min_len(MIN_CHUNKS_PER_JOB)
-        .enumerate()
-        .map(|(c, (force, torque))| {
-            let mut s = ChunkStats::default();
-            let first = c * CHUNK;
-            let mut springs = springs_in.cursor(first..first + force.len());
-            let mut kept = ChunkSprings::default();
-            for (k, (f, t)) in force.iter_mut().zip(torque.iter_mut()).enumerate() {
-                let i = first + k;
-                if frozen[i] {
-                    continue;
-                }
-                let (ri, mi) = (radius[i], mass[i]);
-                for (w, wall) in input.walls.iter().enumerate() {
-                    // An open contact keeps no spring.
-                    let Some(contact) = wall.contact(pos[i], ri, input.time) else {
-                        continue;
-                    };
-                    let mut spring = springs.get(i, w);
-                    let mut v_rel = vel[i] - contact.velocity;
-                    if law.rotation {
-                        v_rel -= D::ang_cross(omega[i] * ri, contact.normal);
-                    }
-                    let out = law.evaluate::<D>(
-                        contact.overlap,
-                        contact.normal,
-                        v_rel,
-                        law.damping_mass(mi, f64::INFINITY),
-                        &mut spring,
-                        input.dt,
-                        input.update,
-                    );
-                    kept.keep(i, w, spring);
-                    let fi = law.scaling.force_factor(mi);
-                    *f += out.force * fi;
-                    if law.rotation {
-                        *t -= D::torque(contact.normal, out.tangential) * (ri * fi);
-                    }
-                    s.contacts += 1;
-                    s.max_overlap = s.max_overlap.max(contact.overlap);
-                    let frac = contact.overlap / ri;
-                    if frac > s.max_fraction {
-                        s.max_fraction = frac;
-                        s.worst = id[i];
-                    }
-                }
-                if has_gravity {
-                    *f += input.gravity * mi;
-                }
-            }
-            (s, kept)
-        })
-        .collect();
-    let mut chunk_stats = Vec::with_capacity(chunks.len());
-    wall_springs.assemble(chunks.into_iter().map(|(s, kept)| {
-        chunk_stats.push(s);
-        kept
+    let mut part_stats = Vec::with_capacity(parts.len());
+    wall_springs.assemble(parts.into_iter().map(|part| {
+        part_stats.push(part.stats);
+        part.kept
     }));
-    for s in &chunk_stats {
+    for s in &part_stats {
         stats.contacts += s.contacts;
         stats.max_overlap = stats.max_overlap.max(s.max_overlap);
         if s.max_fraction > stats.max_overlap_fraction {

@@ -36,7 +36,7 @@ use crate::integrate::{gear5, Integrator, SkinCheck};
 use crate::io::Frame;
 use crate::neighbors::{spatial_sort_order, NeighborList};
 use crate::particles::Particles;
-use field_forces::{field_forces, FieldInput};
+use field_forces::{finish_fields, FieldInput};
 use pair_forces::{pair_forces, Deferred, PairBlocks, PairInput};
 use pair_hash::PairHash;
 use rayon::prelude::*;
@@ -525,13 +525,6 @@ impl<D: Dim> Md<D> {
             neighbors: &self.neighbors,
             blocks: &self.blocks,
         };
-        pair_forces(
-            &pairs,
-            &mut self.particles,
-            &mut self.springs,
-            &mut self.deferred,
-            &mut self.stats,
-        );
         let fields = FieldInput {
             law: &s.contact,
             walls: &self.walls,
@@ -540,12 +533,16 @@ impl<D: Dim> Md<D> {
             dt: s.dt,
             update: update_history,
         };
-        field_forces(
-            &fields,
+        // Walls and gravity are added block by block after the contacts.
+        let parts = pair_forces(
+            &pairs,
             &mut self.particles,
-            &mut self.wall_springs,
+            &mut self.springs,
+            &mut self.deferred,
             &mut self.stats,
+            (&fields, &self.wall_springs),
         );
+        finish_fields(parts, &mut self.wall_springs, &mut self.stats);
     }
 
     /// Stops the run when a grain's state is not finite or two grains

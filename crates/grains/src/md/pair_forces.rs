@@ -13,6 +13,8 @@
 //! same order whatever the threads, and no two tasks ever write the same
 //! memory. Only contacts, not listed pairs, take a share.
 
+use super::field_forces::{field_part, FieldGrains, FieldInput, FieldPart};
+use super::wall_springs::WallSprings;
 use super::MdStats;
 use crate::contact::hooke_history::HookeHistory;
 use crate::contact::hooke_lanes::{ContactLanes, LANES};
@@ -148,7 +150,8 @@ pub fn pair_forces<D: Dim>(
     springs: &mut [D::V],
     deferred: &mut Deferred<D>,
     stats: &mut MdStats,
-) {
+    fields: (&FieldInput<D>, &WallSprings<D>),
+) -> Vec<FieldPart<D>> {
     let blocks = input.blocks;
     let n = p.len();
     let nb = blocks.n_blocks();
@@ -233,25 +236,41 @@ pub fn pair_forces<D: Dim>(
         .collect();
     drop(tasks);
 
-    // Deferred shares: each block takes its inboxes in block order.
+    // Deferred shares: each block takes its inboxes in block order, then
+    // its grains' wall contacts and gravity, while the sums are in cache.
     let block = blocks.block;
     let outbox = &deferred.outbox;
     let rotation = input.law.rotation;
-    p.force
+    let (field_input, wall_springs) = fields;
+    let grains = FieldGrains {
+        pos: &p.pos,
+        vel: &p.vel,
+        omega: &p.omega,
+        radius: &p.radius,
+        mass: &p.mass,
+        frozen: &p.frozen,
+        id: &p.id,
+        owned: p.n_owned(),
+    };
+    let parts = p
+        .force
         .par_chunks_mut(block)
         .zip(p.torque.par_chunks_mut(block))
         .with_min_len(MIN_BLOCKS_PER_JOB)
         .enumerate()
-        .for_each(|(c, (force, torque))| {
+        .map(|(c, (force, torque))| {
             let first = c * block;
-            for share in outbox.iter().flat_map(|out| &out[c]) {
+            // Blocks past the list's (grains added since its build) have no inbox.
+            for share in outbox.iter().filter_map(|out| out.get(c)).flatten() {
                 let k = share.grain as usize - first;
                 force[k] += share.force;
                 if rotation {
                     torque[k] -= share.torque;
                 }
             }
-        });
+            field_part(field_input, &grains, wall_springs, first, force, torque)
+        })
+        .collect();
 
     for s in &block_stats {
         stats.contacts += s.contacts;
@@ -261,6 +280,7 @@ pub fn pair_forces<D: Dim>(
             stats.worst_pair = (s.worst.0, Some(s.worst.1));
         }
     }
+    parts
 }
 
 /// What the pair loop needs from a contact law; implemented by the general
