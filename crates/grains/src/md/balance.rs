@@ -23,14 +23,6 @@ pub fn imbalance(counts: &[u64]) -> f64 {
     max as f64 * counts.len() as f64 / total as f64 - 1.0
 }
 
-/// The grain count of every rank, on every rank.
-pub fn counts_of_ranks(comm: &dyn Comm, mine: usize) -> Vec<u64> {
-    let mut c = vec![0u64; comm.size()];
-    c[comm.rank()] = mine as u64;
-    comm.sum_u64(&mut c);
-    c
-}
-
 fn bin_of(x: f64, lo: f64, width: f64) -> usize {
     (((x - lo) / width).floor().max(0.0) as usize).min(BINS - 1)
 }
