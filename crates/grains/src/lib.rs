@@ -21,6 +21,7 @@ pub mod parallel;
 pub mod particles;
 pub mod runner;
 pub mod scenario;
+pub mod simd;
 
 pub use dim::{Dim, D2, D3};
 pub use domain::Domain;

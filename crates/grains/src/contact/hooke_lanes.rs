@@ -10,6 +10,8 @@
 
 use super::hooke_history::HookeHistory;
 use crate::dim::Dim;
+use crate::simd::{self, Kernel};
+use std::marker::PhantomData;
 
 /// Contacts per batch: enough rows that the vector loop runs long and that
 /// the scalar stores filling a batch have left the store buffer before the
@@ -70,31 +72,13 @@ impl HookeHistory {
     /// them (same bits: no fused multiply-add is formed; a test compares
     /// the dispatched and the plain kernel).
     pub fn evaluate_lanes<D: Dim>(&self, c: &mut ContactLanes, dt: f64, update: bool) {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the processor has AVX-512F (checked just above).
-            unsafe { self.lanes_avx512::<D>(c, dt, update) };
-            return;
-        }
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the processor has AVX2 (checked just above).
-            unsafe { self.lanes_avx2::<D>(c, dt, update) };
-            return;
-        }
-        self.lanes::<D>(c, dt, update);
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    fn lanes_avx512<D: Dim>(&self, c: &mut ContactLanes, dt: f64, update: bool) {
-        self.lanes::<D>(c, dt, update);
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    fn lanes_avx2<D: Dim>(&self, c: &mut ContactLanes, dt: f64, update: bool) {
-        self.lanes::<D>(c, dt, update);
+        simd::run_widest(&mut LawOnLanes::<D> {
+            law: self,
+            c,
+            dt,
+            update,
+            dim: PhantomData,
+        });
     }
 
     #[inline(always)]
@@ -215,6 +199,22 @@ impl HookeHistory {
                 c.torque_j[2][l] = q * rj;
             }
         }
+    }
+}
+
+/// [`HookeHistory::evaluate_lanes`]'s call, compiled for each instruction set.
+struct LawOnLanes<'a, D> {
+    law: &'a HookeHistory,
+    c: &'a mut ContactLanes,
+    dt: f64,
+    update: bool,
+    dim: PhantomData<D>,
+}
+
+impl<D: Dim> Kernel for LawOnLanes<'_, D> {
+    #[inline(always)]
+    fn run(&mut self) {
+        self.law.lanes::<D>(self.c, self.dt, self.update);
     }
 }
 
