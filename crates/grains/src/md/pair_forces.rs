@@ -252,11 +252,16 @@ pub fn pair_forces<D: Dim>(
         id: &p.id,
         owned: p.n_owned(),
     };
+    // One block per job: this pass is short, and a thread that wakes late
+    // (some 45 µs on the project's virtual machine) still finds blocks
+    // left instead of the others waiting for a share it took. A system too
+    // small to share the first pass keeps this one on one thread too.
+    let min_len = if nb >= 2 * MIN_BLOCKS_PER_JOB { 1 } else { nb };
     let parts = p
         .force
         .par_chunks_mut(block)
         .zip(p.torque.par_chunks_mut(block))
-        .with_min_len(MIN_BLOCKS_PER_JOB)
+        .with_min_len(min_len)
         .enumerate()
         .map(|(c, (force, torque))| {
             let first = c * block;
