@@ -248,7 +248,8 @@ fn tile_pass<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool
     let inv_inertia = &inputs.inv_inertia[range.clone()];
     let half_dt2 = 0.5 * dt * dt;
     let linear = Spread::new::<D::V>(frozen, |k| half_dt2 * inv_mass[k]);
-    let angular = Spread::new::<D::A>(frozen, |k| dt * inv_inertia[k]);
+    // Spins are left alone without rotation.
+    let angular = rotation.then(|| Spread::new::<D::A>(frozen, |k| dt * inv_inertia[k]));
     let mut out = Report::default();
     if CORRECT {
         correct_linear(
@@ -257,8 +258,8 @@ fn tile_pass<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool
             &linear,
             1.0 / dt,
         );
-        if rotation {
-            correct_angular(t, components(&inputs.torque[range.clone()]), &angular);
+        if let Some(angular) = &angular {
+            correct_angular(t, components(&inputs.torque[range.clone()]), angular);
         }
         if finite {
             for k in 0..len {
@@ -268,7 +269,7 @@ fn tile_pass<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool
     }
     if PREDICT {
         predict_linear(t, &linear.moving, dt);
-        if rotation {
+        if let Some(angular) = &angular {
             predict_angular(t, &angular.moving);
         }
     }

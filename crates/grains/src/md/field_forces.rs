@@ -27,8 +27,9 @@ struct PartStats {
     worst: u64,
 }
 
-/// The grain data the wall contacts read.
-pub struct FieldGrains<'a, D: Dim> {
+/// The per-grain arrays the contact loops read (the pair loop and the
+/// wall contacts).
+pub struct GrainView<'a, D: Dim> {
     pub pos: &'a [D::V],
     pub vel: &'a [D::V],
     pub omega: &'a [D::A],
@@ -59,7 +60,7 @@ impl<D: Dim> FieldInput<'_, D> {
 /// per block, once the block's contact sums are complete.
 pub fn field_part<D: Dim>(
     input: &FieldInput<D>,
-    g: &FieldGrains<D>,
+    g: &GrainView<D>,
     springs_in: &WallSprings<D>,
     first: usize,
     force: &mut [D::V],

@@ -356,17 +356,8 @@ impl<D: Dim> Md<D> {
     /// (when due at this step) and [`Md::predict_checked`] of the next step
     /// in one pass over the grains.
     fn correct_predict_checked(&mut self) -> Result<bool> {
-        let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
-        let integrator = self.settings.integrator;
-        let finite = self.finite_check_due();
-        let mut non_finite = None;
-        let pass = |p: &mut Particles<D>, skin: Option<SkinCheck<D::V>>| {
-            let r = integrator.correct_predict(p, (dt, rot), skin, finite);
-            non_finite = r.non_finite;
-            r.far
-        };
-        let moved = self.owned_beyond_skin(pass) || self.ghosts_beyond_skin();
-        self.finite_or_error(non_finite).map(|()| moved)
+        let moved = self.correct_predict_owned_checked()?;
+        Ok(moved || self.ghosts_beyond_skin())
     }
 
     /// [`Md::correct`], the finite-state test (when due) and the next

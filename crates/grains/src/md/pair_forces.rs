@@ -13,7 +13,7 @@
 //! same order whatever the threads, and no two tasks ever write the same
 //! memory. Only contacts, not listed pairs, take a share.
 
-use super::field_forces::{field_part, FieldGrains, FieldInput, FieldPart};
+use super::field_forces::{field_part, FieldInput, FieldPart, GrainView};
 use super::wall_springs::WallSprings;
 use super::MdStats;
 use crate::contact::hooke_history::HookeHistory;
@@ -154,6 +154,7 @@ pub fn pair_forces<D: Dim>(
 ) -> Vec<FieldPart<D>> {
     let blocks = input.blocks;
     let n = p.len();
+    let owned = p.n_owned();
     let nb = blocks.n_blocks();
     deferred.outbox.resize_with(nb, Vec::new);
     for out in &mut deferred.outbox {
@@ -201,13 +202,16 @@ pub fn pair_forces<D: Dim>(
         )
         .collect();
 
-    let pos = &p.pos;
-    let vel = &p.vel;
-    let omega = &p.omega;
-    let radius = &p.radius;
-    let mass = &p.mass;
-    let frozen = &p.frozen;
-    let ids = &p.id;
+    let grains = GrainView {
+        pos: &p.pos,
+        vel: &p.vel,
+        omega: &p.omega,
+        radius: &p.radius,
+        mass: &p.mass,
+        frozen: &p.frozen,
+        id: &p.id,
+        owned,
+    };
     let hooke = HookeHistory::of(input.law);
     // At least MIN_BLOCKS_PER_JOB blocks per job: a small system runs on one
     // thread instead of paying to wake others every step.
@@ -215,21 +219,13 @@ pub fn pair_forces<D: Dim>(
         .par_iter_mut()
         .with_min_len(MIN_BLOCKS_PER_JOB)
         .map(|t| {
-            let grains = Grains {
-                pos,
-                vel,
-                omega,
-                radius,
-                mass,
-                frozen,
-            };
             // The LAMMPS-shaped law gets its own compiled loop.
             let mut s = match hooke {
                 Some(h) => run_block(&h, input, &grains, t),
                 None => run_block(input.law, input, &grains, t),
             };
             if s.contacts > 0 {
-                s.worst = (ids[s.worst.0 as usize], ids[s.worst.1 as usize]);
+                s.worst = (grains.id[s.worst.0 as usize], grains.id[s.worst.1 as usize]);
             }
             s
         })
@@ -242,16 +238,6 @@ pub fn pair_forces<D: Dim>(
     let outbox = &deferred.outbox;
     let rotation = input.law.rotation;
     let (field_input, wall_springs) = fields;
-    let grains = FieldGrains {
-        pos: &p.pos,
-        vel: &p.vel,
-        omega: &p.omega,
-        radius: &p.radius,
-        mass: &p.mass,
-        frozen: &p.frozen,
-        id: &p.id,
-        owned: p.n_owned(),
-    };
     // One block per job: this pass is short, and a thread that wakes late
     // (some 45 µs on the project's virtual machine) still finds blocks
     // left instead of the others waiting for a share it took. A system too
@@ -373,16 +359,6 @@ impl PairLaw for HookeHistory {
     }
 }
 
-/// Read-only per-grain arrays.
-struct Grains<'a, D: Dim> {
-    pos: &'a [D::V],
-    vel: &'a [D::V],
-    omega: &'a [D::A],
-    radius: &'a [f64],
-    mass: &'a [f64],
-    frozen: &'a [bool],
-}
-
 /// Grain `i`'s entry of `v`, unchecked.
 ///
 /// SAFETY: callers pass indices read from the neighbour list, which was built
@@ -397,7 +373,7 @@ fn at<T: Copy>(v: &[T], i: u32) -> T {
 fn run_block<D: Dim, L: PairLaw>(
     law: &L,
     input: &PairInput<D>,
-    g: &Grains<D>,
+    g: &GrainView<D>,
     t: &mut Block<D>,
 ) -> BlockStats {
     let list = input.neighbors;
@@ -540,7 +516,7 @@ impl<D: Dim> Deposit<'_, D> {
 fn contacts_one_by_one<D: Dim, L: PairLaw>(
     law: &L,
     input: &PairInput<D>,
-    g: &Grains<D>,
+    g: &GrainView<D>,
     c: &Pass2<D>,
     springs: &mut [D::V],
     dep: &mut Deposit<D>,
@@ -592,7 +568,7 @@ fn contacts_one_by_one<D: Dim, L: PairLaw>(
 
 /// Frozen grains count as infinitely heavy.
 #[inline(always)]
-fn effective_mass<D: Dim>(g: &Grains<D>, i: u32) -> f64 {
+fn effective_mass<D: Dim>(g: &GrainView<D>, i: u32) -> f64 {
     if at(g.frozen, i) {
         f64::INFINITY
     } else {
@@ -606,7 +582,7 @@ fn effective_mass<D: Dim>(g: &Grains<D>, i: u32) -> f64 {
 fn contacts_in_lanes<D: Dim>(
     law: &HookeHistory,
     input: &PairInput<D>,
-    g: &Grains<D>,
+    g: &GrainView<D>,
     c: &Pass2<D>,
     springs: &mut [D::V],
     dep: &mut Deposit<D>,
