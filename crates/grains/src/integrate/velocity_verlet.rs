@@ -86,29 +86,35 @@ fn pass_chunk<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: boo
     finite: bool,
 ) -> Report {
     let half = 0.5 * dt;
-    let range = first..first + pos.len();
+    let n = pos.len();
+    let range = first..first + n;
     let reference = if CHECK {
-        &skin.reference[range]
+        &skin.reference[range.clone()]
     } else {
         skin.reference
     };
+    // The chunk's own slices, all of length n, checked once here so that
+    // the loop runs without a bounds check per array and grain.
+    let (force, torque) = (&g.force[range.clone()], &g.torque[range.clone()]);
+    let (inv_m, inv_i) = (&g.inv_m[range.clone()], &g.inv_i[range.clone()]);
+    let frozen = &g.frozen[range];
+    assert!(vel.len() == n && omega.len() == n);
     let mut out = Report::default();
-    for k in 0..pos.len() {
-        let i = first + k;
-        if CORRECT && !g.frozen[i] {
-            vel[k] += g.force[i] * (half * g.inv_m[i]);
+    for k in 0..n {
+        if CORRECT && !frozen[k] {
+            vel[k] += force[k] * (half * inv_m[k]);
             if rotation {
-                omega[k] += g.torque[i] * (half * g.inv_i[i]);
+                omega[k] += torque[k] * (half * inv_i[k]);
             }
         }
         if CORRECT && finite {
-            out.note_finite::<D>(i, pos[k], vel[k]);
+            out.note_finite::<D>(first + k, pos[k], vel[k]);
         }
-        if PREDICT && !g.frozen[i] {
-            vel[k] += g.force[i] * (half * g.inv_m[i]);
+        if PREDICT && !frozen[k] {
+            vel[k] += force[k] * (half * inv_m[k]);
             pos[k] += vel[k] * dt;
             if rotation {
-                omega[k] += g.torque[i] * (half * g.inv_i[i]);
+                omega[k] += torque[k] * (half * inv_i[k]);
             }
         }
         // Every grain, frozen ones too: something else may have moved them.

@@ -28,9 +28,11 @@ use rayon::prelude::*;
 const MIN_BLOCKS_PER_JOB: usize = 4;
 
 /// Grains per block: large enough that few contacts cross blocks, small
-/// enough that two to a few dozen cores find work.
+/// enough that two to a few dozen cores find work. A power of two, so that
+/// a grain's block is a shift of its index (a contact that crosses blocks
+/// would otherwise pay an integer division).
 pub fn block_size(n: usize) -> usize {
-    n.div_ceil(64).clamp(1024, 8192)
+    n.div_ceil(64).next_power_of_two().clamp(1024, 8192)
 }
 
 /// How the pair list is cut into blocks; rebuilt with the neighbour list.
@@ -381,7 +383,13 @@ fn run_block<D: Dim, L: PairLaw>(
     let range = t.pairs.clone();
     let pairs = &list.pairs[range.clone()];
     let images = &list.image[range.clone()];
-    let shift = |code: u8| list.shift(code);
+    // The image shifts with room for any 5-bit code, so that looking one
+    // up needs no bounds check (codes are below 27).
+    let mut shifts = [D::zero(); 32];
+    for (code, s) in shifts.iter_mut().enumerate().take(27) {
+        *s = list.shift(code as u8);
+    }
+    let shift = |code: u8| shifts[(code & 31) as usize];
 
     // Pass 1: which listed pairs touch. Without a branch on the test (about
     // a third touch, in no predictable pattern): every index is written to a
@@ -398,7 +406,8 @@ fn run_block<D: Dim, L: PairLaw>(
         for (k, (&[i, j], &code)) in pairs.iter().zip(images).enumerate() {
             let del = at(g.pos, i) - (at(g.pos, j) + shift(code));
             let radsum = at(g.radius, i) + at(g.radius, j);
-            buf[m] = (c * CHUNK + k) as u32;
+            // m <= k < CHUNK: the mask only spares a bounds check.
+            buf[m & (CHUNK - 1)] = (c * CHUNK + k) as u32;
             m += (D::norm2(del) < radsum * radsum) as usize;
         }
         touching.extend_from_slice(&buf[..m]);
@@ -434,14 +443,14 @@ fn run_block<D: Dim, L: PairLaw>(
         pairs,
         images,
         touching,
-        list,
+        shifts: &shifts,
     };
     let dep = &mut Deposit {
         first: t.first,
         force: t.force,
         torque: t.torque,
         outbox: t.outbox,
-        block: input.blocks.block,
+        block_shift: input.blocks.block.trailing_zeros(),
         rotation,
         stats: BlockStats::default(),
     };
@@ -457,7 +466,16 @@ struct Pass2<'a, D: Dim> {
     pairs: &'a [[u32; 2]],
     images: &'a [u8],
     touching: &'a [u32],
-    list: &'a NeighborList<D>,
+    /// The list's image shifts, padded to 32 codes.
+    shifts: &'a [D::V; 32],
+}
+
+impl<D: Dim> Pass2<'_, D> {
+    /// The shift of pair `k`'s second grain.
+    #[inline(always)]
+    fn shift(&self, k: usize) -> D::V {
+        self.shifts[(self.images[k] & 31) as usize]
+    }
 }
 
 /// Where a block puts each contact's force and torques.
@@ -466,7 +484,8 @@ struct Deposit<'a, D: Dim> {
     force: &'a mut [D::V],
     torque: &'a mut [D::A],
     outbox: &'a mut [Vec<Share<D>>],
-    block: usize,
+    /// log2 of the block size.
+    block_shift: u32,
     rotation: bool,
     stats: BlockStats,
 }
@@ -489,7 +508,7 @@ impl<D: Dim> Deposit<'_, D> {
                 self.torque[j] -= tj;
             }
         } else {
-            self.outbox[j / self.block].push(Share {
+            self.outbox[j >> self.block_shift].push(Share {
                 grain: j as u32,
                 force: fj,
                 torque: tj,
@@ -526,7 +545,7 @@ fn contacts_one_by_one<D: Dim, L: PairLaw>(
         let k = k as usize;
         let [i, j] = c.pairs[k];
         // del points from j to i.
-        let del = at(g.pos, i) - (at(g.pos, j) + c.list.shift(c.images[k]));
+        let del = at(g.pos, i) - (at(g.pos, j) + c.shift(k));
         let (ri, rj) = (at(g.radius, i), at(g.radius, j));
         let r = D::norm(del);
         let overlap = ri + rj - r;
@@ -566,14 +585,12 @@ fn contacts_one_by_one<D: Dim, L: PairLaw>(
     }
 }
 
-/// Frozen grains count as infinitely heavy.
+/// Frozen grains count as infinitely heavy. Chosen by a bit mask, not a
+/// branch: contacts with frozen grains come in no predictable order.
 #[inline(always)]
 fn effective_mass<D: Dim>(g: &GrainView<D>, i: u32) -> f64 {
-    if at(g.frozen, i) {
-        f64::INFINITY
-    } else {
-        at(g.mass, i)
-    }
+    let keep = (at(g.frozen, i) as u64).wrapping_sub(1);
+    f64::from_bits((at(g.mass, i).to_bits() & keep) | (f64::INFINITY.to_bits() & !keep))
 }
 
 /// The Hooke-with-history law over batches of contacts in component rows
@@ -588,11 +605,15 @@ fn contacts_in_lanes<D: Dim>(
     dep: &mut Deposit<D>,
 ) {
     let lanes = &mut ContactLanes::default();
+    // The block's pair arrays have one length: a contact's index is then
+    // checked once against it, not once per array. Lanes are counted up
+    // to LANES so that the rows need no check either.
+    assert!(c.pairs.len() == springs.len() && c.images.len() == springs.len());
     for batch in c.touching.chunks(LANES) {
-        for (l, &k) in batch.iter().enumerate() {
+        for (l, &k) in (0..LANES).zip(batch) {
             let k = k as usize;
             let [i, j] = c.pairs[k];
-            let del = at(g.pos, i) - (at(g.pos, j) + c.list.shift(c.images[k]));
+            let del = at(g.pos, i) - (at(g.pos, j) + c.shift(k));
             let (ri, rj) = (at(g.radius, i), at(g.radius, j));
             let v_rel = at(g.vel, i) - at(g.vel, j);
             let spin = D::ang_to_xyz(at(g.omega, i) * ri + at(g.omega, j) * rj);
@@ -611,7 +632,7 @@ fn contacts_in_lanes<D: Dim>(
             lanes.mj[l] = effective_mass(g, j);
         }
         law.evaluate_lanes::<D>(lanes, input.dt, input.update);
-        for (l, &k) in batch.iter().enumerate() {
+        for (l, &k) in (0..LANES).zip(batch) {
             let k = k as usize;
             let row = |r: &[[f64; LANES]; 3]| D::from_xyz([r[0][l], r[1][l], r[2][l]]);
             let ang = |r: &[[f64; LANES]; 3]| D::ang_from_xyz([r[0][l], r[1][l], r[2][l]]);
