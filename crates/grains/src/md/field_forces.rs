@@ -74,22 +74,37 @@ pub fn field_part<D: Dim>(
     }
     let has_gravity = input.gravity != D::zero();
     let law = input.law;
-    let mut springs = springs_in.cursor(first..first + len);
-    for (k, (f, t)) in force[..len].iter_mut().zip(torque).enumerate() {
-        let i = first + k;
-        if g.frozen[i] {
+    let range = first..first + len;
+    let mut springs = springs_in.cursor(range.clone());
+    // The range's own slices: no bounds check per array and grain.
+    let (frozen, radius, mass) = (
+        &g.frozen[range.clone()],
+        &g.radius[range.clone()],
+        &g.mass[range.clone()],
+    );
+    let (pos, vel, omega) = (
+        &g.pos[range.clone()],
+        &g.vel[range.clone()],
+        &g.omega[range],
+    );
+    let grains = force[..len]
+        .iter_mut()
+        .zip(torque)
+        .zip(frozen.iter().zip(radius).zip(mass));
+    for (k, ((f, t), ((&frozen, &ri), &mi))) in grains.enumerate() {
+        if frozen {
             continue;
         }
-        let (ri, mi) = (g.radius[i], g.mass[i]);
+        let i = first + k;
         for (w, wall) in input.walls.iter().enumerate() {
             // An open contact keeps no spring.
-            let Some(contact) = wall.contact(g.pos[i], ri, input.time) else {
+            let Some(contact) = wall.contact(pos[k], ri, input.time) else {
                 continue;
             };
             let mut spring = springs.get(i, w);
-            let mut v_rel = g.vel[i] - contact.velocity;
+            let mut v_rel = vel[k] - contact.velocity;
             if law.rotation {
-                v_rel -= D::ang_cross(g.omega[i] * ri, contact.normal);
+                v_rel -= D::ang_cross(omega[k] * ri, contact.normal);
             }
             let out = law.evaluate::<D>(
                 contact.overlap,
