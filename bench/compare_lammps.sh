@@ -4,6 +4,11 @@
 #
 #   bench/compare_lammps.sh chute 2000     # workload, steps
 #   bench/compare_lammps.sh vib2d 20000
+#   ROUNDS=5 bench/compare_lammps.sh chute 500   # alternate five times
+#
+# With ROUNDS=N the two codes take turns N times and the ratio of each
+# round is printed, then the median: on a shared machine one pair of runs
+# can be off by a quarter either way.
 #
 # Needs LAMMPS (`apt-get install lammps`, command `lmp`) and a release build
 # of grains (`cargo build --release`; found under $CARGO_TARGET_DIR when set).
@@ -22,18 +27,27 @@ case "$workload" in
   *) echo "unknown workload $workload (chute or vib2d)" >&2; exit 2 ;;
 esac
 
-cd "$root/bench"
-lmp_out=$(OMP_NUM_THREADS=1 lmp -in "$input" -var steps "$steps" -log none -nocite)
-lmp_loop=$(echo "$lmp_out" | awk '/^Loop time of/ {print $4}')
-cd "$root"
-grains_json=$("$grains" bench "$workload" --steps "$steps" --threads "$threads" --json)
-grains_loop=$(echo "$grains_json" | python3 -c 'import json,sys; print(json.load(sys.stdin)["wall_seconds"])')
-python3 - "$workload" "$steps" "$atoms" "$lmp_loop" "$grains_loop" "$threads" <<'PY'
-import sys
-w, steps, atoms, lmp, gr, threads = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4]), float(sys.argv[5]), sys.argv[6]
+rounds=${ROUNDS:-1}
+results=()
+for _ in $(seq "$rounds"); do
+  lmp_out=$(cd "$root/bench" && OMP_NUM_THREADS=1 lmp -in "$input" -var steps "$steps" -log none -nocite)
+  lmp_loop=$(echo "$lmp_out" | awk '/^Loop time of/ {print $4}')
+  grains_json=$("$grains" bench "$workload" --steps "$steps" --threads "$threads" --json)
+  grains_loop=$(echo "$grains_json" | python3 -c 'import json,sys; print(json.load(sys.stdin)["wall_seconds"])')
+  results+=("$lmp_loop $grains_loop")
+done
+python3 - "$workload" "$steps" "$atoms" "$threads" "${results[@]}" <<'PY'
+import statistics, sys
+w, steps, atoms, threads = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+rounds = [tuple(map(float, pair.split())) for pair in sys.argv[5:]]
 per = lambda t: 1e9 * t / (steps * atoms)
 print(f"{w}: {steps} steps, {atoms} atoms (all atoms counted for both codes)")
-print(f"  LAMMPS (1 core)       loop {lmp:8.3f} s  {per(lmp):7.1f} ns per particle-step")
-print(f"  grains ({threads} thread(s))   loop {gr:8.3f} s  {per(gr):7.1f} ns per particle-step")
-print(f"  grains / LAMMPS time: {gr / lmp:.3f}")
+for lmp, gr in rounds:
+    print(f"  LAMMPS (1 core)       loop {lmp:8.3f} s  {per(lmp):7.1f} ns per particle-step")
+    print(f"  grains ({threads} thread(s))   loop {gr:8.3f} s  {per(gr):7.1f} ns per particle-step")
+    print(f"  grains / LAMMPS time: {gr / lmp:.3f}")
+if len(rounds) > 1:
+    ratios = sorted(gr / lmp for lmp, gr in rounds)
+    print(f"  median of {len(rounds)} rounds: {statistics.median(ratios):.3f} "
+          f"(from {ratios[0]:.3f} to {ratios[-1]:.3f})")
 PY
