@@ -26,6 +26,7 @@ mod round;
 mod shape;
 
 pub use motion::Motion;
+use motion::Pose;
 pub use shape::Shape;
 
 use crate::dim::Dim;
@@ -117,25 +118,28 @@ impl<D: Dim> Wall<D> {
 
     /// Contact of a particle at `p` with radius `r` at time `t`; `None` when
     /// not touching (overlap ≤ 0), lost behind a one-sided surface, or the
-    /// wall has been removed.
+    /// wall has been removed. For many grains at one time, place the wall
+    /// once with [`Wall::at`].
     pub fn contact(&self, p: D::V, r: f64, t: f64) -> Option<WallContact<D>> {
-        if !self.is_active(t) {
-            return None;
+        self.at(t).contact(p, r)
+    }
+
+    /// The wall at time `t`, with what its motion gives the same for every
+    /// grain (its pose, its velocity where that is uniform, whether it is
+    /// still there) worked out once: a force evaluation meets every grain
+    /// with it, and a sine or a rotation per grain would cost more than the
+    /// geometry.
+    pub fn at(&self, t: f64) -> PlacedWall<'_, D> {
+        // A modulated vibration's pose depends on the grain's x; every other
+        // motion's pose is the same at any x.
+        let uniform = !self.motion.is_modulated();
+        PlacedWall {
+            wall: self,
+            t,
+            active: self.is_active(t),
+            pose: uniform.then(|| self.motion.pose(t, 0.0)),
+            velocity: self.motion.uniform_velocity(t),
         }
-        let x = D::get(p, 0);
-        if let Some(slope) = self.motion.modulation_slope(x, t) {
-            return self.modulated_contact(p, r, t, slope);
-        }
-        let pose = self.motion.pose(t, x);
-        let p3 = to3::<D>(p);
-        let touch = self.shape.touch(pose.invert(p3), r)?;
-        let point = from3::<D>(pose.apply(touch.point));
-        Some(WallContact {
-            overlap: touch.overlap,
-            normal: from3::<D>(pose.turn(touch.normal)),
-            point,
-            velocity: self.motion.velocity_at(point, t),
-        })
     }
 
     /// Contact with a plate under a modulated vibration: the lifted, tilted
@@ -168,6 +172,43 @@ impl<D: Dim> Wall<D> {
     /// Velocity at time `t` of the wall material at position `q`.
     pub fn velocity_at(&self, q: D::V, t: f64) -> D::V {
         self.motion.velocity_at(q, t)
+    }
+}
+
+/// A wall at one time ([`Wall::at`]).
+#[derive(Clone, Copy, Debug)]
+pub struct PlacedWall<'a, D: Dim> {
+    wall: &'a Wall<D>,
+    t: f64,
+    active: bool,
+    /// The pose, unless it depends on the grain (modulated vibration).
+    pose: Option<Pose>,
+    /// The velocity, where it is the same at every point of the wall.
+    velocity: Option<D::V>,
+}
+
+impl<D: Dim> PlacedWall<'_, D> {
+    /// [`Wall::contact`] at the time the wall was placed at.
+    pub fn contact(&self, p: D::V, r: f64) -> Option<WallContact<D>> {
+        if !self.active {
+            return None;
+        }
+        let (wall, t) = (self.wall, self.t);
+        let Some(pose) = self.pose else {
+            let slope = wall.motion.modulation_slope(D::get(p, 0), t)?;
+            return wall.modulated_contact(p, r, t, slope);
+        };
+        let touch = wall.shape.touch(pose.invert(to3::<D>(p)), r)?;
+        let point = from3::<D>(pose.apply(touch.point));
+        Some(WallContact {
+            overlap: touch.overlap,
+            normal: from3::<D>(pose.turn(touch.normal)),
+            point,
+            velocity: match self.velocity {
+                Some(v) => v,
+                None => wall.motion.velocity_at(point, t),
+            },
+        })
     }
 }
 

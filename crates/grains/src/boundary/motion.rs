@@ -288,6 +288,17 @@ impl<D: Dim> Motion<D> {
         }
     }
 
+    /// The velocity at time `t` when it is the same at every point of the
+    /// wall (`velocity_at` would give it for any point), else `None`.
+    pub(crate) fn uniform_velocity(&self, t: f64) -> Option<D::V> {
+        match self {
+            Motion::Rotate { .. } => None,
+            Motion::Vibrate { .. } if self.is_modulated() => None,
+            // Any point: a vibration without modulation has one amplitude.
+            _ => Some(self.velocity_at(D::zero(), t)),
+        }
+    }
+
     /// Where the reference-frame point `x` is at time `t`.
     pub fn place(&self, x: D::V, t: f64) -> D::V {
         from3::<D>(self.pose(t, D::get(x, 0)).apply(to3::<D>(x)))

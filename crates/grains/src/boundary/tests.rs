@@ -872,3 +872,70 @@ fn polygon_seam_pushes_once() {
     assert!(near(c.overlap, 0.5 - 0.05_f64.sqrt()) && c.normal.x > 0.0);
     assert!(piece.contact(DVec3::new(1.2, 0.5, 0.1), 0.5, 0.0).is_none());
 }
+
+/// A wall placed once at time t (`Wall::at`) takes its pose and, where the
+/// motion says it is uniform, its velocity once for all grains: the
+/// velocity must then be the motion's velocity at every contact point, and
+/// the pose the one the motion gives at every x (all motions but the
+/// modulated vibration). Checked for each motion kind, at grains spread
+/// along the wall.
+#[test]
+fn a_placed_wall_agrees_with_the_motion_at_every_point() {
+    let plane = || Shape::Plane {
+        point: DVec2::ZERO,
+        normal: DVec2::Y,
+    };
+    let vibrate = |modulation| Motion::Vibrate {
+        direction: DVec2::Y,
+        amplitude: 1e-3,
+        modulation,
+        wavelength: 20.0,
+        frequency: 20.0,
+        phase: 0.3,
+    };
+    let motions: [Motion<D2>; 6] = [
+        Motion::Fixed,
+        vibrate(0.0),
+        vibrate(0.5),
+        Motion::Oscillate {
+            amplitude: DVec2::new(2e-3, 1e-3),
+            frequency: 15.0,
+            phase: 0.1,
+        },
+        Motion::Translate {
+            velocity: DVec2::new(0.5, 0.01),
+        },
+        Motion::Rotate {
+            center: DVec2::new(0.0, 5.0),
+            omega: 0.02,
+        },
+    ];
+    for motion in motions {
+        let kind = motion.kind();
+        let modulated = motion.is_modulated();
+        let wall = Wall::new("w", plane(), motion).unwrap();
+        for t in [0.0, 0.0137, 0.05] {
+            let placed = wall.at(t);
+            let mut contacts = 0;
+            for x in [-7.3, -1.0, 0.0, 2.5, 9.9] {
+                let q = DVec3::new(x, 0.25, 0.0);
+                let (here, at_zero) = (wall.motion.pose(t, x), wall.motion.pose(t, 0.0));
+                assert!(
+                    modulated || here.apply(q) == at_zero.apply(q),
+                    "{kind} at t {t}, x {x}"
+                );
+                let lift = wall.motion.place(DVec2::new(x, 0.0), t).y;
+                let Some(c) = placed.contact(DVec2::new(x, lift + 0.3), 0.5) else {
+                    continue;
+                };
+                contacts += 1;
+                let v = wall.motion.velocity_at(c.point, t);
+                assert!(
+                    near2(c.velocity, v),
+                    "{kind} at t {t}, x {x}: {c:?} against {v}"
+                );
+            }
+            assert!(contacts >= 4, "{kind} at t {t}: {contacts} contacts");
+        }
+    }
+}

@@ -87,6 +87,8 @@ pub fn field_part<D: Dim>(
         &g.vel[range.clone()],
         &g.omega[range],
     );
+    // Placed once for the range: a moving wall's pose costs sines.
+    let walls: Vec<_> = input.walls.iter().map(|w| w.at(input.time)).collect();
     let grains = force[..len]
         .iter_mut()
         .zip(torque)
@@ -96,9 +98,9 @@ pub fn field_part<D: Dim>(
             continue;
         }
         let i = first + k;
-        for (w, wall) in input.walls.iter().enumerate() {
+        for (w, wall) in walls.iter().enumerate() {
             // An open contact keeps no spring.
-            let Some(contact) = wall.contact(pos[k], ri, input.time) else {
+            let Some(contact) = wall.contact(pos[k], ri) else {
                 continue;
             };
             let mut spring = springs.get(i, w);
