@@ -133,12 +133,24 @@ impl<D: Dim> Wall<D> {
         // A modulated vibration's pose depends on the grain's x; every other
         // motion's pose is the same at any x.
         let uniform = !self.motion.is_modulated();
+        let pose = uniform.then(|| self.motion.pose(t, 0.0));
+        // A plane that only moves along: most grains are far from it, and
+        // its distance test alone tells them apart.
+        let plane = match (&self.shape, pose.and_then(|p| p.translation())) {
+            (Shape::Plane { point, normal }, Some(shift)) => Some(PlaneTest {
+                shift,
+                point: to3::<D>(*point),
+                normal: to3::<D>(*normal),
+            }),
+            _ => None,
+        };
         PlacedWall {
             wall: self,
             t,
             active: self.is_active(t),
-            pose: uniform.then(|| self.motion.pose(t, 0.0)),
+            pose,
             velocity: self.motion.uniform_velocity(t),
+            plane,
         }
     }
 
@@ -185,6 +197,26 @@ pub struct PlacedWall<'a, D: Dim> {
     pose: Option<Pose>,
     /// The velocity, where it is the same at every point of the wall.
     velocity: Option<D::V>,
+    /// A plane wall that is only translated.
+    plane: Option<PlaneTest>,
+}
+
+/// The distance test of [`flat::plane`] for a translated plane, with the
+/// same arithmetic as the general path (the grain carried back by the
+/// shift), so that it rejects exactly the grains that path would.
+#[derive(Clone, Copy, Debug)]
+struct PlaneTest {
+    shift: glam::DVec3,
+    point: glam::DVec3,
+    normal: glam::DVec3,
+}
+
+impl PlaneTest {
+    #[inline]
+    fn misses(&self, p: glam::DVec3, r: f64) -> bool {
+        let s = (p - self.shift - self.point).dot(self.normal);
+        r - s <= 0.0 || s < -r
+    }
 }
 
 impl<D: Dim> PlacedWall<'_, D> {
@@ -192,6 +224,11 @@ impl<D: Dim> PlacedWall<'_, D> {
     pub fn contact(&self, p: D::V, r: f64) -> Option<WallContact<D>> {
         if !self.active {
             return None;
+        }
+        if let Some(plane) = &self.plane {
+            if plane.misses(to3::<D>(p), r) {
+                return None;
+            }
         }
         let (wall, t) = (self.wall, self.t);
         let Some(pose) = self.pose else {

@@ -80,6 +80,11 @@ impl Pose {
         }
     }
 
+    /// The shift, when the placement is a translation only.
+    pub(crate) fn translation(&self) -> Option<DVec3> {
+        self.rot.is_none().then_some(self.shift)
+    }
+
     /// Turns a direction (no translation).
     pub(crate) fn turn(&self, v: DVec3) -> DVec3 {
         match self.rot {

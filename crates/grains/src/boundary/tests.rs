@@ -939,3 +939,46 @@ fn a_placed_wall_agrees_with_the_motion_at_every_point() {
         }
     }
 }
+
+/// A translated plane rejects far grains with its own distance test before
+/// the general path (`PlacedWall`): at the edges of contact (exactly r in
+/// front: none; exactly r behind: still in contact) it must answer as
+/// `flat::plane` does on the grain carried back into the wall's frame.
+#[test]
+fn a_moving_plane_answers_at_the_edges_as_the_plane_contact() {
+    let wall: Wall<D3> = Wall::new(
+        "floor",
+        Shape::Plane {
+            point: DVec3::new(0.3, -0.2, 1.0),
+            normal: DVec3::new(0.0, 0.6, 0.8),
+        },
+        Motion::Translate {
+            velocity: DVec3::new(0.1, 0.2, -0.3),
+        },
+    )
+    .unwrap();
+    let (n, r) = (DVec3::new(0.0, 0.6, 0.8), 0.5);
+    for t in [0.0, 0.7, 2.9] {
+        let shift = DVec3::new(0.1, 0.2, -0.3) * t;
+        let on_plane = DVec3::new(0.3, -0.2, 1.0) + shift + DVec3::new(4.0, 0.8, -0.6);
+        for s in [
+            r,
+            r * (1.0 - 1e-15),
+            0.2,
+            0.0,
+            -r,
+            -r * (1.0 + 1e-15),
+            3.0,
+            -3.0,
+        ] {
+            let p = on_plane + n * s;
+            let expected = flat::plane(p - shift, DVec3::new(0.3, -0.2, 1.0), n, r);
+            let got = wall.at(t).contact(p, r);
+            assert_eq!(
+                got.map(|c| c.overlap),
+                expected.map(|c| c.overlap),
+                "t {t}, s {s}"
+            );
+        }
+    }
+}
