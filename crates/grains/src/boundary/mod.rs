@@ -134,8 +134,8 @@ impl<D: Dim> Wall<D> {
         // motion's pose is the same at any x.
         let uniform = !self.motion.is_modulated();
         let pose = uniform.then(|| self.motion.pose(t, 0.0));
-        // A plane that only moves along: most grains are far from it, and
-        // its distance test alone tells them apart.
+        // A plane that is only translated: most grains are far from it,
+        // and its distance test alone tells them apart.
         let plane = match (&self.shape, pose.and_then(|p| p.translation())) {
             (Shape::Plane { point, normal }, Some(shift)) => Some(PlaneTest {
                 shift,
