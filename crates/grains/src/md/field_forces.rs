@@ -72,9 +72,20 @@ pub fn field_part<D: Dim>(
     if !input.acts() || len == 0 {
         return FieldPart { stats: s, kept };
     }
+    let range = first..first + len;
+    if input.walls.is_empty() {
+        // Gravity only (the LAMMPS workloads' frozen-base chute): a loop
+        // of its own, without the walls' machinery around it.
+        let (frozen, mass) = (&g.frozen[range.clone()], &g.mass[range]);
+        for ((f, &frozen), &m) in force[..len].iter_mut().zip(frozen).zip(mass) {
+            if !frozen {
+                *f += input.gravity * m;
+            }
+        }
+        return FieldPart { stats: s, kept };
+    }
     let has_gravity = input.gravity != D::zero();
     let law = input.law;
-    let range = first..first + len;
     let mut springs = springs_in.cursor(range.clone());
     // The range's own slices: no bounds check per array and grain.
     let (frozen, radius, mass) = (
