@@ -201,9 +201,9 @@ pub struct PlacedWall<'a, D: Dim> {
     plane: Option<PlaneTest>,
 }
 
-/// The distance test of [`flat::plane`] for a translated plane, with the
-/// same arithmetic as the general path (the grain carried back by the
-/// shift), so that it rejects exactly the grains that path would.
+/// The distance test of [`flat::plane`] for a translated plane, on the
+/// grain carried back by the shift as the general path carries it, so that
+/// it rejects exactly the grains that path would.
 #[derive(Clone, Copy, Debug)]
 struct PlaneTest {
     shift: glam::DVec3,
@@ -214,8 +214,7 @@ struct PlaneTest {
 impl PlaneTest {
     #[inline]
     fn misses(&self, p: glam::DVec3, r: f64) -> bool {
-        let s = (p - self.shift - self.point).dot(self.normal);
-        r - s <= 0.0 || s < -r
+        flat::plane(p - self.shift, self.point, self.normal, r).is_none()
     }
 }
 

@@ -6,15 +6,15 @@
 
 use super::wall_springs::{ChunkSprings, WallSprings};
 use super::MdStats;
-use crate::boundary::Wall;
+use crate::boundary::PlacedWall;
 use crate::contact::ContactLaw;
 use crate::dim::Dim;
 
 pub struct FieldInput<'a, D: Dim> {
     pub law: &'a ContactLaw,
-    pub walls: &'a [Wall<D>],
+    /// The walls placed at the evaluation's time, once for all blocks.
+    pub walls: &'a [PlacedWall<'a, D>],
     pub gravity: D::V,
-    pub time: f64,
     pub dt: f64,
     pub update: bool,
 }
@@ -98,8 +98,6 @@ pub fn field_part<D: Dim>(
         &g.vel[range.clone()],
         &g.omega[range],
     );
-    // Placed once for the range: a moving wall's pose costs sines.
-    let walls: Vec<_> = input.walls.iter().map(|w| w.at(input.time)).collect();
     let grains = force[..len]
         .iter_mut()
         .zip(torque)
@@ -109,7 +107,7 @@ pub fn field_part<D: Dim>(
             continue;
         }
         let i = first + k;
-        for (w, wall) in walls.iter().enumerate() {
+        for (w, wall) in input.walls.iter().enumerate() {
             // An open contact keeps no spring.
             let Some(contact) = wall.contact(pos[k], ri) else {
                 continue;

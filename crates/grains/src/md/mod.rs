@@ -516,11 +516,12 @@ impl<D: Dim> Md<D> {
             neighbors: &self.neighbors,
             blocks: &self.blocks,
         };
+        // Each wall's pose (a sine, a rotation) once per evaluation.
+        let walls: Vec<_> = self.walls.iter().map(|w| w.at(self.time)).collect();
         let fields = FieldInput {
             law: &s.contact,
-            walls: &self.walls,
+            walls: &walls,
             gravity: s.gravity,
-            time: self.time,
             dt: s.dt,
             update: update_history,
         };

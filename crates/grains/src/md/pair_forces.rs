@@ -384,7 +384,9 @@ fn run_block<D: Dim, L: PairLaw>(
     let pairs = &list.pairs[range.clone()];
     let images = &list.image[range.clone()];
     // The image shifts with room for any 5-bit code, so that looking one
-    // up needs no bounds check (codes are below 27).
+    // up needs no bounds check (codes are below 27). A copy on the block's
+    // stack: the same padded table kept in the list cost chute 22
+    // instructions per particle-step more (callgrind).
     let mut shifts = [D::zero(); 32];
     for (code, s) in shifts.iter_mut().enumerate().take(27) {
         *s = list.shift(code as u8);
