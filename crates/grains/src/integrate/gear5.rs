@@ -163,7 +163,9 @@ fn spread<T: Components, X: Copy + Default>(
     s
 }
 
-/// Whether each component moves, in a tile without frozen grains.
+/// The loops' `moving` in a tile without frozen grains. `pick::<false>`
+/// ignores it, so it only spares such a tile building a mask (a shared
+/// constant, not a copy per tile).
 static ALL_MOVING: [bool; TILE_COMPONENTS] = [true; TILE_COMPONENTS];
 
 /// `new` for a moving grain's component, `old` for a frozen grain's; `new`
@@ -259,11 +261,12 @@ fn tile_pass<
     let inv_mass = &inputs.inv_mass[range.clone()];
     let inv_inertia = &inputs.inv_inertia[range.clone()];
     let half_dt2 = 0.5 * dt * dt;
-    // Which components move: worked out only for a tile with frozen grains.
+    // Which components move: worked out only for a tile with frozen grains
+    // (the spins' mask only with rotation).
     let (mixed_linear, mixed_angular);
     let (moving_linear, moving_angular): (&[bool], &[bool]) = if MIXED {
         mixed_linear = spread::<D::V, bool>(len, |k| !frozen[k]);
-        mixed_angular = spread::<D::A, bool>(len, |k| !frozen[k]);
+        mixed_angular = spread::<D::A, bool>(if rotation { len } else { 0 }, |k| !frozen[k]);
         (&mixed_linear, &mixed_angular)
     } else {
         (&ALL_MOVING, &ALL_MOVING)
