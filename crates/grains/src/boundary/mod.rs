@@ -219,6 +219,24 @@ impl PlaneTest {
 }
 
 impl<D: Dim> PlacedWall<'_, D> {
+    /// Marks in `near` (one entry per grain of `pos` and `radius`) with
+    /// `bit` the grains this wall may touch: those [`PlacedWall::contact`]
+    /// does not turn down at once. A translated plane's distance test runs
+    /// here over all the grains in a loop of its own, which the compiler
+    /// keeps tight; other walls mark every grain while they are there.
+    pub fn mark_near(&self, pos: &[D::V], radius: &[f64], bit: u64, near: &mut [u64]) {
+        if !self.active {
+            return;
+        }
+        let Some(plane) = &self.plane else {
+            near.iter_mut().for_each(|m| *m |= bit);
+            return;
+        };
+        for ((m, &p), &r) in near.iter_mut().zip(pos).zip(radius) {
+            *m |= bit * u64::from(!plane.misses(to3::<D>(p), r));
+        }
+    }
+
     /// [`Wall::contact`] at the time the wall was placed at.
     pub fn contact(&self, p: D::V, r: f64) -> Option<WallContact<D>> {
         if !self.active {

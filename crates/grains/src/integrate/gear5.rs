@@ -11,10 +11,10 @@
 //! the five-value Gear scheme for first-order equations:
 //! w_k = dt^k/k! · d^k ω/dt^k for k = 0..4, c = (251/720, 1, 11/12, 1/3, 1/24).
 
+use super::tiles::{cut, moving_masks, over_tiles, pick, spread, Run, TilePass, ALL_MOVING};
 use super::{PassArgs, Passes, Report, CHUNK};
-use crate::dim::{components, components_mut, Components, Dim};
+use crate::dim::{components, components_mut, Dim};
 use crate::particles::Particles;
-use crate::simd::{self, Kernel};
 use rayon::prelude::*;
 
 const C_POS: [f64; 6] = [
@@ -123,103 +123,44 @@ impl Passes for Gear5 {
         chunks
             .into_par_iter()
             .map(|chunk| {
-                let mut pass = ChunkPass::<D, CORRECT, PREDICT, CHECK> {
-                    chunk,
+                let pass = GearPass::<D, CORRECT, PREDICT, CHECK> {
                     inputs: &inputs,
                     args,
-                    out: Report::default(),
                 };
-                simd::run_widest(&mut pass);
-                pass.out
+                over_tiles(&pass, chunk)
             })
             .reduce(Report::default, Report::join)
     }
 }
 
-/// Grains per tile: a pass runs its loops one after the other over a tile,
-/// which stays in the L1 cache meanwhile, so each grain is read from memory
-/// once. A grain has about 600 bytes here (the Gear history, rotation, in
-/// 3D), so 32 grains fit a 32 KB L1 cache; tiles of 64 did not, and on the
-/// AMD machine (32 KB) they missed it 12 % more often and ran chute's
-/// Gear-5 step 2 to 4 % slower (cachegrind, side-by-side runs).
-const TILE: usize = 32;
-
-/// A tile's components of the largest vector (3D).
-const TILE_COMPONENTS: usize = 3 * TILE;
-
-/// A per-grain value repeated over the grain's `T::N` components, for the
-/// `n` grains of a tile.
-#[inline(always)]
-fn spread<T: Components, X: Copy + Default>(
-    n: usize,
-    value: impl Fn(usize) -> X,
-) -> [X; TILE_COMPONENTS] {
-    let mut s = [X::default(); TILE_COMPONENTS];
-    for k in 0..n {
-        for a in 0..T::N {
-            s[k * T::N + a] = value(k);
-        }
-    }
-    s
-}
-
-/// The loops' `moving` in a tile without frozen grains. `pick::<false>`
-/// ignores it, so it only spares such a tile building a mask (a shared
-/// constant, not a copy per tile).
-static ALL_MOVING: [bool; TILE_COMPONENTS] = [true; TILE_COMPONENTS];
-
-/// `new` for a moving grain's component, `old` for a frozen grain's; `new`
-/// whatever `moving` says in a tile without frozen grains (`MIXED` false).
-///
-/// A selection on the bits, not an `if`: the compiler turned the `if` into
-/// masked stores (`vmaskmovpd`), which are slow on AMD's cores: without
-/// them chute's Gear-5 step took 3 % less time there.
-#[inline(always)]
-fn pick<const MIXED: bool>(moving: bool, new: f64, old: f64) -> f64 {
-    if !MIXED {
-        return new;
-    }
-    let keep_new = (moving as u64).wrapping_neg();
-    f64::from_bits((new.to_bits() & keep_new) | (old.to_bits() & !keep_new))
-}
-
-/// Cuts the first `n` elements off `s` (all when fewer are left).
-fn cut<'a, T>(s: &mut &'a mut [T], n: usize) -> &'a mut [T] {
-    let n = n.min(s.len());
-    let (front, back) = std::mem::take(s).split_at_mut(n);
-    *s = back;
-    front
-}
-
-/// One chunk's pass, tile by tile, compiled for each instruction set.
-struct ChunkPass<'a, D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool> {
-    chunk: Chunk<'a, D>,
+/// The work of [`Gear5`] on one tile.
+struct GearPass<'a, D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool> {
     inputs: &'a Inputs<'a, D>,
     args: PassArgs<'a, D::V>,
-    out: Report,
 }
 
-impl<D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool> Kernel
-    for ChunkPass<'_, D, CORRECT, PREDICT, CHECK>
+impl<'c, D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool> TilePass<Chunk<'c, D>>
+    for GearPass<'_, D, CORRECT, PREDICT, CHECK>
 {
+    fn frozen(&self) -> &[bool] {
+        self.inputs.frozen
+    }
+
     #[inline(always)]
-    fn run(&mut self) {
-        while !self.chunk.pos.is_empty() {
-            let mut tile = self.chunk.split_front(TILE);
-            let frozen = &self.inputs.frozen[tile.first..tile.first + tile.pos.len()];
-            // Most tiles have no frozen grain, and skip the selections.
-            let r = if frozen.contains(&true) {
-                tile_pass::<D, CORRECT, PREDICT, CHECK, true>(&mut tile, self.inputs, self.args)
-            } else {
-                tile_pass::<D, CORRECT, PREDICT, CHECK, false>(&mut tile, self.inputs, self.args)
-            };
-            self.out = Report::join(self.out, r);
-        }
+    fn tile<const MIXED: bool>(&self, mut tile: Chunk<'c, D>) -> Report {
+        tile_pass::<D, CORRECT, PREDICT, CHECK, MIXED>(&mut tile, self.inputs, self.args)
     }
 }
 
-impl<'a, D: Dim> Chunk<'a, D> {
-    /// Cuts the first `n` grains (or all that are left) off the chunk.
+impl<'a, D: Dim> Run for Chunk<'a, D> {
+    fn first(&self) -> usize {
+        self.first
+    }
+
+    fn len(&self) -> usize {
+        self.pos.len()
+    }
+
     fn split_front(&mut self, n: usize) -> Chunk<'a, D> {
         let n = n.min(self.pos.len());
         let first = self.first;
@@ -261,13 +202,11 @@ fn tile_pass<
     let inv_mass = &inputs.inv_mass[range.clone()];
     let inv_inertia = &inputs.inv_inertia[range.clone()];
     let half_dt2 = 0.5 * dt * dt;
-    // Which components move: worked out only for a tile with frozen grains
-    // (the spins' mask only with rotation).
-    let (mixed_linear, mixed_angular);
+    // Which components move: worked out only for a tile with frozen grains.
+    let masks;
     let (moving_linear, moving_angular): (&[bool], &[bool]) = if MIXED {
-        mixed_linear = spread::<D::V, bool>(len, |k| !frozen[k]);
-        mixed_angular = spread::<D::A, bool>(if rotation { len } else { 0 }, |k| !frozen[k]);
-        (&mixed_linear, &mixed_angular)
+        masks = moving_masks::<D>(frozen, rotation);
+        (&masks[0], &masks[1])
     } else {
         (&ALL_MOVING, &ALL_MOVING)
     };
@@ -422,6 +361,7 @@ fn predict_angular<D: Dim, const MIXED: bool>(t: &mut Chunk<D>, moving: &[bool])
 mod tests {
     use super::*;
     use crate::dim::{D2, D3};
+    use crate::integrate::tiles::TILE;
     use crate::integrate::Integrator;
     use crate::particles::ParticleRecord;
     use glam::{DVec2, DVec3};

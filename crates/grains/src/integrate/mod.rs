@@ -7,6 +7,7 @@
 //! grains are never moved.
 
 pub mod gear5;
+mod tiles;
 pub mod velocity_verlet;
 
 /// Grains per parallel chunk of the integrators.
