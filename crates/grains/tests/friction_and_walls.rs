@@ -155,3 +155,44 @@ fn wall_contact_equals_contact_with_a_frozen_grain_of_diameter_d0() {
         );
     }
 }
+
+/// A grain bouncing on a floor that comes last among many walls, the others
+/// planes far below it: the floor's force must arrive as when it is alone,
+/// bit for bit, whether the walls fit the per-grain bit mask of the wall
+/// pass (10 walls) or not (70, where every wall is tested on every grain).
+#[test]
+fn far_walls_change_nothing_with_few_or_many_walls() {
+    let plane = |name: String, y: f64| {
+        Wall::new(
+            name,
+            Shape::Plane {
+                point: DVec2::new(0.0, y),
+                normal: DVec2::Y,
+            },
+            Motion::Fixed,
+        )
+        .unwrap()
+    };
+    let run = |far: usize| {
+        let mut s = MdSettings::<D2>::new(2e-5, hooke(1.0e6, 5.0, MassScaling::Reduced), 0.1);
+        s.integrator = Integrator::Verlet;
+        s.gravity = DVec2::new(0.0, -9.81);
+        let mut p = Particles::new();
+        p.push_record(grain::<D2>(0, DVec2::new(0.0, 0.501), 1.0));
+        let mut walls: Vec<_> = (0..far)
+            .map(|w| plane(format!("far{w}"), -100.0 - w as f64))
+            .collect();
+        walls.push(plane("floor".into(), 0.0));
+        let mut md = Md::new(p, open_box(1.0e3), walls, s).unwrap();
+        let mut contacts = 0;
+        for _ in 0..400 {
+            md.run(10).unwrap();
+            contacts += md.stats.contacts;
+        }
+        (md.particles.pos[0], md.particles.vel[0], contacts)
+    };
+    let alone = run(0);
+    assert!(alone.2 > 0, "the grain never reached the floor");
+    assert_eq!(run(9), alone);
+    assert_eq!(run(69), alone);
+}

@@ -100,8 +100,8 @@ pub fn field_part<D: Dim>(
     );
     // The walls each grain may touch, one bit per wall, found by the walls'
     // quick tests over the whole range first: most grains are far from
-    // every wall, and a grain-by-grain loop around the contact code ran
-    // those tests several times slower (vib2d).
+    // every wall, and the same tests inside the grain-by-grain loop around
+    // the contact code took about 10 ns per grain on vib2d (one plate).
     let near = near_walls(input.walls, pos, radius);
     let grains = force[..len]
         .iter_mut()
