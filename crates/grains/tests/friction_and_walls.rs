@@ -158,8 +158,8 @@ fn wall_contact_equals_contact_with_a_frozen_grain_of_diameter_d0() {
 
 /// A grain bouncing on a floor that comes last among many walls, the others
 /// planes far below it: the floor's force must arrive as when it is alone,
-/// bit for bit, whether the walls fit the per-grain bit mask of the wall
-/// pass (10 walls) or not (70, where every wall is tested on every grain).
+/// bit for bit, with 10 walls or 70 (the wall pass marks the grains some
+/// wall may touch before it runs the contact code on them).
 #[test]
 fn far_walls_change_nothing_with_few_or_many_walls() {
     let plane = |name: String, y: f64| {

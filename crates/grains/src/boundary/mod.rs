@@ -219,21 +219,21 @@ impl PlaneTest {
 }
 
 impl<D: Dim> PlacedWall<'_, D> {
-    /// Marks in `near` (one entry per grain of `pos` and `radius`) with
-    /// `bit` the grains this wall may touch: those [`PlacedWall::contact`]
-    /// does not turn down at once. A translated plane's distance test runs
-    /// here over all the grains in a loop of its own, which the compiler
-    /// keeps tight; other walls mark every grain while they are there.
-    pub fn mark_near(&self, pos: &[D::V], radius: &[f64], bit: u64, near: &mut [u64]) {
+    /// Sets `near` (one entry per grain of `pos` and `radius`) for the
+    /// grains this wall may touch: those [`PlacedWall::contact`] does not
+    /// turn down at once. A translated plane's distance test runs here over
+    /// all the grains in a loop of its own, which the compiler keeps tight;
+    /// other walls mark every grain while they are there.
+    pub fn mark_near(&self, pos: &[D::V], radius: &[f64], near: &mut [bool]) {
         if !self.active {
             return;
         }
         let Some(plane) = &self.plane else {
-            near.iter_mut().for_each(|m| *m |= bit);
+            near.fill(true);
             return;
         };
         for ((m, &p), &r) in near.iter_mut().zip(pos).zip(radius) {
-            *m |= bit * u64::from(!plane.misses(to3::<D>(p), r));
+            *m |= !plane.misses(to3::<D>(p), r);
         }
     }
 

@@ -127,7 +127,8 @@ impl Passes for Gear5 {
                     inputs: &inputs,
                     args,
                 };
-                over_tiles(&pass, chunk)
+                let frozen = &inputs.frozen[chunk.first..chunk.first + chunk.pos.len()];
+                over_tiles(&pass, chunk, frozen)
             })
             .reduce(Report::default, Report::join)
     }
@@ -142,10 +143,6 @@ struct GearPass<'a, D: Dim, const CORRECT: bool, const PREDICT: bool, const CHEC
 impl<'c, D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool> TilePass<Chunk<'c, D>>
     for GearPass<'_, D, CORRECT, PREDICT, CHECK>
 {
-    fn frozen(&self) -> &[bool] {
-        self.inputs.frozen
-    }
-
     #[inline(always)]
     fn tile<const MIXED: bool>(&self, mut tile: Chunk<'c, D>) -> Report {
         tile_pass::<D, CORRECT, PREDICT, CHECK, MIXED>(&mut tile, self.inputs, self.args)
@@ -153,10 +150,6 @@ impl<'c, D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool> Ti
 }
 
 impl<'a, D: Dim> Run for Chunk<'a, D> {
-    fn first(&self) -> usize {
-        self.first
-    }
-
     fn len(&self) -> usize {
         self.pos.len()
     }

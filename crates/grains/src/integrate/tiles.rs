@@ -77,28 +77,26 @@ pub(super) fn cut<'a, T>(s: &mut &'a mut [T], n: usize) -> &'a mut [T] {
 
 /// A run of consecutive grains' slices, which a pass cuts into tiles.
 pub(super) trait Run: Sized {
-    /// The index of the run's first grain.
-    fn first(&self) -> usize;
     fn len(&self) -> usize;
     /// Cuts the first `n` grains (or all that are left) off the run.
     fn split_front(&mut self, n: usize) -> Self;
 }
 
-/// An integrator's work on one tile of grains of type `R`.
+/// An integrator's work on one tile of grains of type `R`, compiled with
+/// the selections for frozen grains (`MIXED`) or without; mark the
+/// implementation `#[inline(always)]` (see [`Kernel`]).
 pub(super) trait TilePass<R: Run> {
-    /// Every owned grain's frozen flag.
-    fn frozen(&self) -> &[bool];
-    /// One tile, compiled with the selections for frozen grains (`MIXED`)
-    /// or without; mark it `#[inline(always)]` (see [`Kernel`]).
     fn tile<const MIXED: bool>(&self, tile: R) -> Report;
 }
 
 /// Runs `pass` over `run` tile by tile, with the widest vectors the
-/// processor has; the reports are joined in grain order.
-pub(super) fn over_tiles<R: Run, P: TilePass<R>>(pass: &P, run: R) -> Report {
+/// processor has (`frozen`: the run's grains' flags); the reports are
+/// joined in grain order.
+pub(super) fn over_tiles<R: Run, P: TilePass<R>>(pass: &P, run: R, frozen: &[bool]) -> Report {
     let mut tiles = OverTiles {
         pass,
         run,
+        frozen,
         out: Report::default(),
     };
     simd::run_widest(&mut tiles);
@@ -109,6 +107,8 @@ pub(super) fn over_tiles<R: Run, P: TilePass<R>>(pass: &P, run: R) -> Report {
 struct OverTiles<'p, R, P> {
     pass: &'p P,
     run: R,
+    /// The flags of the grains not yet cut off the run.
+    frozen: &'p [bool],
     out: Report,
 }
 
@@ -117,8 +117,8 @@ impl<R: Run, P: TilePass<R>> Kernel for OverTiles<'_, R, P> {
     fn run(&mut self) {
         while self.run.len() > 0 {
             let tile = self.run.split_front(TILE);
-            let first = tile.first();
-            let frozen = &self.pass.frozen()[first..first + tile.len()];
+            let (frozen, rest) = self.frozen.split_at(tile.len());
+            self.frozen = rest;
             // Most tiles have no frozen grain, and skip the selections.
             let r = if frozen.contains(&true) {
                 self.pass.tile::<true>(tile)

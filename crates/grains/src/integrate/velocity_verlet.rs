@@ -40,13 +40,15 @@ impl Passes for Verlet {
                     inputs: &inputs,
                     args,
                 };
+                let first = c * CHUNK;
+                let frozen = &inputs.frozen[first..first + pos.len()];
                 let run = Moving {
-                    first: c * CHUNK,
+                    first,
                     pos,
                     vel,
                     omega,
                 };
-                over_tiles(&pass, run)
+                over_tiles(&pass, run, frozen)
             })
             .reduce(Report::default, Report::join)
     }
@@ -78,10 +80,6 @@ struct VerletPass<'a, D: Dim, const CORRECT: bool, const PREDICT: bool, const CH
 impl<'c, D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool>
     TilePass<Moving<'c, D>> for VerletPass<'_, D, CORRECT, PREDICT, CHECK>
 {
-    fn frozen(&self) -> &[bool] {
-        self.inputs.frozen
-    }
-
     #[inline(always)]
     fn tile<const MIXED: bool>(&self, tile: Moving<'c, D>) -> Report {
         tile_pass::<D, CORRECT, PREDICT, CHECK, MIXED>(tile, self.inputs, self.args)
@@ -89,10 +87,6 @@ impl<'c, D: Dim, const CORRECT: bool, const PREDICT: bool, const CHECK: bool>
 }
 
 impl<'a, D: Dim> Run for Moving<'a, D> {
-    fn first(&self) -> usize {
-        self.first
-    }
-
     fn len(&self) -> usize {
         self.pos.len()
     }
@@ -101,11 +95,10 @@ impl<'a, D: Dim> Run for Moving<'a, D> {
         let n = n.min(self.pos.len());
         let first = self.first;
         self.first += n;
-        let (pos, vel) = (cut(&mut self.pos, n), cut(&mut self.vel, n));
         Moving {
             first,
-            pos,
-            vel,
+            pos: cut(&mut self.pos, n),
+            vel: cut(&mut self.vel, n),
             omega: cut(&mut self.omega, n),
         }
     }

@@ -130,18 +130,16 @@ fn wall_contacts<D: Dim>(
         &g.vel[range.clone()],
         &g.omega[range],
     );
-    // The walls each grain may touch, one bit per wall, found by the walls'
-    // quick tests over the whole range first; the contact code then runs
-    // only for the grains some wall may touch. Most grains are far from
-    // every wall, and one loop over all of them around the contact code
-    // took about 10 ns per grain on vib2d (one plate).
+    // The grains some wall may touch, found by the walls' quick tests over
+    // the whole range first; the contact code then runs for those grains
+    // only. Most grains are far from every wall, and one loop over all of
+    // them around the contact code took about 10 ns per grain on vib2d
+    // (one plate).
     let near = near_walls(input.walls, pos, radius);
-    let candidates = (0..force.len()).filter(|&k| !frozen[k] && near.any(k));
+    let candidates = (0..force.len()).filter(|&k| near[k] && !frozen[k]);
     for k in candidates {
         let (i, ri, mi) = (first + k, radius[k], mass[k]);
-        let mut walls = near.walls(k);
-        while let Some(w) = walls.next_wall() {
-            let wall = &input.walls[w];
+        for (w, wall) in input.walls.iter().enumerate() {
             // An open contact keeps no spring.
             let Some(contact) = wall.contact(pos[k], ri) else {
                 continue;
@@ -177,64 +175,14 @@ fn wall_contacts<D: Dim>(
     }
 }
 
-/// Which walls the grains of a range may touch ([`near_walls`]).
-enum NearWalls {
-    /// Bit w of grain k's entry: wall w may touch it.
-    Marked(Vec<u64>),
-    /// More walls than bits: every wall may touch every grain.
-    All(usize),
-}
-
-/// The walls one grain may touch, in ascending order.
-enum WallsOf {
-    Bits(u64),
-    Every(std::ops::Range<usize>),
-}
-
-impl NearWalls {
-    /// Whether some wall may touch grain k.
-    #[inline(always)]
-    fn any(&self, k: usize) -> bool {
-        match self {
-            NearWalls::Marked(near) => near[k] != 0,
-            NearWalls::All(n) => *n > 0,
-        }
+/// Which grains of `pos` and `radius` some wall may touch: each wall's
+/// quick test ([`PlacedWall::mark_near`]) over all of them.
+fn near_walls<D: Dim>(walls: &[PlacedWall<D>], pos: &[D::V], radius: &[f64]) -> Vec<bool> {
+    let mut near = vec![false; pos.len()];
+    for wall in walls {
+        wall.mark_near(pos, radius, &mut near);
     }
-
-    fn walls(&self, k: usize) -> WallsOf {
-        match self {
-            NearWalls::Marked(near) => WallsOf::Bits(near[k]),
-            NearWalls::All(n) => WallsOf::Every(0..*n),
-        }
-    }
-}
-
-impl WallsOf {
-    #[inline(always)]
-    fn next_wall(&mut self) -> Option<usize> {
-        match self {
-            WallsOf::Bits(0) => None,
-            WallsOf::Bits(bits) => {
-                let w = bits.trailing_zeros() as usize;
-                *bits &= *bits - 1;
-                Some(w)
-            }
-            WallsOf::Every(range) => range.next(),
-        }
-    }
-}
-
-/// Runs each wall's quick test ([`PlacedWall::mark_near`]) over the grains
-/// of `pos` and `radius`.
-fn near_walls<D: Dim>(walls: &[PlacedWall<D>], pos: &[D::V], radius: &[f64]) -> NearWalls {
-    if walls.len() > u64::BITS as usize {
-        return NearWalls::All(walls.len());
-    }
-    let mut near = vec![0u64; pos.len()];
-    for (w, wall) in walls.iter().enumerate() {
-        wall.mark_near(pos, radius, 1 << w, &mut near);
-    }
-    NearWalls::Marked(near)
+    near
 }
 
 /// Keeps the parts' springs (given in grain order) and adds their
