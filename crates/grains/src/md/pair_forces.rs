@@ -372,6 +372,27 @@ fn at<T: Copy>(v: &[T], i: u32) -> T {
     unsafe { *v.get_unchecked(i as usize) }
 }
 
+/// Appends to `touching`, ascending, the indices of the block's listed
+/// pairs in contact. The tests of 64 pairs fill a bit mask first, and the
+/// indices are read off it afterwards: the tests then depend on nothing but
+/// their own loads (a third or fewer of the pairs touch, in no predictable
+/// pattern, so a branch on each would often be mispredicted, and a store
+/// whose place advances with each test chains them all).
+fn select_touching<D: Dim>(g: &GrainView<D>, c: &BlockPairs<D>, touching: &mut Vec<u32>) {
+    for (w, (pairs, images)) in c.pairs.chunks(64).zip(c.images.chunks(64)).enumerate() {
+        let mut mask = 0u64;
+        for (b, (&[i, j], &code)) in pairs.iter().zip(images).enumerate() {
+            let del = at(g.pos, i) - (at(g.pos, j) + c.shifts[(code & 31) as usize]);
+            let radsum = at(g.radius, i) + at(g.radius, j);
+            mask |= ((D::norm2(del) < radsum * radsum) as u64) << b;
+        }
+        while mask != 0 {
+            touching.push((64 * w) as u32 + mask.trailing_zeros());
+            mask &= mask - 1;
+        }
+    }
+}
+
 fn run_block<D: Dim, L: PairLaw>(
     law: &L,
     input: &PairInput<D>,
@@ -391,29 +412,20 @@ fn run_block<D: Dim, L: PairLaw>(
     for (code, s) in shifts.iter_mut().enumerate().take(27) {
         *s = list.shift(code as u8);
     }
-    let shift = |code: u8| shifts[(code & 31) as usize];
 
-    // Pass 1: which listed pairs touch. Without a branch on the test (about
-    // a third touch, in no predictable pattern): every index is written to a
-    // small buffer and the count advances only for a contact.
+    // Pass 1: which listed pairs touch.
     t.force.fill(D::zero());
     t.torque.fill(D::A::default());
     let [touching, was_touching] = t.touching;
     std::mem::swap(touching, was_touching);
     touching.clear();
-    const CHUNK: usize = 256;
-    let mut buf = [0u32; CHUNK];
-    for (c, (pairs, images)) in pairs.chunks(CHUNK).zip(images.chunks(CHUNK)).enumerate() {
-        let mut m = 0;
-        for (k, (&[i, j], &code)) in pairs.iter().zip(images).enumerate() {
-            let del = at(g.pos, i) - (at(g.pos, j) + shift(code));
-            let radsum = at(g.radius, i) + at(g.radius, j);
-            // m <= k < CHUNK: the mask only spares a bounds check.
-            buf[m & (CHUNK - 1)] = (c * CHUNK + k) as u32;
-            m += (D::norm2(del) < radsum * radsum) as usize;
-        }
-        touching.extend_from_slice(&buf[..m]);
-    }
+    let pass = BlockPairs {
+        pairs,
+        images,
+        touching: &[],
+        shifts: &shifts,
+    };
+    select_touching(g, &pass, touching);
     // Contacts that opened drop their spring. Both lists are ascending, so
     // a merge finds them; after a rebuild, every stretched spring outside
     // the contacts is dropped instead.
@@ -441,12 +453,7 @@ fn run_block<D: Dim, L: PairLaw>(
     }
 
     // Pass 2: the contact law on the touching pairs only.
-    let ctx = Pass2 {
-        pairs,
-        images,
-        touching,
-        shifts: &shifts,
-    };
+    let ctx = BlockPairs { touching, ..pass };
     let dep = &mut Deposit {
         first: t.first,
         force: t.force,
@@ -463,8 +470,8 @@ fn run_block<D: Dim, L: PairLaw>(
     dep.stats
 }
 
-/// What the second pass reads about the block's pairs.
-struct Pass2<'a, D: Dim> {
+/// What the passes read about the block's pairs (the touching ones: for pass 2).
+struct BlockPairs<'a, D: Dim> {
     pairs: &'a [[u32; 2]],
     images: &'a [u8],
     touching: &'a [u32],
@@ -472,7 +479,7 @@ struct Pass2<'a, D: Dim> {
     shifts: &'a [D::V; 32],
 }
 
-impl<D: Dim> Pass2<'_, D> {
+impl<D: Dim> BlockPairs<'_, D> {
     /// The shift of pair `k`'s second grain.
     #[inline(always)]
     fn shift(&self, k: usize) -> D::V {
@@ -538,7 +545,7 @@ fn contacts_one_by_one<D: Dim, L: PairLaw>(
     law: &L,
     input: &PairInput<D>,
     g: &GrainView<D>,
-    c: &Pass2<D>,
+    c: &BlockPairs<D>,
     springs: &mut [D::V],
     dep: &mut Deposit<D>,
 ) {
@@ -604,7 +611,7 @@ fn contacts_in_lanes<D: Dim>(
     law: &HookeHistory,
     input: &PairInput<D>,
     g: &GrainView<D>,
-    c: &Pass2<D>,
+    c: &BlockPairs<D>,
     springs: &mut [D::V],
     dep: &mut Deposit<D>,
 ) {
