@@ -719,6 +719,57 @@ mod tests {
         }
     }
 
+    /// The contact test finds exactly the touching pairs, in order, across
+    /// the 64-pair words of its mask.
+    #[test]
+    fn contact_test_finds_every_contact_in_order() {
+        // Spheres of radius 0.5 on a line; pair (k, k + 1) touches when
+        // the gap after grain k is 0.99 instead of 1.01.
+        let n = 200;
+        // Words of 64 pairs: first and last bit set among others, empty,
+        // full, and a short last word.
+        let touch = |k: usize| match k {
+            0..64 => k.is_multiple_of(3) || k == 63,
+            64..128 => false,
+            128..192 => true,
+            _ => k.is_multiple_of(2),
+        };
+        let mut pos = vec![DVec3::ZERO; n];
+        for k in 1..n {
+            let gap = if touch(k - 1) { 0.99 } else { 1.01 };
+            pos[k] = pos[k - 1] + DVec3::new(gap, 0.0, 0.0);
+        }
+        let radius = vec![0.5; n];
+        let pairs: Vec<[u32; 2]> = (0..n as u32 - 1).map(|k| [k, k + 1]).collect();
+        let images = vec![13u8; pairs.len()];
+        let shifts = [DVec3::ZERO; 32];
+        let zeros = vec![DVec3::ZERO; n];
+        let (mass, frozen, id) = (vec![1.0; n], vec![false; n], vec![0u64; n]);
+        let g = GrainView::<D3> {
+            pos: &pos,
+            vel: &zeros,
+            omega: &zeros,
+            radius: &radius,
+            mass: &mass,
+            frozen: &frozen,
+            id: &id,
+            owned: n,
+        };
+        for len in [1, 63, 64, 65, 128, 199] {
+            let c = BlockPairs::<D3> {
+                pairs: &pairs[..len],
+                images: &images[..len],
+                touching: &[],
+                shifts: &shifts,
+            };
+            let mut found = Vec::new();
+            select_touching(&g, &c, &mut found);
+            let want: Vec<u32> = (0..len as u32).filter(|&k| touch(k as usize)).collect();
+            assert!(!want.is_empty(), "{len}");
+            assert_eq!(found, want, "{len} pairs");
+        }
+    }
+
     #[test]
     fn blocks_partition_pairs() {
         // 3000 grains, blocks of 1024: pairs inside and across blocks.
