@@ -125,13 +125,15 @@ fn rolling_disks_rise_linearly_then_bend_and_stay_below_45_deg() {
 }
 
 /// The angle of marginal stability: the pile the avalanche left is tilted
-/// until it fails. θ_m must exceed θ_r by a few degrees (Lee & Herrmann 1993;
-/// measured here 1.5–3.2° at μ = 0.2, seeds 3–5), never by more than the
-/// tilt reached.
+/// until it fails. θ_m must exceed θ_r by a few degrees (Lee & Herrmann
+/// 1993), never by more than the tilt reached. One pile's gap depends on
+/// rounding: at μ = 0.2, seeds 3–10 gave 0.5–3.9° (mean 1.9°), and 0.1–3.8°
+/// (mean 1.4°) when only the order of the neighbour-list rebuilds changed.
+/// So eight piles, each gap positive and their mean above 1°.
 #[test]
 fn marginal_angle_exceeds_repose_angle_by_a_few_degrees() {
     let mut gaps = Vec::new();
-    for seed in SEEDS {
+    for seed in 3..=10 {
         let s = run_repose(
             0.2,
             seed,
