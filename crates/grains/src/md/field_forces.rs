@@ -66,56 +66,47 @@ pub fn field_part<D: Dim>(
     force: &mut [D::V],
     torque: &mut [D::A],
 ) -> FieldPart<D> {
-    let mut s = PartStats::default();
-    let mut kept = ChunkSprings::default();
+    let empty = || FieldPart {
+        stats: PartStats::default(),
+        kept: ChunkSprings::default(),
+    };
     let len = force.len().min(g.owned.saturating_sub(first));
     if !input.acts() || len == 0 {
-        return FieldPart { stats: s, kept };
+        return empty();
     }
     let range = first..first + len;
-    if !input.walls.is_empty() {
-        let part = WallPart {
-            first,
-            force: &mut force[..len],
-            torque: &mut torque[..len],
-        };
-        wall_contacts(input, g, springs_in, part, &mut s, &mut kept);
-    }
+    let (force, torque) = (&mut force[..len], &mut torque[..len]);
+    let part = if input.walls.is_empty() {
+        empty()
+    } else {
+        wall_contacts(input, g, springs_in, first, force, torque)
+    };
     // Gravity after the walls, as each grain's sum has always been formed:
     // a loop of its own, without the walls' machinery around it.
     if input.gravity != D::zero() {
         let (frozen, mass) = (&g.frozen[range.clone()], &g.mass[range]);
-        for ((f, &frozen), &m) in force[..len].iter_mut().zip(frozen).zip(mass) {
+        for ((f, &frozen), &m) in force.iter_mut().zip(frozen).zip(mass) {
             if !frozen {
                 *f += input.gravity * m;
             }
         }
     }
-    FieldPart { stats: s, kept }
+    part
 }
 
-/// The sums of a range of grains, from its first grain on.
-struct WallPart<'a, D: Dim> {
-    first: usize,
-    force: &'a mut [D::V],
-    torque: &'a mut [D::A],
-}
-
-/// Adds the wall contacts of the owned, non-frozen grains of `part` (each
-/// grain's walls in wall order) and keeps their springs.
+/// Adds the wall contacts of the owned, non-frozen grains among
+/// `first..first + force.len()` (each grain's walls in wall order); their
+/// statistics and springs.
 fn wall_contacts<D: Dim>(
     input: &FieldInput<D>,
     g: &GrainView<D>,
     springs_in: &WallSprings<D>,
-    part: WallPart<D>,
-    s: &mut PartStats,
-    kept: &mut ChunkSprings<D>,
-) {
-    let WallPart {
-        first,
-        force,
-        torque,
-    } = part;
+    first: usize,
+    force: &mut [D::V],
+    torque: &mut [D::A],
+) -> FieldPart<D> {
+    let mut s = PartStats::default();
+    let mut kept = ChunkSprings::default();
     let range = first..first + force.len();
     let law = input.law;
     let mut springs = springs_in.cursor(range.clone());
@@ -173,6 +164,7 @@ fn wall_contacts<D: Dim>(
             }
         }
     }
+    FieldPart { stats: s, kept }
 }
 
 /// Which grains of `pos` and `radius` some wall may touch: each wall's

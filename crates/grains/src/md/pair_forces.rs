@@ -378,11 +378,16 @@ fn at<T: Copy>(v: &[T], i: u32) -> T {
 /// their own loads (a third or fewer of the pairs touch, in no predictable
 /// pattern, so a branch on each would often be mispredicted, and a store
 /// whose place advances with each test chains them all).
-fn select_touching<D: Dim>(g: &GrainView<D>, c: &BlockPairs<D>, touching: &mut Vec<u32>) {
-    for (w, (pairs, images)) in c.pairs.chunks(64).zip(c.images.chunks(64)).enumerate() {
+fn select_touching<D: Dim>(
+    g: &GrainView<D>,
+    (pairs, images): (&[[u32; 2]], &[u8]),
+    shifts: &[D::V; 32],
+    touching: &mut Vec<u32>,
+) {
+    for (w, (pairs, images)) in pairs.chunks(64).zip(images.chunks(64)).enumerate() {
         let mut mask = 0u64;
         for (b, (&[i, j], &code)) in pairs.iter().zip(images).enumerate() {
-            let del = at(g.pos, i) - (at(g.pos, j) + c.shifts[(code & 31) as usize]);
+            let del = at(g.pos, i) - (at(g.pos, j) + shifts[(code & 31) as usize]);
             let radsum = at(g.radius, i) + at(g.radius, j);
             mask |= ((D::norm2(del) < radsum * radsum) as u64) << b;
         }
@@ -419,13 +424,7 @@ fn run_block<D: Dim, L: PairLaw>(
     let [touching, was_touching] = t.touching;
     std::mem::swap(touching, was_touching);
     touching.clear();
-    let pass = BlockPairs {
-        pairs,
-        images,
-        touching: &[],
-        shifts: &shifts,
-    };
-    select_touching(g, &pass, touching);
+    select_touching(g, (pairs, images), &shifts, touching);
     // Contacts that opened drop their spring. Both lists are ascending, so
     // a merge finds them; after a rebuild, every stretched spring outside
     // the contacts is dropped instead.
@@ -453,7 +452,12 @@ fn run_block<D: Dim, L: PairLaw>(
     }
 
     // Pass 2: the contact law on the touching pairs only.
-    let ctx = BlockPairs { touching, ..pass };
+    let ctx = Pass2 {
+        pairs,
+        images,
+        touching,
+        shifts: &shifts,
+    };
     let dep = &mut Deposit {
         first: t.first,
         force: t.force,
@@ -470,8 +474,8 @@ fn run_block<D: Dim, L: PairLaw>(
     dep.stats
 }
 
-/// What the passes read about the block's pairs (the touching ones: for pass 2).
-struct BlockPairs<'a, D: Dim> {
+/// What the second pass reads about the block's pairs.
+struct Pass2<'a, D: Dim> {
     pairs: &'a [[u32; 2]],
     images: &'a [u8],
     touching: &'a [u32],
@@ -479,7 +483,7 @@ struct BlockPairs<'a, D: Dim> {
     shifts: &'a [D::V; 32],
 }
 
-impl<D: Dim> BlockPairs<'_, D> {
+impl<D: Dim> Pass2<'_, D> {
     /// The shift of pair `k`'s second grain.
     #[inline(always)]
     fn shift(&self, k: usize) -> D::V {
@@ -545,7 +549,7 @@ fn contacts_one_by_one<D: Dim, L: PairLaw>(
     law: &L,
     input: &PairInput<D>,
     g: &GrainView<D>,
-    c: &BlockPairs<D>,
+    c: &Pass2<D>,
     springs: &mut [D::V],
     dep: &mut Deposit<D>,
 ) {
@@ -611,7 +615,7 @@ fn contacts_in_lanes<D: Dim>(
     law: &HookeHistory,
     input: &PairInput<D>,
     g: &GrainView<D>,
-    c: &BlockPairs<D>,
+    c: &Pass2<D>,
     springs: &mut [D::V],
     dep: &mut Deposit<D>,
 ) {
@@ -756,14 +760,8 @@ mod tests {
             owned: n,
         };
         for len in [1, 63, 64, 65, 128, 199] {
-            let c = BlockPairs::<D3> {
-                pairs: &pairs[..len],
-                images: &images[..len],
-                touching: &[],
-                shifts: &shifts,
-            };
             let mut found = Vec::new();
-            select_touching(&g, &c, &mut found);
+            select_touching(&g, (&pairs[..len], &images[..len]), &shifts, &mut found);
             let want: Vec<u32> = (0..len as u32).filter(|&k| touch(k as usize)).collect();
             assert!(!want.is_empty(), "{len}");
             assert_eq!(found, want, "{len} pairs");
