@@ -301,6 +301,16 @@ impl<D: Dim> Md<D> {
     /// is the one [`Md::step`] gives; a non-finite grain found by the fused
     /// pass leaves the grains already predicted one step further.
     pub fn advance(&mut self, n: u64) -> Result<()> {
+        // Worth keeping the pool's other workers awake for (a few
+        // microseconds to start them spinning).
+        if n >= 8 {
+            crate::parallel::with_workers_awake(|| self.advance_steps(n))
+        } else {
+            self.advance_steps(n)
+        }
+    }
+
+    fn advance_steps(&mut self, n: u64) -> Result<()> {
         if n == 0 {
             return Ok(());
         }

@@ -24,8 +24,10 @@ use crate::neighbors::NeighborList;
 use crate::particles::Particles;
 use rayon::prelude::*;
 
-/// Fewest blocks handed to one parallel job.
-const MIN_BLOCKS_PER_JOB: usize = 4;
+/// Fewest blocks for which the passes are shared among threads: a smaller
+/// system runs them on one thread instead of paying to wake others every
+/// step.
+const MIN_BLOCKS_TO_SHARE: usize = 8;
 
 /// Grains per block: large enough that few contacts cross blocks, small
 /// enough that two to a few dozen cores find work. A power of two, so that
@@ -215,11 +217,11 @@ pub fn pair_forces<D: Dim>(
         owned,
     };
     let hooke = HookeHistory::of(input.law);
-    // At least MIN_BLOCKS_PER_JOB blocks per job: a small system runs on one
-    // thread instead of paying to wake others every step.
+    // One block per job, so that the threads end the pass together.
+    let min_len = if nb >= MIN_BLOCKS_TO_SHARE { 1 } else { nb };
     let block_stats: Vec<BlockStats> = tasks
         .par_iter_mut()
-        .with_min_len(MIN_BLOCKS_PER_JOB)
+        .with_min_len(min_len)
         .map(|t| {
             // The LAMMPS-shaped law gets its own compiled loop.
             let mut s = match hooke {
@@ -240,11 +242,9 @@ pub fn pair_forces<D: Dim>(
     let outbox = &deferred.outbox;
     let rotation = input.law.rotation;
     let (field_input, wall_springs) = fields;
-    // One block per job: this pass is short, and a thread that wakes late
-    // (some 45 µs on the project's virtual machine) still finds blocks
-    // left instead of the others waiting for a share it took. A system too
-    // small to share the first pass keeps this one on one thread too.
-    let min_len = if nb >= 2 * MIN_BLOCKS_PER_JOB { 1 } else { nb };
+    // One block per job too: this pass is short, and a thread that wakes
+    // late still finds blocks left instead of the others waiting for a
+    // share it took.
     let parts = p
         .force
         .par_chunks_mut(block)
