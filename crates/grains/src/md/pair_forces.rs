@@ -95,10 +95,20 @@ struct Share<D: Dim> {
 pub struct Deferred<D: Dim> {
     /// `outbox[b][c]`: block b's shares for grains of block c, in contact order.
     outbox: Vec<Vec<Vec<Share<D>>>>,
-    /// Per block, the pairs in contact now and at the previous evaluation.
-    touching: Vec<[Vec<u32>; 2]>,
+    /// Per block, which listed pairs touch.
+    contacts: Vec<BlockContacts>,
     /// The neighbour-list build the previous evaluation's contacts refer to.
     list_build: Option<u64>,
+}
+
+/// Which of a block's listed pairs touch: their indices (within the
+/// block), and the contact test's words (bit b of word w: pair 64 w + b)
+/// now and at the previous evaluation.
+#[derive(Clone, Debug, Default)]
+struct BlockContacts {
+    touching: Vec<u32>,
+    words: Vec<u64>,
+    was_words: Vec<u64>,
 }
 
 /// Inputs every block reads.
@@ -127,9 +137,9 @@ struct Block<'a, D: Dim> {
     springs: &'a mut [D::V],
     pairs: std::ops::Range<usize>,
     outbox: &'a mut [Vec<Share<D>>],
-    /// Indices (within the block) of the pairs in contact: now, and at the
-    /// previous evaluation when `was_valid` (same list since then).
-    touching: &'a mut [Vec<u32>; 2],
+    /// The pairs in contact: now, and at the previous evaluation when
+    /// `was_valid` (same list since then).
+    contacts: &'a mut BlockContacts,
     was_valid: bool,
 }
 
@@ -164,7 +174,7 @@ pub fn pair_forces<D: Dim>(
     for out in &mut deferred.outbox {
         out.resize_with(nb, Vec::new);
     }
-    deferred.touching.resize_with(nb, Default::default);
+    deferred.contacts.resize_with(nb, Default::default);
     let build = input.neighbors.builds();
     let was_valid = deferred.list_build == Some(build);
     deferred.list_build = Some(build);
@@ -184,7 +194,7 @@ pub fn pair_forces<D: Dim>(
     let forces = split_ranges(&mut p.force, grain_lens.clone());
     let torques = split_ranges(&mut p.torque, grain_lens);
     let spring_parts = split_ranges(springs, pair_lens);
-    let scratch = deferred.touching.iter_mut();
+    let scratch = deferred.contacts.iter_mut();
     let mut tasks: Vec<Block<D>> = forces
         .into_iter()
         .zip(torques)
@@ -193,14 +203,14 @@ pub fn pair_forces<D: Dim>(
         .zip(scratch)
         .enumerate()
         .map(
-            |(b, ((((force, torque), springs), outbox), touching))| Block {
+            |(b, ((((force, torque), springs), outbox), contacts))| Block {
                 first: (blocks.block * b).min(n),
                 force,
                 torque,
                 springs,
                 pairs: blocks.pair_start[b]..blocks.pair_start[b + 1],
                 outbox,
-                touching,
+                contacts,
                 was_valid,
             },
         )
@@ -373,16 +383,17 @@ fn at<T: Copy>(v: &[T], i: u32) -> T {
 }
 
 /// Appends to `touching`, ascending, the indices of the block's listed
-/// pairs in contact. The tests of 64 pairs fill a bit mask first, and the
-/// indices are read off it afterwards: the tests then depend on nothing but
-/// their own loads (a third or fewer of the pairs touch, in no predictable
-/// pattern, so a branch on each would often be mispredicted, and a store
-/// whose place advances with each test chains them all).
+/// pairs in contact, and to `words` the test's bit masks. The tests of 64
+/// pairs fill a mask first, and the indices are read off it afterwards:
+/// the tests then depend on nothing but their own loads (a third or fewer
+/// of the pairs touch, in no predictable pattern, so a branch on each would
+/// often be mispredicted, and a store whose place advances with each test
+/// chains them all).
 fn select_touching<D: Dim>(
     g: &GrainView<D>,
     (pairs, images): (&[[u32; 2]], &[u8]),
     shifts: &[D::V; 32],
-    touching: &mut Vec<u32>,
+    (touching, words): (&mut Vec<u32>, &mut Vec<u64>),
 ) {
     for (w, (pairs, images)) in pairs.chunks(64).zip(images.chunks(64)).enumerate() {
         let mut mask = 0u64;
@@ -391,6 +402,7 @@ fn select_touching<D: Dim>(
             let radsum = at(g.radius, i) + at(g.radius, j);
             mask |= ((D::norm2(del) < radsum * radsum) as u64) << b;
         }
+        words.push(mask);
         while mask != 0 {
             touching.push((64 * w) as u32 + mask.trailing_zeros());
             mask &= mask - 1;
@@ -421,29 +433,32 @@ fn run_block<D: Dim, L: PairLaw>(
     // Pass 1: which listed pairs touch.
     t.force.fill(D::zero());
     t.torque.fill(D::A::default());
-    let [touching, was_touching] = t.touching;
-    std::mem::swap(touching, was_touching);
+    let BlockContacts {
+        touching,
+        words,
+        was_words,
+    } = t.contacts;
+    std::mem::swap(words, was_words);
     touching.clear();
-    select_touching(g, (pairs, images), &shifts, touching);
-    // Contacts that opened drop their spring. Both lists are ascending, so
-    // a merge finds them; after a rebuild, every stretched spring outside
-    // the contacts is dropped instead.
-    let mut a = 0;
+    words.clear();
+    select_touching(g, (pairs, images), &shifts, (touching, words));
+    // Contacts that opened drop their spring: the bits set in the previous
+    // word and clear in this one. After a rebuild, every stretched spring
+    // outside the contacts is dropped instead.
     if t.was_valid {
-        for &k in was_touching.iter() {
-            while a < touching.len() && touching[a] < k {
-                a += 1;
-            }
-            if a == touching.len() || touching[a] != k {
-                t.springs[k as usize] = D::zero();
+        for (w, (&now, &was)) in words.iter().zip(was_words.iter()).enumerate() {
+            let mut opened = was & !now;
+            while opened != 0 {
+                t.springs[64 * w + opened.trailing_zeros() as usize] = D::zero();
+                opened &= opened - 1;
             }
         }
     } else {
-        for (k, spring) in t.springs.iter_mut().enumerate() {
-            if a < touching.len() && touching[a] as usize == k {
-                a += 1;
-            } else if *spring != D::zero() {
-                *spring = D::zero();
+        for (&now, springs) in words.iter().zip(t.springs.chunks_mut(64)) {
+            for (b, spring) in springs.iter_mut().enumerate() {
+                if (now >> b) & 1 == 0 && *spring != D::zero() {
+                    *spring = D::zero();
+                }
             }
         }
     }
@@ -760,11 +775,18 @@ mod tests {
             owned: n,
         };
         for len in [1, 63, 64, 65, 128, 199] {
-            let mut found = Vec::new();
-            select_touching(&g, (&pairs[..len], &images[..len]), &shifts, &mut found);
+            let (mut found, mut words) = (Vec::new(), Vec::new());
+            let out = (&mut found, &mut words);
+            select_touching(&g, (&pairs[..len], &images[..len]), &shifts, out);
             let want: Vec<u32> = (0..len as u32).filter(|&k| touch(k as usize)).collect();
             assert!(!want.is_empty(), "{len}");
             assert_eq!(found, want, "{len} pairs");
+            // The words hold the same contacts, bit b of word w for pair 64 w + b.
+            assert_eq!(words.len(), len.div_ceil(64), "{len} pairs");
+            let from_words: Vec<u32> = (0..len as u32)
+                .filter(|&k| (words[k as usize / 64] >> (k % 64)) & 1 == 1)
+                .collect();
+            assert_eq!(from_words, want, "{len} pairs");
         }
     }
 
