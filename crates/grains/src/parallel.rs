@@ -2,6 +2,7 @@
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 /// Runs `f` on a worker of rayon's pool. The engines' parallel loops then
 /// start from a pool thread; called from any other thread, each loop would
@@ -14,9 +15,20 @@ pub fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
 /// Set while some call of [`with_workers_awake`] keeps workers busy.
 static AWAKE: AtomicBool = AtomicBool::new(false);
 
-/// What the spinners of one [`with_workers_awake`] call share.
+/// How long a call waits for the other workers to start spinning before it
+/// runs `f` anyway (a worker busy with other work starts too late and
+/// returns at once). Waking a sleeping worker takes some tens of
+/// microseconds on a virtual machine.
+const START_WAIT: Duration = Duration::from_millis(1);
+
+/// What the spinners of one [`with_workers_awake`] call share. Every access
+/// is sequentially consistent: the call writes `began` or `stop` and then
+/// reads `live`, while a spinner adds to `live` and then reads `began` and
+/// `stop`; weaker orderings would let both read the old values.
 #[derive(Default)]
 struct Spinners {
+    /// `f` has started: a spinner that starts now returns at once.
+    began: AtomicBool,
     stop: AtomicBool,
     /// Spinners started and not yet returned.
     live: AtomicUsize,
@@ -31,49 +43,66 @@ struct Spinners {
 /// shares (about 0.1 ms on chute) ran on one thread whatever the pool's size.
 /// The cost: the other workers spin while `f` runs its serial parts.
 ///
-/// A spinner runs the jobs it finds on top of its own stack, so it must not
-/// outlive the call: a job of a later call stolen by a stale spinner could
-/// pick up that later call's spinner, which would then spin inside a job
-/// its caller waits for. The call therefore returns only once every spinner
-/// it started has returned (a spinner that starts later sees the stop flag
-/// and returns at once). For the same reason only one call is active at a
-/// time in the process; a call made while another is active (tests sharing
-/// the global pool, nested calls) runs `f` plainly.
+/// A spinner runs the jobs it finds on top of its own stack, so it must
+/// never run on top of a job of `f`: `f` could not end before that job,
+/// nor the job before the spinner, nor the spinner before `f`. A worker
+/// takes a waiting spinner while it waits inside a job, so a spinner may
+/// spin only if it started before `f` did: the call waits for the spinners
+/// to start (at most [`START_WAIT`]) before it runs `f`, and one that starts
+/// later returns at once. Nor may a spinner outlive its call, where it
+/// could take a job of a later call's `f` and, inside it, that call's
+/// spinner: the call returns only once every spinner it started has
+/// returned, and only one call is active at a time in the process (a call
+/// made while another is active, as by tests sharing the global pool or a
+/// nested call, runs `f` plainly).
 pub fn with_workers_awake<R>(f: impl FnOnce() -> R) -> R {
     let Some(me) = rayon::current_thread_index() else {
         return f();
     };
-    if rayon::current_num_threads() < 2 || AWAKE.swap(true, Ordering::AcqRel) {
+    let others = rayon::current_num_threads() - 1;
+    if others == 0 || AWAKE.swap(true, Ordering::SeqCst) {
         return f();
     }
-    let spinners = Arc::new(Spinners::default());
-    let shared = Arc::clone(&spinners);
+    /// Stops the spinners, waits for them and lets the next call start
+    /// its own, when `f` returns or unwinds (or the broadcast fails).
+    struct Stop(Arc<Spinners>);
+    impl Drop for Stop {
+        fn drop(&mut self) {
+            self.0.began.store(true, Ordering::SeqCst);
+            self.0.stop.store(true, Ordering::SeqCst);
+            // A spinner may be running a long job it took: help the pool
+            // meanwhile instead of only spinning.
+            while self.0.live.load(Ordering::SeqCst) > 0 {
+                if rayon::yield_now() == Some(rayon::Yield::Idle) {
+                    std::hint::spin_loop();
+                }
+            }
+            AWAKE.store(false, Ordering::SeqCst);
+        }
+    }
+    let stop = Stop(Arc::new(Spinners::default()));
+    let shared = Arc::clone(&stop.0);
     rayon::spawn_broadcast(move |ctx| {
         if ctx.index() == me {
             return;
         }
-        shared.live.fetch_add(1, Ordering::AcqRel);
-        while !shared.stop.load(Ordering::Acquire) {
-            if rayon::yield_now() == Some(rayon::Yield::Idle) {
-                for _ in 0..16 {
-                    std::hint::spin_loop();
+        shared.live.fetch_add(1, Ordering::SeqCst);
+        if !shared.began.load(Ordering::SeqCst) {
+            while !shared.stop.load(Ordering::SeqCst) {
+                if rayon::yield_now() == Some(rayon::Yield::Idle) {
+                    for _ in 0..16 {
+                        std::hint::spin_loop();
+                    }
                 }
             }
         }
-        shared.live.fetch_sub(1, Ordering::AcqRel);
+        shared.live.fetch_sub(1, Ordering::SeqCst);
     });
-    /// Stops the spinners and waits for them when `f` returns or unwinds.
-    struct Stop(Arc<Spinners>);
-    impl Drop for Stop {
-        fn drop(&mut self) {
-            self.0.stop.store(true, Ordering::Release);
-            while self.0.live.load(Ordering::Acquire) > 0 {
-                std::hint::spin_loop();
-            }
-            AWAKE.store(false, Ordering::Release);
-        }
+    let start = Instant::now();
+    while stop.0.live.load(Ordering::SeqCst) < others && start.elapsed() < START_WAIT {
+        std::hint::spin_loop();
     }
-    let _stop = Stop(spinners);
+    stop.0.began.store(true, Ordering::SeqCst);
     f()
 }
 
@@ -81,39 +110,129 @@ pub fn with_workers_awake<R>(f: impl FnOnce() -> R) -> R {
 mod tests {
     use super::*;
     use rayon::prelude::*;
+    use std::sync::mpsc;
 
     fn sum(n: u64) -> u64 {
         (0..n).into_par_iter().map(|k| k * k).sum()
     }
 
+    fn pool_of(threads: usize) -> rayon::ThreadPool {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+    }
+
+    /// Runs `body` on a thread of its own and fails if it has not ended
+    /// within a minute (a hang would otherwise stall the test run).
+    fn ends_in_time(body: impl FnOnce() + Send + 'static) {
+        let (done, ended) = mpsc::channel();
+        let runner = std::thread::spawn(move || {
+            body();
+            let _ = done.send(());
+        });
+        match ended.recv_timeout(Duration::from_secs(60)) {
+            Ok(()) => runner.join().unwrap(),
+            // The body panicked: report its panic.
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                std::panic::resume_unwind(runner.join().unwrap_err())
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => panic!("with_workers_awake hung"),
+        }
+    }
+
     /// Calls one after the other with parallel loops between them (as the
-    /// scenario runner makes them), nested calls and concurrent calls all
-    /// end, and their loops give the right sums. (The race that hung a
-    /// chute run, a spinner outliving its call, is too narrow for this test
-    /// to meet reliably; it is a check that the calls end, not a proof.)
+    /// scenario runner makes them), nested calls, calls from parallel jobs
+    /// and from several threads into one pool, a 1-thread pool and a call
+    /// outside any pool all end, and their loops give the right sums. The
+    /// races the design guards against (see [`with_workers_awake`]) are too
+    /// narrow for a test to meet reliably: this checks that the calls end,
+    /// it is not a proof.
     #[test]
     fn workers_awake_in_sequence_nested_and_concurrent_all_end() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
-        let want = sum(20_000);
-        pool.install(|| {
-            for k in 0..5000 {
-                assert_eq!(with_workers_awake(|| sum(20_000)), want);
-                if k % 2 == 0 {
-                    assert_eq!(sum(20_000), want);
+        ends_in_time(|| {
+            let pool = Arc::new(pool_of(2));
+            let want = sum(20_000);
+            pool.install(|| {
+                for k in 0..5000 {
+                    assert_eq!(with_workers_awake(|| sum(20_000)), want);
+                    if k % 2 == 0 {
+                        assert_eq!(sum(20_000), want);
+                    }
                 }
-            }
+            });
+            let got: Vec<u64> = pool.install(|| {
+                (0..64u64)
+                    .into_par_iter()
+                    .map(|_| with_workers_awake(|| with_workers_awake(|| sum(20_000))))
+                    .collect()
+            });
+            assert!(got.iter().all(|&s| s == want));
+            let callers: Vec<_> = (0..3)
+                .map(|_| {
+                    let pool = Arc::clone(&pool);
+                    std::thread::spawn(move || {
+                        pool.install(|| {
+                            (0..500).all(|_| with_workers_awake(|| sum(20_000)) == want)
+                        })
+                    })
+                })
+                .collect();
+            assert!(callers.into_iter().all(|c| c.join().unwrap()));
+            assert_eq!(
+                pool_of(1).install(|| with_workers_awake(|| sum(1000))),
+                sum(1000)
+            );
+            // Outside any pool: runs plainly.
+            assert_eq!(with_workers_awake(|| sum(1000)), sum(1000));
         });
-        let got: Vec<u64> = pool.install(|| {
-            (0..64u64)
-                .into_par_iter()
-                .map(|_| with_workers_awake(|| with_workers_awake(|| sum(20_000))))
-                .collect()
+    }
+
+    /// A worker busy elsewhere when the call starts misses the start wait:
+    /// the call runs `f` anyway, and the late spinner returns at once.
+    #[test]
+    fn workers_awake_with_a_busy_worker_ends() {
+        ends_in_time(|| {
+            let pool = pool_of(2);
+            let want = sum(20_000);
+            pool.install(|| {
+                for _ in 0..20 {
+                    let busy = AtomicBool::new(true);
+                    let (_, got) = rayon::join(
+                        // Keeps this worker from its spinner past START_WAIT.
+                        || {
+                            while busy.load(Ordering::SeqCst) {
+                                std::hint::spin_loop();
+                            }
+                        },
+                        || {
+                            with_workers_awake(|| {
+                                std::thread::sleep(2 * START_WAIT);
+                                busy.store(false, Ordering::SeqCst);
+                                sum(20_000)
+                            })
+                        },
+                    );
+                    assert_eq!(got, want);
+                }
+            });
         });
-        assert!(got.iter().all(|&s| s == want));
-        // Outside any pool: runs plainly.
-        assert_eq!(with_workers_awake(|| sum(1000)), sum(1000));
+    }
+
+    /// A panic in `f` reaches the caller through the guard that stops and
+    /// waits for the spinners, and later calls still end with the right
+    /// sums.
+    #[test]
+    fn workers_awake_after_a_panic() {
+        ends_in_time(|| {
+            let pool = pool_of(2);
+            pool.install(|| {
+                let caught = std::panic::catch_unwind(|| {
+                    with_workers_awake(|| -> u64 { panic!("inside f") })
+                });
+                assert!(caught.is_err());
+                assert_eq!(with_workers_awake(|| sum(20_000)), sum(20_000));
+            });
+        });
     }
 }
