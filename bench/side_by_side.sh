@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Times two `grains bench` runs in turns and prints the ratio of each pair
-# of wall times (second / first), then their median: the issue's in-project
-# figures (Gear-5 against Verlet, two threads against one) and A/B checks of
-# two builds.
+# of wall times (second / first), then their median: the figures of
+# docs/performance.md that compare grains with itself (Gear-5 against
+# Verlet, two threads against one) and A/B checks of two builds.
 #
 #   bench/side_by_side.sh "chute --steps 300 --threads 1" \
 #                         "chute --steps 300 --threads 1 --integrator gear5"
@@ -20,6 +20,7 @@ set -euo pipefail
 first=$1
 second=${2:-$1}
 rounds=${ROUNDS:-8}
+[[ "$rounds" =~ ^[1-9][0-9]*$ ]] || { echo "ROUNDS must be a positive whole number, not '$rounds'" >&2; exit 2; }
 root=$(cd "$(dirname "$0")/.." && pwd)
 grains_a=${GRAINS_A:-"${CARGO_TARGET_DIR:-$root/target}/release/grains"}
 grains_b=${GRAINS_B:-$grains_a}
