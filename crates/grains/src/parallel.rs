@@ -64,19 +64,15 @@ pub fn with_workers_awake<R>(f: impl FnOnce() -> R) -> R {
         return f();
     }
     /// Stops the spinners, waits for them and lets the next call start
-    /// its own, when `f` returns or unwinds (or the broadcast fails).
+    /// its own, when `f` returns or unwinds (or the broadcast fails). A
+    /// spinner that starts after the stop returns at once.
     struct Stop(Arc<Spinners>);
     impl Drop for Stop {
         fn drop(&mut self) {
-            self.0.began.store(true, Ordering::SeqCst);
             self.0.stop.store(true, Ordering::SeqCst);
             // A spinner may be running a long job it took: help the pool
             // meanwhile instead of only spinning.
-            while self.0.live.load(Ordering::SeqCst) > 0 {
-                if rayon::yield_now() == Some(rayon::Yield::Idle) {
-                    std::hint::spin_loop();
-                }
-            }
+            run_pending_jobs_until(|| self.0.live.load(Ordering::SeqCst) == 0);
             AWAKE.store(false, Ordering::SeqCst);
         }
     }
@@ -88,13 +84,7 @@ pub fn with_workers_awake<R>(f: impl FnOnce() -> R) -> R {
         }
         shared.live.fetch_add(1, Ordering::SeqCst);
         if !shared.began.load(Ordering::SeqCst) {
-            while !shared.stop.load(Ordering::SeqCst) {
-                if rayon::yield_now() == Some(rayon::Yield::Idle) {
-                    for _ in 0..16 {
-                        std::hint::spin_loop();
-                    }
-                }
-            }
+            run_pending_jobs_until(|| shared.stop.load(Ordering::SeqCst));
         }
         shared.live.fetch_sub(1, Ordering::SeqCst);
     });
@@ -104,6 +94,18 @@ pub fn with_workers_awake<R>(f: impl FnOnce() -> R) -> R {
     }
     stop.0.began.store(true, Ordering::SeqCst);
     f()
+}
+
+/// Runs the pool's pending jobs on this worker, or spins briefly when there
+/// are none, until `done`.
+fn run_pending_jobs_until(done: impl Fn() -> bool) {
+    while !done() {
+        if rayon::yield_now() == Some(rayon::Yield::Idle) {
+            for _ in 0..16 {
+                std::hint::spin_loop();
+            }
+        }
+    }
 }
 
 #[cfg(test)]
