@@ -13,6 +13,7 @@
 use clap::Args;
 use grains::comm::Comm;
 use grains::md::decomp::{Balance, DecomposedMd};
+use grains::md::phase_times::PhaseTimes;
 use grains::md::Md;
 use grains::scenario::{build_md, load_file, load_str, Loaded};
 use grains::{Dim, Error, Result, D2, D3};
@@ -112,11 +113,30 @@ fn peak_rss_bytes() -> u64 {
         .map_or(0, |kb| kb * 1024)
 }
 
-/// Wall and CPU seconds of `steps` steps.
-fn time_steps<D: Dim>(md: &mut Md<D>, steps: u64) -> Result<(f64, f64)> {
+/// Wall and CPU seconds of `steps` steps, and the time of each phase.
+fn time_steps<D: Dim>(md: &mut Md<D>, steps: u64) -> Result<(f64, f64, PhaseTimes)> {
+    md.timing.reset();
     let (start, cpu0) = (Instant::now(), cpu_seconds());
     md.run(steps)?;
-    Ok((start.elapsed().as_secs_f64(), cpu_seconds() - cpu0))
+    let (wall, cpu) = (start.elapsed().as_secs_f64(), cpu_seconds() - cpu0);
+    Ok((wall, cpu, md.timing))
+}
+
+/// The phases' nanoseconds per particle-step, in the words of the text
+/// output.
+fn phase_line(phases: &serde_json::Value) -> String {
+    let names = [
+        ("contacts", "contacts"),
+        ("fields", "walls and gravity"),
+        ("integrate", "integration"),
+        ("neighbors", "neighbour lists"),
+        ("other", "other"),
+    ];
+    let parts: Vec<String> = names
+        .iter()
+        .map(|(key, words)| format!("{words} {:.1}", phases[key].as_f64().unwrap_or(0.0)))
+        .collect();
+    format!("  ns per particle-step: {}", parts.join(", "))
 }
 
 /// The scenario of an MD workload and its default step count.
@@ -164,7 +184,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     let (loaded, default_steps) = md_workload(&args)?;
     let steps = args.steps.unwrap_or(default_steps);
-    let (particles, integrator, (wall, cpu)) = if loaded.scenario.dimension.axes() == 2 {
+    let (particles, integrator, (wall, cpu, timing)) = if loaded.scenario.dimension.axes() == 2 {
         let (mut md, _) = build_md::<D2>(&loaded)?;
         let w = time_steps(&mut md, steps)?;
         (md.particles.n_mobile(), md.settings.integrator, w)
@@ -174,7 +194,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
         (md.particles.n_mobile(), md.settings.integrator, w)
     };
     let threads = rayon::current_num_threads();
-    let ns = 1e9 * wall / (steps as f64 * particles.max(1) as f64);
+    let updates = steps as f64 * particles.max(1) as f64;
+    let ns = 1e9 * wall / updates;
+    let phases = timing.to_json(wall, 1e9 / updates);
     let rss = peak_rss_bytes();
     if args.json {
         println!(
@@ -182,7 +204,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             json!({
                 "workload": args.workload, "particles": particles, "steps": steps, "threads": threads,
                 "integrator": integrator.name(), "wall_seconds": wall, "ns_per_particle_step": ns,
-                "cpu_seconds": cpu, "peak_rss_bytes": rss,
+                "cpu_seconds": cpu, "peak_rss_bytes": rss, "phase_ns_per_particle_step": phases,
             })
         );
     } else {
@@ -192,6 +214,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             integrator.name(),
             rss as f64 / 1048576.0
         );
+        println!("{}", phase_line(&phases));
     }
     Ok(())
 }

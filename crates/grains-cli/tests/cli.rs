@@ -980,3 +980,42 @@ fn bad_command_line_is_exit_2() {
         run.assert_code(2);
     }
 }
+
+/// `grains bench --json` splits the time per particle-step into the
+/// phases of the step; the phases and the rest add up to the whole.
+#[test]
+fn bench_reports_time_per_phase() {
+    let sb = Sandbox::new("bench-phases");
+    let run = grains(
+        &sb.dir,
+        &[
+            "bench",
+            "bed3d",
+            "--particles",
+            "2000",
+            "--steps",
+            "40",
+            "--threads",
+            "1",
+            "--json",
+        ],
+    );
+    run.assert_code(0);
+    let line: Value = serde_json::from_str(run.stdout.trim()).expect("one JSON line");
+    let phases = &line["phase_ns_per_particle_step"];
+    let mut sum = 0.0;
+    for key in ["contacts", "fields", "integrate", "neighbors", "other"] {
+        let ns = phases[key].as_f64().unwrap_or(-1.0);
+        assert!(ns >= 0.0, "{key}: {line}");
+        sum += ns;
+    }
+    // The grains touch and fall: contacts, gravity and integration cost time.
+    for key in ["contacts", "fields", "integrate"] {
+        assert!(phases[key].as_f64().unwrap() > 0.0, "{key}: {line}");
+    }
+    let whole = line["ns_per_particle_step"].as_f64().unwrap();
+    assert!(
+        (sum - whole).abs() <= 1e-6 * whole,
+        "{sum} vs {whole}: {line}"
+    );
+}

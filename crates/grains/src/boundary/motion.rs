@@ -226,6 +226,25 @@ impl<D: Dim> Motion<D> {
         }
     }
 
+    /// Bounds, over every x and t, on a modulated vibration's displacement
+    /// |A(x) sin(2π f t + phase)| ≤ |A0| (1 + |B|) and on its slope
+    /// |d/dx A(x) sin(…)| ≤ |A0 B| 2π/L (both along `direction`); `None`
+    /// for any other motion or B = 0.
+    pub(crate) fn modulation_bounds(&self) -> Option<(f64, f64)> {
+        match self {
+            Motion::Vibrate {
+                amplitude,
+                modulation,
+                wavelength,
+                ..
+            } if self.is_modulated() => Some((
+                amplitude.abs() * (1.0 + modulation.abs()),
+                (amplitude * modulation).abs() * TAU / wavelength,
+            )),
+            _ => None,
+        }
+    }
+
     /// Whether the displacement differs from point to point (a vibration
     /// with B ≠ 0).
     pub fn is_modulated(&self) -> bool {

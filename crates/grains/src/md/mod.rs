@@ -22,6 +22,7 @@ pub mod halo;
 mod pair_forces;
 mod pair_hash;
 pub mod parallel_spec;
+pub mod phase_times;
 pub mod subdomains;
 mod wall_springs;
 
@@ -39,8 +40,10 @@ use crate::particles::Particles;
 use field_forces::{finish_fields, FieldInput};
 use pair_forces::{pair_forces, Deferred, PairBlocks, PairInput};
 use pair_hash::PairHash;
+use phase_times::{add_since, PhaseTimes};
 use rayon::prelude::*;
 use std::collections::HashMap;
+use std::time::Instant;
 use wall_springs::WallSprings;
 
 /// Numerical settings of an MD run.
@@ -97,6 +100,8 @@ pub struct Md<D: Dim> {
     pub time: f64,
     pub step: u64,
     pub stats: MdStats,
+    /// Wall time per phase of the step since the engine was built.
+    pub timing: PhaseTimes,
     neighbors: NeighborList<D>,
     /// Tangential spring of each listed pair, aligned with `neighbors.pairs`,
     /// oriented as the displacement of the pair's first grain.
@@ -142,6 +147,7 @@ impl<D: Dim> Md<D> {
             time: 0.0,
             step: 0,
             stats: MdStats::default(),
+            timing: PhaseTimes::default(),
             springs: Vec::new(),
             wall_springs: WallSprings::default(),
             blocks: PairBlocks::default(),
@@ -337,10 +343,12 @@ impl<D: Dim> Md<D> {
 
     /// The integrator's part before the forces.
     pub fn predict(&mut self) {
+        let start = Instant::now();
         let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
         self.settings
             .integrator
             .predict(&mut self.particles, dt, rot, None);
+        add_since(&mut self.timing.integrate, start);
     }
 
     /// [`Md::predict`] with the neighbour list's displacement test in the
@@ -354,12 +362,15 @@ impl<D: Dim> Md<D> {
     /// tests its ghosts ([`Md::ghosts_beyond_skin`]) after their owners
     /// sent their new positions.
     pub(crate) fn predict_owned_checked(&mut self) -> bool {
+        let start = Instant::now();
         let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
         let integrator = self.settings.integrator;
         let pass = |p: &mut Particles<D>, skin: Option<SkinCheck<D::V>>| {
             integrator.predict(p, dt, rot, skin)
         };
-        self.owned_beyond_skin(pass)
+        let moved = self.owned_beyond_skin(pass);
+        add_since(&mut self.timing.integrate, start);
+        moved
     }
 
     /// [`Md::correct`], the finite-state test of [`Md::check_stability`]
@@ -374,6 +385,7 @@ impl<D: Dim> Md<D> {
     /// step's [`Md::predict`] in one pass, with the displacement test of
     /// the owned grains only (as [`Md::predict_owned_checked`]).
     pub(crate) fn correct_predict_owned_checked(&mut self) -> Result<bool> {
+        let start = Instant::now();
         let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
         let finite = self.finite_check_due();
         let integrator = self.settings.integrator;
@@ -384,6 +396,7 @@ impl<D: Dim> Md<D> {
             r.far
         };
         let moved = self.owned_beyond_skin(pass);
+        add_since(&mut self.timing.integrate, start);
         self.finite_or_error(non_finite).map(|()| moved)
     }
 
@@ -431,10 +444,12 @@ impl<D: Dim> Md<D> {
 
     /// The integrator's part after the forces.
     pub fn correct(&mut self) {
+        let start = Instant::now();
         let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
         self.settings
             .integrator
             .correct(&mut self.particles, dt, rot);
+        add_since(&mut self.timing.integrate, start);
     }
 
     /// Number of neighbour-list builds so far.
@@ -443,6 +458,13 @@ impl<D: Dim> Md<D> {
     }
 
     fn rebuild_neighbors(&mut self) -> Result<()> {
+        let start = Instant::now();
+        let built = self.rebuild_neighbors_untimed();
+        add_since(&mut self.timing.neighbors, start);
+        built
+    }
+
+    fn rebuild_neighbors_untimed(&mut self) -> Result<()> {
         let n = self.particles.n_owned();
         let domain = &self.domain;
         self.particles.pos[..n]
@@ -541,10 +563,12 @@ impl<D: Dim> Md<D> {
             &mut self.particles,
             &mut self.springs,
             &mut self.deferred,
-            &mut self.stats,
+            (&mut self.stats, &mut self.timing),
             (&fields, &self.wall_springs),
         );
+        let start = Instant::now();
         finish_fields(parts, &mut self.wall_springs, &mut self.stats);
+        add_since(&mut self.timing.fields, start);
     }
 
     /// Stops the run when a grain's state is not finite or two grains

@@ -14,6 +14,7 @@
 //! memory. Only contacts, not listed pairs, take a share.
 
 use super::field_forces::{field_part, FieldInput, FieldPart, GrainView};
+use super::phase_times::{add_since, PhaseTimes};
 use super::wall_springs::WallSprings;
 use super::MdStats;
 use crate::contact::hooke_history::HookeHistory;
@@ -23,6 +24,7 @@ use crate::dim::Dim;
 use crate::neighbors::NeighborList;
 use crate::particles::Particles;
 use rayon::prelude::*;
+use std::time::Instant;
 
 /// Fewest blocks for which the passes are shared among threads: a smaller
 /// system runs them on one thread instead of paying to wake others every
@@ -163,9 +165,10 @@ pub fn pair_forces<D: Dim>(
     p: &mut Particles<D>,
     springs: &mut [D::V],
     deferred: &mut Deferred<D>,
-    stats: &mut MdStats,
+    (stats, timing): (&mut MdStats, &mut PhaseTimes),
     fields: (&FieldInput<D>, &WallSprings<D>),
 ) -> Vec<FieldPart<D>> {
+    let start = Instant::now();
     let blocks = input.blocks;
     let n = p.len();
     let owned = p.n_owned();
@@ -245,6 +248,7 @@ pub fn pair_forces<D: Dim>(
         })
         .collect();
     drop(tasks);
+    let start = add_since(&mut timing.contacts, start);
 
     // Deferred shares: each block takes its inboxes in block order, then
     // its grains' wall contacts and gravity, while the sums are in cache.
@@ -274,6 +278,7 @@ pub fn pair_forces<D: Dim>(
             field_part(field_input, &grains, wall_springs, first, force, torque)
         })
         .collect();
+    add_since(&mut timing.fields, start);
 
     for s in &block_stats {
         stats.contacts += s.contacts;

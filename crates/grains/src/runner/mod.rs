@@ -417,6 +417,7 @@ fn run_loop<D: Dim>(
     progress: &mut dyn Progress,
 ) -> Result<Value> {
     let started = Instant::now();
+    md.timing.reset();
     let first_step = md.step;
     let mut ckpt = checkpointing::Checkpointer::new(loaded, opts, &md, (relax, measure))?;
     ckpt.at_start(&md, &outputs)?;
@@ -512,6 +513,9 @@ fn run_loop<D: Dim>(
         wall_seconds,
     );
     summary.insert("neighbor_builds".into(), json!(md.neighbor_builds()));
+    // Seconds per phase of the step; `other` is mostly measurements and output.
+    let phases = md.timing.to_json(wall_seconds, 1.0);
+    summary.insert("phase_seconds".into(), phases);
     measurements.scalars(&mut summary);
     flow.finish(&opts.out_dir, &md, &mut summary)?;
     let summary = Value::Object(summary);
