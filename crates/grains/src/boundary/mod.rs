@@ -168,9 +168,9 @@ impl<D: Dim> Wall<D> {
         Some(LiftedTest {
             point: to3::<D>(*point),
             normal: to3::<D>(*normal),
-            // Inflated as `misses` explains.
+            // Inflated as the margins of [`LiftedTest`] say.
             lift: lift * along * (1.0 + 1e-9),
-            root: (1.0 + tilt * tilt).sqrt(),
+            root: (1.0 + tilt * tilt).sqrt() * (1.0 + 1e-9),
         })
     }
 
@@ -245,23 +245,26 @@ impl PlaneTest {
 /// largest tilt ([`flat::lifted_plane`]: the distance to the tangent plane
 /// is the distance to the lifted plane divided by that root). Grains are
 /// turned down on those bounds alone, before the sines and cosines of the
-/// exact test: most grains of a vibrated bed are far above its plate. The
-/// margins of 1e-9 (on the lift and on r) keep the test from turning down a grain the exact
-/// test, with its own rounding, would find touching.
+/// exact test: most grains of a vibrated bed are far from its plate.
+/// Margins of 1e-9 (relative, on the lift and on r √(1 + σ²)) keep the
+/// test from turning down a grain that the exact test, with its own
+/// rounding, would find touching; they assume a unit normal, as
+/// [`Wall::new`] makes it.
 #[derive(Clone, Copy, Debug)]
 struct LiftedTest {
     point: glam::DVec3,
     normal: glam::DVec3,
-    /// The largest lift along the normal, |A0| (1 + |B|) |d · n|.
+    /// The largest lift along the normal, |A0| (1 + |B|) |d · n|, with
+    /// its margin.
     lift: f64,
-    /// √(1 + σ²) for the largest slope σ along the normal.
+    /// √(1 + σ²) for the largest slope σ along the normal, with its margin.
     root: f64,
 }
 
 impl LiftedTest {
     #[inline]
     fn misses(&self, p: glam::DVec3, r: f64) -> bool {
-        (p - self.point).dot(self.normal) - self.lift >= r * self.root * (1.0 + 1e-9)
+        (p - self.point).dot(self.normal) - self.lift >= r * self.root
     }
 }
 
@@ -294,12 +297,12 @@ impl<D: Dim> PlacedWall<'_, D> {
         if !self.active {
             return None;
         }
+        // At most one of the two quick tests is set.
         if let Some(plane) = &self.plane {
             if plane.misses(to3::<D>(p), r) {
                 return None;
             }
-        }
-        if let Some(lifted) = &self.lifted {
+        } else if let Some(lifted) = &self.lifted {
             if lifted.misses(to3::<D>(p), r) {
                 return None;
             }
