@@ -152,6 +152,7 @@ impl<D: Dim> Wall<D> {
             velocity: self.motion.uniform_velocity(t),
             plane,
             lifted: self.lifted_test(),
+            reach: self.shape.bounding_box().map(ReachBox::around),
         }
     }
 
@@ -221,6 +222,9 @@ pub struct PlacedWall<'a, D: Dim> {
     plane: Option<PlaneTest>,
     /// A plate under a modulated vibration.
     lifted: Option<LiftedTest>,
+    /// A finite shape (segment, polygon, obstacle): its bounding box, in
+    /// the reference frame.
+    reach: Option<ReachBox>,
 }
 
 /// The distance test of [`flat::plane`] for a translated plane, on the
@@ -268,13 +272,45 @@ impl LiftedTest {
     }
 }
 
+/// No point of a finite shape lies farther than r, along any axis, from its
+/// bounding box: a grain (carried into the wall's reference frame) farther
+/// out than that cannot touch it, and is turned down before the shape's
+/// own test (a polygon's is its normal and the closest point of its
+/// outline). The box is widened by 1e-9 of its largest coordinate and the
+/// reach by 1e-9 of r, so that the shape's test with its own rounding
+/// cannot find a contact the box turned down.
+#[derive(Clone, Copy, Debug)]
+struct ReachBox {
+    lo: glam::DVec3,
+    hi: glam::DVec3,
+}
+
+impl ReachBox {
+    fn around((lo, hi): (glam::DVec3, glam::DVec3)) -> Self {
+        let pad = 1e-9 * lo.abs().max(hi.abs()).max_element();
+        Self {
+            lo: lo - glam::DVec3::splat(pad),
+            hi: hi + glam::DVec3::splat(pad),
+        }
+    }
+
+    #[inline]
+    fn misses(&self, p: glam::DVec3, r: f64) -> bool {
+        let reach = r * (1.0 + 1e-9);
+        let below = (self.lo - p).max_element();
+        let above = (p - self.hi).max_element();
+        below >= reach || above >= reach
+    }
+}
+
 impl<D: Dim> PlacedWall<'_, D> {
     /// Sets `near` (one entry per grain of `pos` and `radius`) for the
     /// grains this wall may touch: those [`PlacedWall::contact`] does not
-    /// turn down at once. A translated plane's distance test, or a
-    /// modulated plate's bound ([`LiftedTest`]), runs here over all the
-    /// grains in a loop of its own, which the compiler keeps tight; other
-    /// walls mark every grain while they are there.
+    /// turn down at once. A translated plane's distance test, a modulated
+    /// plate's bound ([`LiftedTest`]) or a finite shape's box
+    /// ([`ReachBox`]) runs here over all the grains in a loop of its own,
+    /// which the compiler keeps tight; other walls (cylinders, turning
+    /// planes) mark every grain while they are there.
     pub fn mark_near(&self, pos: &[D::V], radius: &[f64], near: &mut [bool]) {
         if !self.active {
             return;
@@ -286,6 +322,10 @@ impl<D: Dim> PlacedWall<'_, D> {
         } else if let Some(lifted) = &self.lifted {
             for ((m, &p), &r) in near.iter_mut().zip(pos).zip(radius) {
                 *m |= !lifted.misses(to3::<D>(p), r);
+            }
+        } else if let (Some(reach), Some(pose)) = (&self.reach, &self.pose) {
+            for ((m, &p), &r) in near.iter_mut().zip(pos).zip(radius) {
+                *m |= !reach.misses(pose.invert(to3::<D>(p)), r);
             }
         } else {
             near.fill(true);
@@ -312,7 +352,11 @@ impl<D: Dim> PlacedWall<'_, D> {
             let slope = wall.motion.modulation_slope(D::get(p, 0), t)?;
             return wall.modulated_contact(p, r, t, slope);
         };
-        let touch = wall.shape.touch(pose.invert(to3::<D>(p)), r)?;
+        let local = pose.invert(to3::<D>(p));
+        if self.reach.is_some_and(|b| b.misses(local, r)) {
+            return None;
+        }
+        let touch = wall.shape.touch(local, r)?;
         let point = from3::<D>(pose.apply(touch.point));
         Some(WallContact {
             overlap: touch.overlap,

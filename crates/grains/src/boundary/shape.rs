@@ -159,6 +159,33 @@ impl<D: Dim> Shape<D> {
 
     /// Contact of a sphere (radius `r`, centre `p`) with the unmoved shape.
     /// Assumes the shape passed [`Shape::validate`].
+    /// The smallest box, in 3D form, that holds a finite shape (segment,
+    /// polygon, obstacle); `None` for the unbounded ones (plane, cylinder).
+    pub(crate) fn bounding_box(&self) -> Option<(DVec3, DVec3)> {
+        let corners = |points: &mut dyn Iterator<Item = DVec3>| {
+            points.fold(
+                (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+                |(lo, hi), x| (lo.min(x), hi.max(x)),
+            )
+        };
+        match self {
+            Shape::Plane { .. } | Shape::Cylinder { .. } => None,
+            Shape::Segment { a, b } => Some(corners(&mut [*a, *b].into_iter().map(to3::<D>))),
+            Shape::Polygon { vertices, .. } => {
+                Some(corners(&mut vertices.iter().map(|v| to3::<D>(*v))))
+            }
+            Shape::Obstacle { center, diameter } => {
+                // In 2D the disk lies in the z = 0 plane.
+                let mut half = DVec3::splat(0.5 * diameter);
+                if D::D == 2 {
+                    half.z = 0.0;
+                }
+                let c = to3::<D>(*center);
+                Some((c - half, c + half))
+            }
+        }
+    }
+
     pub(crate) fn touch(&self, p: DVec3, r: f64) -> Option<Touch> {
         match self {
             Shape::Plane { point, normal } => {

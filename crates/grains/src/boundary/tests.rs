@@ -1070,3 +1070,102 @@ fn modulated_plate_quick_test_is_safe_and_tight() {
     let plain = vibrated_plate_2d(DVec2::ZERO, DVec2::Y, DVec2::Y, [a0, 0.0, l, f, 0.0]);
     assert!(plain.at(0.1).lifted.is_none() && plain.at(0.1).plane.is_some());
 }
+
+/// Finite shapes (a triangle in 3D, a segment and a disk in 2D), fixed,
+/// shaken and turning: the bounding-box test turns down only grains the
+/// shape's own test misses too, turns down most far grains, and keeps a
+/// grain just inside its reach.
+#[test]
+fn finite_walls_reach_box_is_safe() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(7);
+    let triangle = Shape::<D3>::Polygon {
+        vertices: vec![
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(2.0, 0.5, 1.2),
+            DVec3::new(0.5, 2.0, 0.8),
+        ],
+        seams: vec![],
+    };
+    let motions3 = [
+        Motion::Fixed,
+        Motion::Oscillate {
+            amplitude: DVec3::new(0.3, 0.0, 0.2),
+            frequency: 2.0,
+            phase: 0.1,
+        },
+        Motion::Rotate {
+            center: DVec3::new(1.0, 1.0, 0.0),
+            omega: DVec3::new(0.0, 0.3, 1.0),
+        },
+    ];
+    let mut turned_down = 0;
+    for motion in motions3 {
+        let w = Wall::new("triangle", triangle.clone(), motion).unwrap();
+        for _ in 0..20_000 {
+            let t = rng.gen_range(0.0..2.0);
+            let p = DVec3::new(
+                rng.gen_range(-1.5..3.5),
+                rng.gen_range(-1.5..3.5),
+                rng.gen_range(-0.5..2.5),
+            );
+            let r = rng.gen_range(0.05..0.6);
+            turned_down += check_reach(&w, p, r, t) as usize;
+        }
+    }
+    let shapes2 = [
+        Shape::<D2>::Segment {
+            a: DVec2::new(0.0, 0.0),
+            b: DVec2::new(2.0, 1.0),
+        },
+        Shape::<D2>::Obstacle {
+            center: DVec2::new(1.0, 1.0),
+            diameter: 1.5,
+        },
+    ];
+    for shape in shapes2 {
+        for motion in [
+            Motion::Fixed,
+            Motion::Rotate {
+                center: DVec2::ZERO,
+                omega: 0.7,
+            },
+        ] {
+            let w = Wall::new("finite", shape.clone(), motion).unwrap();
+            for _ in 0..20_000 {
+                let t = rng.gen_range(0.0..2.0);
+                let p = DVec2::new(rng.gen_range(-1.5..3.5), rng.gen_range(-1.5..3.5));
+                let r = rng.gen_range(0.05..0.6);
+                turned_down += check_reach(&w, p, r, t) as usize;
+            }
+        }
+    }
+    assert!(
+        turned_down > 50_000,
+        "only {turned_down} of 140000 turned down"
+    );
+    // A grain a millionth of r inside its reach of the triangle's corner
+    // along x is kept (and touches, the corner being the nearest point).
+    let w = Wall::new("triangle", triangle, Motion::Fixed).unwrap();
+    let p = DVec3::new(2.0 + 0.5 * (1.0 - 1e-6), 0.5, 1.2);
+    assert!(!w.at(0.0).reach.unwrap().misses(p, 0.5));
+    assert!(w.contact(p, 0.5, 0.0).is_some());
+}
+
+/// Whether `w`'s bounding box turns the grain down at `t`; if it does, the
+/// shape's own test must find no contact either.
+fn check_reach<D: Dim>(w: &Wall<D>, p: D::V, r: f64, t: f64) -> bool {
+    let placed = w.at(t);
+    let pose = placed.pose.expect("a finite wall has one pose");
+    let local = pose.invert(to3::<D>(p));
+    let exact = w.shape.touch(local, r);
+    let missed = placed.reach.expect("a finite shape").misses(local, r);
+    if missed {
+        assert!(
+            exact.is_none(),
+            "{p:?}, r {r}, t {t}: touching but turned down"
+        );
+    }
+    assert_eq!(placed.contact(p, r).is_some(), exact.is_some());
+    missed
+}
