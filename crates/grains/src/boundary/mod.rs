@@ -272,13 +272,14 @@ impl LiftedTest {
     }
 }
 
-/// No point of a finite shape lies farther than r, along any axis, from its
-/// bounding box: a grain (carried into the wall's reference frame) farther
-/// out than that cannot touch it, and is turned down before the shape's
-/// own test (a polygon's is its normal and the closest point of its
-/// outline). The box is widened by 1e-9 of its largest coordinate and the
-/// reach by 1e-9 of r, so that the shape's test with its own rounding
-/// cannot find a contact the box turned down.
+/// A finite shape, and every contact point its test can find, lies inside
+/// its bounding box ([`Shape::bounding_box`]): a grain (carried into the
+/// wall's reference frame) more than r outside the box along some axis
+/// cannot touch it, and is turned down before the shape's own test (a
+/// polygon's is its normal and the closest point of its outline). The box
+/// is widened by 1e-9 of its largest coordinate and the reach by 1e-9 of r,
+/// so that the shape's test with its own rounding cannot find a contact the
+/// box turned down.
 #[derive(Clone, Copy, Debug)]
 struct ReachBox {
     lo: glam::DVec3,

@@ -157,10 +157,9 @@ impl<D: Dim> Shape<D> {
         }
     }
 
-    /// Contact of a sphere (radius `r`, centre `p`) with the unmoved shape.
-    /// Assumes the shape passed [`Shape::validate`].
     /// The smallest box, in 3D form, that holds a finite shape (segment,
-    /// polygon, obstacle); `None` for the unbounded ones (plane, cylinder).
+    /// polygon, obstacle) and every contact point [`Shape::touch`] can
+    /// find on it; `None` for the unbounded ones (plane, cylinder).
     pub(crate) fn bounding_box(&self) -> Option<(DVec3, DVec3)> {
         let corners = |points: &mut dyn Iterator<Item = DVec3>| {
             points.fold(
@@ -172,7 +171,18 @@ impl<D: Dim> Shape<D> {
             Shape::Plane { .. } | Shape::Cylinder { .. } => None,
             Shape::Segment { a, b } => Some(corners(&mut [*a, *b].into_iter().map(to3::<D>))),
             Shape::Polygon { vertices, .. } => {
-                Some(corners(&mut vertices.iter().map(|v| to3::<D>(*v))))
+                // `touch` meets the polygon projected along its normal onto
+                // the plane of its first vertex: validation lets the
+                // vertices stray from one plane by 1e-9 of the size, so the
+                // projected vertices go into the box too.
+                let vert = |i: usize| to3::<D>(vertices[i]);
+                let normal = flat::polygon_normal(vertices.len(), vert);
+                let v0 = vert(0);
+                let projected = (0..vertices.len()).map(|i| {
+                    let v = vert(i);
+                    v - normal * (v - v0).dot(normal)
+                });
+                Some(corners(&mut (0..vertices.len()).map(vert).chain(projected)))
             }
             Shape::Obstacle { center, diameter } => {
                 // In 2D the disk lies in the z = 0 plane.
@@ -186,6 +196,8 @@ impl<D: Dim> Shape<D> {
         }
     }
 
+    /// Contact of a sphere (radius `r`, centre `p`) with the unmoved shape.
+    /// Assumes the shape passed [`Shape::validate`].
     pub(crate) fn touch(&self, p: DVec3, r: f64) -> Option<Touch> {
         match self {
             Shape::Plane { point, normal } => {

@@ -1140,10 +1140,36 @@ fn finite_walls_reach_box_is_safe() {
             }
         }
     }
+    // About 115 000 lie beyond their reach; a box that turned down only
+    // one side's grains would stop near 85 000.
     assert!(
-        turned_down > 50_000,
+        turned_down > 100_000,
         "only {turned_down} of 140000 turned down"
     );
+    // Just inside the reach on the low side: kept, and touching (a sphere
+    // and a disk, whose nearest point there is on the box's face).
+    let sphere = Wall::new(
+        "sphere",
+        Shape::<D3>::Obstacle {
+            center: DVec3::new(1.0, 1.0, 1.0),
+            diameter: 1.5,
+        },
+        Motion::Fixed,
+    )
+    .unwrap();
+    let p = DVec3::new(1.0 - 0.75 - 0.5 * (1.0 - 1e-6), 1.0, 1.0);
+    assert!(!check_reach(&sphere, p, 0.5, 0.0) && sphere.contact(p, 0.5, 0.0).is_some());
+    let disk = Wall::new(
+        "disk",
+        Shape::<D2>::Obstacle {
+            center: DVec2::new(1.0, 1.0),
+            diameter: 1.5,
+        },
+        Motion::Fixed,
+    )
+    .unwrap();
+    let p = DVec2::new(1.0, 1.0 - 0.75 - 0.5 * (1.0 - 1e-6));
+    assert!(!check_reach(&disk, p, 0.5, 0.0) && disk.contact(p, 0.5, 0.0).is_some());
     // A grain a millionth of r inside its reach of the triangle's corner
     // along x is kept (and touches, the corner being the nearest point).
     let w = Wall::new("triangle", triangle, Motion::Fixed).unwrap();
@@ -1160,6 +1186,9 @@ fn check_reach<D: Dim>(w: &Wall<D>, p: D::V, r: f64, t: f64) -> bool {
     let local = pose.invert(to3::<D>(p));
     let exact = w.shape.touch(local, r);
     let missed = placed.reach.expect("a finite shape").misses(local, r);
+    let mut near = [false];
+    placed.mark_near(&[p], &[r], &mut near);
+    assert_eq!(near[0], !missed, "mark_near and contact disagree");
     if missed {
         assert!(
             exact.is_none(),
@@ -1168,4 +1197,30 @@ fn check_reach<D: Dim>(w: &Wall<D>, p: D::V, r: f64, t: f64) -> bool {
     }
     assert_eq!(placed.contact(p, r).is_some(), exact.is_some());
     missed
+}
+
+/// A polygon whose vertices stray from one plane by less than validation
+/// allows: `touch` meets it projected onto the plane of its first vertex,
+/// a little outside the box of the vertices alone. A grain touching it
+/// there is kept.
+#[test]
+fn reach_box_holds_a_slightly_warped_polygon() {
+    let (delta, theta) = (0.99e-9, 1e-6);
+    let vertices = vec![
+        DVec3::new(-1.0, 0.0, delta),
+        DVec3::new(0.0, -1.0, -theta - delta),
+        DVec3::new(1.0, 0.0, delta),
+        DVec3::new(0.0, 1.0, theta - delta),
+    ];
+    let normal = flat::polygon_normal(4, |i| vertices[i]);
+    let shape = Shape::<D3>::Polygon {
+        vertices,
+        seams: vec![],
+    };
+    let w = Wall::new("warped", shape, Motion::Fixed).unwrap();
+    let r = 0.1;
+    let q = DVec3::new(0.0, 1.0 - 1e-6, theta * (1.0 - 1e-6) + delta);
+    let p = q + normal * (r - 5e-10);
+    assert!(w.shape.touch(p, r).is_some(), "the example touches");
+    assert!(!check_reach(&w, p, r, 0.0));
 }
