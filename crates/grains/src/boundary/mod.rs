@@ -134,25 +134,31 @@ impl<D: Dim> Wall<D> {
         // motion's pose is the same at any x.
         let uniform = !self.motion.is_modulated();
         let pose = uniform.then(|| self.motion.pose(t, 0.0));
-        // A plane that is only translated: most grains are far from it,
-        // and its distance test alone tells them apart.
-        let plane = match (&self.shape, pose.and_then(|p| p.translation())) {
-            (Shape::Plane { point, normal }, Some(shift)) => Some(PlaneTest {
-                shift,
-                point: to3::<D>(*point),
-                normal: to3::<D>(*normal),
-            }),
-            _ => None,
-        };
         PlacedWall {
             wall: self,
             t,
             active: self.is_active(t),
             pose,
             velocity: self.motion.uniform_velocity(t),
-            plane,
-            lifted: self.lifted_test(),
-            reach: self.shape.bounding_box().map(ReachBox::around),
+            quick: self.quick_test(pose.is_some()),
+        }
+    }
+
+    /// The wall's quick test ([`QuickTest`]); `placed`: whether it has one
+    /// pose for all grains.
+    fn quick_test(&self, placed: bool) -> Option<QuickTest> {
+        match &self.shape {
+            Shape::Plane { point, normal } if placed => Some(QuickTest::Plane(PlaneTest {
+                point: to3::<D>(*point),
+                normal: to3::<D>(*normal),
+            })),
+            Shape::Plane { .. } => self.lifted_test().map(QuickTest::Lifted),
+            Shape::Cylinder { .. } => None,
+            _ if placed => self
+                .shape
+                .bounding_box()
+                .map(|b| QuickTest::Reach(ReachBox::around(b))),
+            _ => None,
         }
     }
 
@@ -218,29 +224,36 @@ pub struct PlacedWall<'a, D: Dim> {
     pose: Option<Pose>,
     /// The velocity, where it is the same at every point of the wall.
     velocity: Option<D::V>,
-    /// A plane wall that is only translated.
-    plane: Option<PlaneTest>,
-    /// A plate under a modulated vibration.
-    lifted: Option<LiftedTest>,
-    /// A finite shape (segment, polygon, obstacle): its bounding box, in
-    /// the reference frame.
-    reach: Option<ReachBox>,
+    quick: Option<QuickTest>,
 }
 
-/// The distance test of [`flat::plane`] for a translated plane, on the
-/// grain carried back by the shift as the general path carries it, so that
-/// it rejects exactly the grains that path would.
+/// What tells most grains apart from a wall at once, for the wall pass to
+/// mark the grains a wall may touch in a tight loop over all of them
+/// ([`PlacedWall::mark_near`]); cylinders have none.
+#[derive(Clone, Copy, Debug)]
+enum QuickTest {
+    /// A plane with one pose: its own exact test, in the reference frame.
+    Plane(PlaneTest),
+    /// A plate under a modulated vibration, in the world frame.
+    Lifted(LiftedTest),
+    /// A finite shape (segment, polygon, obstacle): its bounding box, in
+    /// the reference frame.
+    Reach(ReachBox),
+}
+
+/// The distance test of [`flat::plane`], on the grain carried into the
+/// reference frame as the exact path carries it, so that it rejects
+/// exactly the grains that path would.
 #[derive(Clone, Copy, Debug)]
 struct PlaneTest {
-    shift: glam::DVec3,
     point: glam::DVec3,
     normal: glam::DVec3,
 }
 
 impl PlaneTest {
     #[inline]
-    fn misses(&self, p: glam::DVec3, r: f64) -> bool {
-        flat::plane(p - self.shift, self.point, self.normal, r).is_none()
+    fn misses(&self, local: glam::DVec3, r: f64) -> bool {
+        flat::plane(local, self.point, self.normal, r).is_none()
     }
 }
 
@@ -307,29 +320,23 @@ impl ReachBox {
 impl<D: Dim> PlacedWall<'_, D> {
     /// Sets `near` (one entry per grain of `pos` and `radius`) for the
     /// grains this wall may touch: those [`PlacedWall::contact`] does not
-    /// turn down at once. A translated plane's distance test, a modulated
-    /// plate's bound ([`LiftedTest`]) or a finite shape's box
-    /// ([`ReachBox`]) runs here over all the grains in a loop of its own,
-    /// which the compiler keeps tight; other walls (cylinders, turning
-    /// planes) mark every grain while they are there.
+    /// turn down at once. The wall's [`QuickTest`] runs here over all the
+    /// grains in a loop of its own, which the compiler keeps tight; a
+    /// cylinder marks every grain while it is there.
     pub fn mark_near(&self, pos: &[D::V], radius: &[f64], near: &mut [bool]) {
         if !self.active {
             return;
         }
-        if let Some(plane) = &self.plane {
-            for ((m, &p), &r) in near.iter_mut().zip(pos).zip(radius) {
-                *m |= !plane.misses(to3::<D>(p), r);
+        let marks = (pos, radius, near);
+        match (&self.quick, &self.pose) {
+            (Some(QuickTest::Lifted(t)), _) => mark::<D>(marks, |p, r| t.misses(p, r)),
+            (Some(QuickTest::Plane(t)), Some(pose)) => {
+                mark_in_frame::<D>(marks, pose, |p, r| t.misses(p, r))
             }
-        } else if let Some(lifted) = &self.lifted {
-            for ((m, &p), &r) in near.iter_mut().zip(pos).zip(radius) {
-                *m |= !lifted.misses(to3::<D>(p), r);
+            (Some(QuickTest::Reach(b)), Some(pose)) => {
+                mark_in_frame::<D>(marks, pose, |p, r| b.misses(p, r))
             }
-        } else if let (Some(reach), Some(pose)) = (&self.reach, &self.pose) {
-            for ((m, &p), &r) in near.iter_mut().zip(pos).zip(radius) {
-                *m |= !reach.misses(pose.invert(to3::<D>(p)), r);
-            }
-        } else {
-            near.fill(true);
+            _ => marks.2.fill(true),
         }
     }
 
@@ -338,24 +345,22 @@ impl<D: Dim> PlacedWall<'_, D> {
         if !self.active {
             return None;
         }
-        // At most one of the two quick tests is set.
-        if let Some(plane) = &self.plane {
-            if plane.misses(to3::<D>(p), r) {
-                return None;
-            }
-        } else if let Some(lifted) = &self.lifted {
-            if lifted.misses(to3::<D>(p), r) {
-                return None;
-            }
-        }
         let (wall, t) = (self.wall, self.t);
         let Some(pose) = self.pose else {
+            if let Some(QuickTest::Lifted(test)) = &self.quick {
+                if test.misses(to3::<D>(p), r) {
+                    return None;
+                }
+            }
             let slope = wall.motion.modulation_slope(D::get(p, 0), t)?;
             return wall.modulated_contact(p, r, t, slope);
         };
         let local = pose.invert(to3::<D>(p));
-        if self.reach.is_some_and(|b| b.misses(local, r)) {
-            return None;
+        // A plane's quick test is its exact test: not run twice here.
+        if let Some(QuickTest::Reach(b)) = &self.quick {
+            if b.misses(local, r) {
+                return None;
+            }
         }
         let touch = wall.shape.touch(local, r)?;
         let point = from3::<D>(pose.apply(touch.point));
@@ -368,6 +373,33 @@ impl<D: Dim> PlacedWall<'_, D> {
                 None => wall.motion.velocity_at(point, t),
             },
         })
+    }
+}
+
+/// Marks in `near` the grains of `pos` and `radius` that `misses` does not
+/// turn down (compiled for each test, so that the loop stays tight).
+#[inline(always)]
+fn mark<D: Dim>(
+    (pos, radius, near): (&[D::V], &[f64], &mut [bool]),
+    misses: impl Fn(glam::DVec3, f64) -> bool,
+) {
+    for ((m, &p), &r) in near.iter_mut().zip(pos).zip(radius) {
+        *m |= !misses(to3::<D>(p), r);
+    }
+}
+
+/// [`mark`] with `misses` in the wall's reference frame: grains carried
+/// back by the shift alone when the pose is a translation (what
+/// [`Pose::invert`] does then, without asking per grain).
+#[inline(always)]
+fn mark_in_frame<D: Dim>(
+    marks: (&[D::V], &[f64], &mut [bool]),
+    pose: &Pose,
+    misses: impl Fn(glam::DVec3, f64) -> bool,
+) {
+    match pose.translation() {
+        Some(shift) => mark::<D>(marks, |p, r| misses(p - shift, r)),
+        None => mark::<D>(marks, |p, r| misses(pose.invert(p), r)),
     }
 }
 

@@ -1007,7 +1007,7 @@ fn check_quick_test(w: &Wall<D2>, bound: f64, r: f64) {
     for it in 0..100 {
         let t = it as f64 / (100.0 * f);
         let placed = w.at(t);
-        let test = placed.lifted.expect("a modulated plate has the quick test");
+        let test = lifted_of(&placed);
         for ix in 0..100 {
             let x = l * ix as f64 / 100.0;
             for ih in 0..60 {
@@ -1065,10 +1065,10 @@ fn modulated_plate_quick_test_is_safe_and_tight() {
     assert!(w.contact(top, r, t).is_some());
     // Just past the bound: turned down whatever x and t.
     let far = DVec2::new(3.0, -2.0 + (lift + r * root) * 1.001);
-    assert!(w.at(0.0).lifted.unwrap().misses(to3::<D2>(far), r));
+    assert!(lifted_of(&w.at(0.0)).misses(to3::<D2>(far), r));
     // A plate that is not modulated keeps its own (exact) test.
     let plain = vibrated_plate_2d(DVec2::ZERO, DVec2::Y, DVec2::Y, [a0, 0.0, l, f, 0.0]);
-    assert!(plain.at(0.1).lifted.is_none() && plain.at(0.1).plane.is_some());
+    assert!(matches!(plain.at(0.1).quick, Some(QuickTest::Plane(_))));
 }
 
 /// Finite shapes (a triangle in 3D, a segment and a disk in 2D), fixed,
@@ -1174,7 +1174,7 @@ fn finite_walls_reach_box_is_safe() {
     // along x is kept (and touches, the corner being the nearest point).
     let w = Wall::new("triangle", triangle, Motion::Fixed).unwrap();
     let p = DVec3::new(2.0 + 0.5 * (1.0 - 1e-6), 0.5, 1.2);
-    assert!(!w.at(0.0).reach.unwrap().misses(p, 0.5));
+    assert!(!reach_of(&w.at(0.0)).misses(p, 0.5));
     assert!(w.contact(p, 0.5, 0.0).is_some());
 }
 
@@ -1185,7 +1185,7 @@ fn check_reach<D: Dim>(w: &Wall<D>, p: D::V, r: f64, t: f64) -> bool {
     let pose = placed.pose.expect("a finite wall has one pose");
     let local = pose.invert(to3::<D>(p));
     let exact = w.shape.touch(local, r);
-    let missed = placed.reach.expect("a finite shape").misses(local, r);
+    let missed = reach_of(&placed).misses(local, r);
     let mut near = [false];
     placed.mark_near(&[p], &[r], &mut near);
     assert_eq!(near[0], !missed, "mark_near and contact disagree");
@@ -1223,4 +1223,20 @@ fn reach_box_holds_a_slightly_warped_polygon() {
     let p = q + normal * (r - 5e-10);
     assert!(w.shape.touch(p, r).is_some(), "the example touches");
     assert!(!check_reach(&w, p, r, 0.0));
+}
+
+/// The quick test of a modulated plate.
+fn lifted_of<D: Dim>(w: &PlacedWall<D>) -> LiftedTest {
+    match w.quick {
+        Some(QuickTest::Lifted(t)) => t,
+        other => panic!("a modulated plate has the lifted test, not {other:?}"),
+    }
+}
+
+/// The bounding box of a finite shape.
+fn reach_of<D: Dim>(w: &PlacedWall<D>) -> ReachBox {
+    match w.quick {
+        Some(QuickTest::Reach(b)) => b,
+        other => panic!("a finite shape has its box, not {other:?}"),
+    }
 }

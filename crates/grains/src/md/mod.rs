@@ -362,15 +362,12 @@ impl<D: Dim> Md<D> {
     /// tests its ghosts ([`Md::ghosts_beyond_skin`]) after their owners
     /// sent their new positions.
     pub(crate) fn predict_owned_checked(&mut self) -> bool {
-        let start = Instant::now();
         let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
         let integrator = self.settings.integrator;
         let pass = |p: &mut Particles<D>, skin: Option<SkinCheck<D::V>>| {
             integrator.predict(p, dt, rot, skin)
         };
-        let moved = self.owned_beyond_skin(pass);
-        add_since(&mut self.timing.integrate, start);
-        moved
+        self.owned_beyond_skin(pass)
     }
 
     /// [`Md::correct`], the finite-state test of [`Md::check_stability`]
@@ -385,7 +382,6 @@ impl<D: Dim> Md<D> {
     /// step's [`Md::predict`] in one pass, with the displacement test of
     /// the owned grains only (as [`Md::predict_owned_checked`]).
     pub(crate) fn correct_predict_owned_checked(&mut self) -> Result<bool> {
-        let start = Instant::now();
         let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
         let finite = self.finite_check_due();
         let integrator = self.settings.integrator;
@@ -396,7 +392,6 @@ impl<D: Dim> Md<D> {
             r.far
         };
         let moved = self.owned_beyond_skin(pass);
-        add_since(&mut self.timing.integrate, start);
         self.finite_or_error(non_finite).map(|()| moved)
     }
 
@@ -410,21 +405,29 @@ impl<D: Dim> Md<D> {
     /// Runs `pass` (an integrator pass that moves the owned grains) with
     /// the displacement test of the neighbour list: whether one of them
     /// calls for a rebuild (always, when the list must be built anyway).
+    /// Timed as integration.
     fn owned_beyond_skin(
         &mut self,
         pass: impl FnOnce(&mut Particles<D>, Option<SkinCheck<D::V>>) -> bool,
     ) -> bool {
+        let start = Instant::now();
         let p = &mut self.particles;
         let n = p.n_owned();
-        let Some((reference, limit2)) = self.neighbors.skin_reference(p.len()) else {
-            pass(p, None);
-            return true;
+        let moved = match self.neighbors.skin_reference(p.len()) {
+            None => {
+                pass(p, None);
+                true
+            }
+            Some((reference, limit2)) => {
+                let skin = SkinCheck {
+                    reference: &reference[..n],
+                    limit2,
+                };
+                pass(p, Some(skin))
+            }
         };
-        let skin = Some(SkinCheck {
-            reference: &reference[..n],
-            limit2,
-        });
-        pass(p, skin)
+        add_since(&mut self.timing.integrate, start);
+        moved
     }
 
     /// The displacement test of the ghosts: not integrated here, but their
@@ -558,17 +561,16 @@ impl<D: Dim> Md<D> {
             update: update_history,
         };
         // Walls and gravity are added block by block after the contacts.
-        let parts = pair_forces(
+        let (parts, fields_start) = pair_forces(
             &pairs,
             &mut self.particles,
             &mut self.springs,
             &mut self.deferred,
-            (&mut self.stats, &mut self.timing),
+            (&mut self.stats, &mut self.timing.contacts),
             (&fields, &self.wall_springs),
         );
-        let start = Instant::now();
         finish_fields(parts, &mut self.wall_springs, &mut self.stats);
-        add_since(&mut self.timing.fields, start);
+        add_since(&mut self.timing.fields, fields_start);
     }
 
     /// Stops the run when a grain's state is not finite or two grains

@@ -14,7 +14,7 @@
 //! memory. Only contacts, not listed pairs, take a share.
 
 use super::field_forces::{field_part, FieldInput, FieldPart, GrainView};
-use super::phase_times::{add_since, PhaseTimes};
+use super::phase_times::add_since;
 use super::wall_springs::WallSprings;
 use super::MdStats;
 use crate::contact::hooke_history::HookeHistory;
@@ -24,7 +24,7 @@ use crate::dim::Dim;
 use crate::neighbors::NeighborList;
 use crate::particles::Particles;
 use rayon::prelude::*;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// Fewest blocks for which the passes are shared among threads: a smaller
 /// system runs them on one thread instead of paying to wake others every
@@ -159,15 +159,18 @@ fn split_ranges<T>(mut v: &mut [T], lengths: impl Iterator<Item = usize>) -> Vec
 /// Sets `p.force` / `p.torque` to the sums of the pair contact forces and
 /// torques and updates the springs. Each block zeroes its own grains' sums
 /// just before it accumulates into them, while they are in its cache, instead
-/// of a separate pass over memory.
+/// of a separate pass over memory. Adds the time of the contact pass to
+/// `contacts_time` and returns, with the wall parts, the instant the pass
+/// of shares, walls and gravity began (the caller times that phase to its
+/// end).
 pub fn pair_forces<D: Dim>(
     input: &PairInput<D>,
     p: &mut Particles<D>,
     springs: &mut [D::V],
     deferred: &mut Deferred<D>,
-    (stats, timing): (&mut MdStats, &mut PhaseTimes),
+    (stats, contacts_time): (&mut MdStats, &mut Duration),
     fields: (&FieldInput<D>, &WallSprings<D>),
-) -> Vec<FieldPart<D>> {
+) -> (Vec<FieldPart<D>>, Instant) {
     let start = Instant::now();
     let blocks = input.blocks;
     let n = p.len();
@@ -248,7 +251,7 @@ pub fn pair_forces<D: Dim>(
         })
         .collect();
     drop(tasks);
-    let start = add_since(&mut timing.contacts, start);
+    let fields_start = add_since(contacts_time, start);
 
     // Deferred shares: each block takes its inboxes in block order, then
     // its grains' wall contacts and gravity, while the sums are in cache.
@@ -278,7 +281,6 @@ pub fn pair_forces<D: Dim>(
             field_part(field_input, &grains, wall_springs, first, force, torque)
         })
         .collect();
-    add_since(&mut timing.fields, start);
 
     for s in &block_stats {
         stats.contacts += s.contacts;
@@ -288,7 +290,7 @@ pub fn pair_forces<D: Dim>(
             stats.worst_pair = (s.worst.0, Some(s.worst.1));
         }
     }
-    parts
+    (parts, fields_start)
 }
 
 /// What the pair loop needs from a contact law; implemented by the general

@@ -2,7 +2,7 @@
 //! prints as its timing breakdown after a run): read it before optimizing,
 //! and to see what a change bought. Each phase is timed on the thread that
 //! drives the step, around the whole parallel pass, so with several threads
-//! a phase's time includes waiting for the slowest worker. About seven clock
+//! a phase's time includes waiting for the slowest worker. About five clock
 //! reads per step, a fraction of a microsecond: a per cent or two of the
 //! default scenario's 200-grain step, far less of a large system's.
 
