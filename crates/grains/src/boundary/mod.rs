@@ -153,6 +153,21 @@ impl<D: Dim> Wall<D> {
                 normal: to3::<D>(*normal),
             })),
             Shape::Plane { .. } => self.lifted_test().map(QuickTest::Lifted),
+            Shape::Cylinder {
+                point,
+                axis,
+                radius,
+                inside,
+            } if placed => Some(QuickTest::Cylinder(CylinderTest {
+                point: to3::<D>(*point),
+                axis: if D::D == 2 {
+                    glam::DVec3::Z
+                } else {
+                    to3::<D>(*axis)
+                },
+                radius: *radius,
+                inside: *inside,
+            })),
             Shape::Cylinder { .. } => None,
             _ if placed => self
                 .shape
@@ -229,11 +244,13 @@ pub struct PlacedWall<'a, D: Dim> {
 
 /// What tells most grains apart from a wall at once, for the wall pass to
 /// mark the grains a wall may touch in a tight loop over all of them
-/// ([`PlacedWall::mark_near`]); cylinders have none.
+/// ([`PlacedWall::mark_near`]).
 #[derive(Clone, Copy, Debug)]
 enum QuickTest {
     /// A plane with one pose: its own exact test, in the reference frame.
     Plane(PlaneTest),
+    /// A cylinder with one pose: its own exact test too.
+    Cylinder(CylinderTest),
     /// A plate under a modulated vibration, in the world frame.
     Lifted(LiftedTest),
     /// A finite shape (segment, polygon, obstacle): its bounding box, in
@@ -254,6 +271,26 @@ impl PlaneTest {
     #[inline]
     fn misses(&self, local: glam::DVec3, r: f64) -> bool {
         flat::plane(local, self.point, self.normal, r).is_none()
+    }
+}
+
+/// The distance test of [`round::cylinder`], run as [`PlaneTest`] runs
+/// the plane's (same frame, same arithmetic, so the same grains turned
+/// down). A drum or a pipe touches only its outer ring of grains, but
+/// without this every grain went through the exact contact and its pose
+/// at every step.
+#[derive(Clone, Copy, Debug)]
+struct CylinderTest {
+    point: glam::DVec3,
+    axis: glam::DVec3,
+    radius: f64,
+    inside: bool,
+}
+
+impl CylinderTest {
+    #[inline]
+    fn misses(&self, local: glam::DVec3, r: f64) -> bool {
+        round::cylinder(local, self.point, self.axis, self.radius, self.inside, r).is_none()
     }
 }
 
@@ -321,8 +358,8 @@ impl<D: Dim> PlacedWall<'_, D> {
     /// Sets `near` (one entry per grain of `pos` and `radius`) for the
     /// grains this wall may touch: those [`PlacedWall::contact`] does not
     /// turn down at once. The wall's [`QuickTest`] runs here over all the
-    /// grains in a loop of its own, which the compiler keeps tight; a
-    /// cylinder marks every grain while it is there.
+    /// grains in a loop of its own, which the compiler keeps tight; a wall
+    /// without one (a modulated cylinder, say) marks every grain.
     pub fn mark_near(&self, pos: &[D::V], radius: &[f64], near: &mut [bool]) {
         if !self.active {
             return;
@@ -331,6 +368,9 @@ impl<D: Dim> PlacedWall<'_, D> {
         match (&self.quick, &self.pose) {
             (Some(QuickTest::Lifted(t)), _) => mark::<D>(marks, |p, r| t.misses(p, r)),
             (Some(QuickTest::Plane(t)), Some(pose)) => {
+                mark_in_frame::<D>(marks, pose, |p, r| t.misses(p, r))
+            }
+            (Some(QuickTest::Cylinder(t)), Some(pose)) => {
                 mark_in_frame::<D>(marks, pose, |p, r| t.misses(p, r))
             }
             (Some(QuickTest::Reach(b)), Some(pose)) => {
@@ -356,7 +396,8 @@ impl<D: Dim> PlacedWall<'_, D> {
             return wall.modulated_contact(p, r, t, slope);
         };
         let local = pose.invert(to3::<D>(p));
-        // A plane's quick test is its exact test: not run twice here.
+        // A plane's or a cylinder's quick test is its exact test: not run
+        // twice here.
         if let Some(QuickTest::Reach(b)) = &self.quick {
             if b.misses(local, r) {
                 return None;

@@ -1240,3 +1240,108 @@ fn reach_of<D: Dim>(w: &PlacedWall<D>) -> ReachBox {
         other => panic!("a finite shape has its box, not {other:?}"),
     }
 }
+
+/// A placed cylinder's quick test is its exact test in the wall's frame:
+/// the wall pass marks exactly the grains that touch it, for drums and
+/// posts, fixed, shaken and turning, in 2D and 3D. Grains are thrown
+/// around the surface, within a radius of it, so that many touch.
+#[test]
+fn cylinder_quick_test_marks_exactly_the_touching_grains() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(11);
+    let (radius, n, times) = (2.0, 4000, [0.0, 0.4, 1.7]);
+    // Polar coordinates about the axis (through the origin), grain radius.
+    let mut polar = || {
+        (
+            rng.gen_range(0.0..TAU),
+            rng.gen_range(1.0..3.0),
+            rng.gen_range(0.05..0.5),
+            rng.gen_range(-3.0..3.0),
+        )
+    };
+    let grains2: Vec<(DVec2, f64)> = (0..n)
+        .map(|_| {
+            let (angle, rho, r, _) = polar();
+            (DVec2::new(rho * angle.cos(), rho * angle.sin()), r)
+        })
+        .collect();
+    let axis = DVec3::new(0.3, -0.2, 1.0).normalize();
+    let across = geom::perpendicular(axis);
+    let other = axis.cross(across);
+    let grains3: Vec<(DVec3, f64)> = (0..n)
+        .map(|_| {
+            let (angle, rho, r, h) = polar();
+            let p = axis * h + (across * angle.cos() + other * angle.sin()) * rho;
+            (p, r)
+        })
+        .collect();
+    let motions2 = [
+        Motion::Fixed,
+        Motion::Oscillate {
+            amplitude: DVec2::new(0.3, 0.2),
+            frequency: 2.0,
+            phase: 0.1,
+        },
+        Motion::Rotate {
+            center: DVec2::new(0.5, -0.2),
+            omega: 3.0,
+        },
+    ];
+    let motions3 = [
+        Motion::Fixed,
+        Motion::Oscillate {
+            amplitude: DVec3::new(0.3, 0.0, 0.2),
+            frequency: 2.0,
+            phase: 0.1,
+        },
+        Motion::Rotate {
+            center: DVec3::new(1.0, 1.0, 0.0),
+            omega: DVec3::new(0.0, 0.3, 1.0),
+        },
+    ];
+    for inside in [true, false] {
+        for motion in &motions2 {
+            let shape = Shape::Cylinder {
+                point: DVec2::ZERO,
+                axis: DVec2::ZERO,
+                radius,
+                inside,
+            };
+            let w = Wall::<D2>::new("ring", shape, motion.clone()).unwrap();
+            let touching: usize = times.iter().map(|&t| marks_match(&w, &grains2, t)).sum();
+            assert!(touching > n / 5, "{touching} of {} touch", 3 * n);
+        }
+        for motion in &motions3 {
+            let shape = Shape::Cylinder {
+                point: DVec3::ZERO,
+                axis,
+                radius,
+                inside,
+            };
+            let w = Wall::<D3>::new("tube", shape, motion.clone()).unwrap();
+            let touching: usize = times.iter().map(|&t| marks_match(&w, &grains3, t)).sum();
+            assert!(touching > n / 5, "{touching} of {} touch", 3 * n);
+        }
+    }
+}
+
+/// Checks that the wall pass's marks at `t` are exactly the grains that
+/// `contact` finds touching; returns how many touch.
+fn marks_match<D: Dim>(w: &Wall<D>, grains: &[(D::V, f64)], t: f64) -> usize {
+    let placed = w.at(t);
+    assert!(
+        matches!(placed.quick, Some(QuickTest::Cylinder(_))),
+        "a cylinder with one pose has its quick test"
+    );
+    let pos: Vec<D::V> = grains.iter().map(|g| g.0).collect();
+    let radius: Vec<f64> = grains.iter().map(|g| g.1).collect();
+    let mut near = vec![false; grains.len()];
+    placed.mark_near(&pos, &radius, &mut near);
+    let mut touching = 0;
+    for (k, &(p, r)) in grains.iter().enumerate() {
+        let exact = w.contact(p, r, t).is_some();
+        assert_eq!(near[k], exact, "grain {k} at {p:?}, r {r}, t {t}");
+        touching += exact as usize;
+    }
+    touching
+}
