@@ -64,7 +64,7 @@ done
 python3 - "$work/ref" "$work/new" <<'PY'
 import json, os, sys
 ref, new = sys.argv[1], sys.argv[2]
-TIMINGS = {"wall_seconds", "ns_per_particle_step", "phase_seconds"}
+TIMINGS = {"wall_seconds", "ns_per_particle_step", "phase_seconds", "threads"}
 
 def files(top):
     out = set()

@@ -184,15 +184,18 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     let (loaded, default_steps) = md_workload(&args)?;
     let steps = args.steps.unwrap_or(default_steps);
-    let (particles, integrator, (wall, cpu, timing)) = if loaded.scenario.dimension.axes() == 2 {
-        let (mut md, _) = build_md::<D2>(&loaded)?;
-        let w = time_steps(&mut md, steps)?;
-        (md.particles.n_mobile(), md.settings.integrator, w)
-    } else {
-        let (mut md, _) = build_md::<D3>(&loaded)?;
-        let w = time_steps(&mut md, steps)?;
-        (md.particles.n_mobile(), md.settings.integrator, w)
-    };
+    let (particles, integrator, narrow, (wall, cpu, timing)) =
+        if loaded.scenario.dimension.axes() == 2 {
+            let (mut md, _) = build_md::<D2>(&loaded)?;
+            let w = time_steps(&mut md, steps)?;
+            let narrow = md.governor.steps_wide_narrow().1;
+            (md.particles.n_mobile(), md.settings.integrator, narrow, w)
+        } else {
+            let (mut md, _) = build_md::<D3>(&loaded)?;
+            let w = time_steps(&mut md, steps)?;
+            let narrow = md.governor.steps_wide_narrow().1;
+            (md.particles.n_mobile(), md.settings.integrator, narrow, w)
+        };
     let threads = rayon::current_num_threads();
     let updates = steps as f64 * particles.max(1) as f64;
     let ns = 1e9 * wall / updates;
@@ -205,11 +208,12 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 "workload": args.workload, "particles": particles, "steps": steps, "threads": threads,
                 "integrator": integrator.name(), "wall_seconds": wall, "ns_per_particle_step": ns,
                 "cpu_seconds": cpu, "peak_rss_bytes": rss, "phase_ns_per_particle_step": phases,
+                "steps_on_one_thread": narrow,
             })
         );
     } else {
         println!(
-            "{}: {particles} mobile particles, {steps} steps, {threads} thread(s), {}: {wall:.3} s, {ns:.1} ns per particle-step, peak RSS {:.1} MiB",
+            "{}: {particles} mobile particles, {steps} steps, {threads} thread(s) ({narrow} steps on one), {}: {wall:.3} s, {ns:.1} ns per particle-step, peak RSS {:.1} MiB",
             args.workload,
             integrator.name(),
             rss as f64 / 1048576.0

@@ -23,9 +23,12 @@ pub struct SweepArgs {
     /// Fixed overrides applied to every variant (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
-    /// Variants run at the same time.
+    /// Variants run at the same time (at most one per CPU this process may use).
     #[arg(long, default_value_t = 1)]
     jobs: usize,
+    /// Worker threads of each variant [default: the CPUs this process may use, shared among the jobs].
+    #[arg(long)]
+    threads: Option<usize>,
     /// Output directory [default: runs/<scenario name>-sweep].
     #[arg(long)]
     out: Option<PathBuf>,
@@ -35,6 +38,31 @@ pub struct SweepArgs {
     /// summary.json scalar to plot against the first varied key (a varied `seed` is averaged over, with error bars).
     #[arg(long)]
     plot: Option<String>,
+}
+
+/// The CPUs this process may use (its affinity mask and cgroup quota, as
+/// the standard library reads them), at least one.
+fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// The jobs run at once and the threads of each, so that together they ask
+/// for no more than `cores` threads: at most one job per core, and each
+/// job's threads (asked for, or by default an equal share of the cores)
+/// cut to its share. Says so on stderr when it cuts what was asked for.
+fn share_cores(jobs: usize, threads: Option<usize>, cores: usize) -> (usize, usize) {
+    let jobs_run = jobs.clamp(1, cores);
+    if jobs_run < jobs {
+        eprintln!("grains: --jobs {jobs} on {cores} CPUs: running {jobs_run} variants at a time");
+    }
+    let share = (cores / jobs_run).max(1);
+    let threads_run = threads.unwrap_or(share).min(share);
+    if let Some(t) = threads.filter(|&t| t > threads_run) {
+        eprintln!(
+            "grains: --threads {t} × {jobs_run} jobs on {cores} CPUs: {threads_run} thread(s) per variant"
+        );
+    }
+    (jobs_run, threads_run)
 }
 
 /// Parses `KEY=V1,V2,...`.
@@ -121,6 +149,9 @@ pub fn run(args: SweepArgs) -> grains::Result<()> {
     if args.steps == Some(0) {
         return Err(Error::input("--steps must be at least 1"));
     }
+    if args.threads == Some(0) {
+        return Err(Error::input("--threads must be at least 1"));
+    }
     // Load every variant first: a bad key or value fails before any run.
     let variants = grid(&axes);
     let mut loaded = Vec::new();
@@ -138,38 +169,52 @@ pub fn run(args: SweepArgs) -> grains::Result<()> {
         .out
         .unwrap_or_else(|| Path::new("runs").join(format!("{name}-sweep")));
     runner::prepare(&out)?;
+    let (jobs, threads) = share_cores(args.jobs.min(variants.len()), args.threads, cores());
     eprintln!(
-        "grains: sweep of {} variants of {} with {} jobs -> {}",
+        "grains: sweep of {} variants of {} with {} jobs of {} thread(s) -> {}",
         variants.len(),
         args.scenario.display(),
-        args.jobs,
+        jobs,
+        threads,
         out.display()
     );
     let next = AtomicUsize::new(0);
     let results: Mutex<Vec<Option<grains::Result<Value>>>> =
         Mutex::new((0..variants.len()).map(|_| None).collect());
+    // Each job its own pool, so that the jobs never ask for more threads
+    // than the cores they share.
+    let pools = (0..jobs)
+        .map(|_| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .map_err(|e| Error::input(format!("--threads {threads}: {e}")))
+        })
+        .collect::<grains::Result<Vec<_>>>()?;
     std::thread::scope(|s| {
-        for _ in 0..args.jobs.min(variants.len()) {
-            s.spawn(|| loop {
-                let k = next.fetch_add(1, Ordering::SeqCst);
-                if k >= variants.len() {
-                    break;
-                }
-                let dir = out.join(variant_name(&axes, &variants[k]));
-                let opts = RunOptions {
-                    out_dir: dir,
-                    steps: args.steps,
-                    ..RunOptions::default()
-                };
-                let r = runner::run(&loaded[k], &opts, &mut Silent);
-                match &r {
-                    Ok(_) => eprintln!("grains: done {}", variant_name(&axes, &variants[k])),
-                    Err(e) => eprintln!(
-                        "grains: variant {} failed: {e}",
-                        variant_name(&axes, &variants[k])
-                    ),
-                }
-                results.lock().expect("no panics while locked")[k] = Some(r);
+        for pool in &pools {
+            s.spawn(|| {
+                pool.install(|| loop {
+                    let k = next.fetch_add(1, Ordering::SeqCst);
+                    if k >= variants.len() {
+                        break;
+                    }
+                    let dir = out.join(variant_name(&axes, &variants[k]));
+                    let opts = RunOptions {
+                        out_dir: dir,
+                        steps: args.steps,
+                        ..RunOptions::default()
+                    };
+                    let r = runner::run(&loaded[k], &opts, &mut Silent);
+                    match &r {
+                        Ok(_) => eprintln!("grains: done {}", variant_name(&axes, &variants[k])),
+                        Err(e) => eprintln!(
+                            "grains: variant {} failed: {e}",
+                            variant_name(&axes, &variants[k])
+                        ),
+                    }
+                    results.lock().expect("no panics while locked")[k] = Some(r);
+                })
             });
         }
     });
@@ -363,6 +408,29 @@ fn mean_and_standard_error(ys: &[f64]) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Jobs × threads never exceed the cores; the default shares them out.
+    #[test]
+    fn jobs_and_threads_share_the_cores() {
+        assert_eq!(share_cores(1, None, 8), (1, 8));
+        assert_eq!(share_cores(4, None, 8), (4, 2));
+        assert_eq!(share_cores(3, None, 8), (3, 2));
+        assert_eq!(share_cores(4, Some(1), 8), (4, 1));
+        assert_eq!(share_cores(4, Some(4), 8), (4, 2));
+        assert_eq!(share_cores(16, None, 8), (8, 1));
+        assert_eq!(share_cores(2, Some(2), 2), (2, 1));
+        for jobs in 1..20 {
+            for cores in 1..20 {
+                for threads in [None, Some(1), Some(3), Some(64)] {
+                    let (j, t) = share_cores(jobs, threads, cores);
+                    assert!(
+                        j >= 1 && t >= 1 && j * t <= cores,
+                        "{jobs} {threads:?} {cores}"
+                    );
+                }
+            }
+        }
+    }
 
     #[test]
     fn grid_is_the_product_first_key_slowest() {

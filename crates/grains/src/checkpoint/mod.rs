@@ -23,7 +23,7 @@ pub mod state;
 pub use state::{ListState, MdState};
 
 use crate::error::{Error, Result};
-use crate::io::write_atomic;
+use crate::io::write_durable;
 use codec::crc32;
 use std::path::{Path, PathBuf};
 
@@ -115,7 +115,7 @@ pub fn list(dir: &Path) -> Result<Vec<PathBuf>> {
 /// all but the newest [`KEEP`]. Returns the path written.
 pub fn write(dir: &Path, step: u64, payload: &[u8]) -> Result<PathBuf> {
     let path = dir.join(file_name(step));
-    write_atomic(&path, &seal(payload))?;
+    write_durable(&path, &seal(payload))?;
     // The rename is durable only once the directory itself is synced.
     if let Ok(d) = std::fs::File::open(dir) {
         let _ = d.sync_all();

@@ -169,6 +169,7 @@ impl<D: GasDim> Dsmc<D> {
             .p
             .par_chunks(STREAM_CHUNK)
             .zip(self.key.par_chunks_mut(STREAM_CHUNK))
+            .with_min_len(crate::parallel::min_len(1))
             .for_each(|(ps, ks)| {
                 for (q, k) in ps.iter().zip(ks.iter_mut()) {
                     *k = grid.cell_of::<D>(q.x);
@@ -265,6 +266,7 @@ impl<D: GasDim> Dsmc<D> {
         };
         self.cells
             .par_chunks_mut(CELL_CHUNK)
+            .with_min_len(crate::parallel::min_len(1))
             .enumerate()
             .map(|(k, cs)| {
                 let shared = &shared;

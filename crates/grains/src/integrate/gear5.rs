@@ -122,6 +122,7 @@ impl Passes for Gear5 {
         let (chunks, inputs) = split(p);
         chunks
             .into_par_iter()
+            .with_min_len(crate::parallel::min_len(1))
             .map(|chunk| {
                 let pass = GearPass::<D, CORRECT, PREDICT, CHECK> {
                     inputs: &inputs,

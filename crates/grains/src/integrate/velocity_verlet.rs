@@ -34,6 +34,7 @@ impl Passes for Verlet {
             .par_chunks_mut(CHUNK)
             .zip(p.vel[..n].par_chunks_mut(CHUNK))
             .zip(p.omega[..n].par_chunks_mut(CHUNK))
+            .with_min_len(crate::parallel::min_len(1))
             .enumerate()
             .map(|(c, ((pos, vel), omega))| {
                 let pass = VerletPass::<D, CORRECT, PREDICT, CHECK> {

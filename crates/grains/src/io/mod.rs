@@ -12,7 +12,7 @@ pub mod picture;
 pub mod thermo;
 pub mod vtk;
 
-pub use atomic::{write_atomic, AtomicWriter};
+pub use atomic::{write_atomic, write_durable, AtomicWriter};
 pub use csv_particles::{parse_particles_csv, read_particles_csv, CsvParticle};
 pub use frame::Frame;
 pub use lammps_data::{

@@ -36,6 +36,7 @@ use crate::error::{Error, Result};
 use crate::integrate::{gear5, Integrator, SkinCheck};
 use crate::io::Frame;
 use crate::neighbors::{spatial_sort_order, NeighborList};
+use crate::parallel::Governor;
 use crate::particles::Particles;
 use field_forces::{finish_fields, FieldInput};
 use pair_forces::{pair_forces, Deferred, PairBlocks, PairInput};
@@ -112,6 +113,8 @@ pub struct Md<D: Dim> {
     blocks: PairBlocks,
     deferred: Deferred<D>,
     rebuilds_since_sort: u32,
+    /// Runs [`Md::advance`]'s steps on all threads or one, as is faster.
+    pub governor: Governor,
 }
 
 impl<D: Dim> Md<D> {
@@ -153,6 +156,7 @@ impl<D: Dim> Md<D> {
             blocks: PairBlocks::default(),
             deferred: Deferred::default(),
             rebuilds_since_sort: 0,
+            governor: Governor::default(),
         };
         md.rebuild_neighbors()?;
         md.compute_forces(false);
@@ -306,14 +310,24 @@ impl<D: Dim> Md<D> {
     /// grains between steps. When a step finds the state unstable the error
     /// is the one [`Md::step`] gives; a non-finite grain found by the fused
     /// pass leaves the grains already predicted one step further.
+    ///
+    /// The steps run in slices on all of the pool's threads or on one,
+    /// whichever the governor measures as faster (see
+    /// [`crate::parallel::Governor`]): the same bits either way.
     pub fn advance(&mut self, n: u64) -> Result<()> {
-        // Worth keeping the pool's other workers awake for (a few
-        // microseconds to start them spinning).
-        if n >= 8 {
-            crate::parallel::with_workers_awake(|| self.advance_steps(n))
-        } else {
-            self.advance_steps(n)
-        }
+        let mut governor = std::mem::take(&mut self.governor);
+        let done = governor.run(n, |k| {
+            // Worth keeping the pool's other workers awake for (a few
+            // microseconds to start them spinning); on one thread it is
+            // the plain call.
+            if k >= 8 {
+                crate::parallel::with_workers_awake(|| self.advance_steps(k))
+            } else {
+                self.advance_steps(k)
+            }
+        });
+        self.governor = governor;
+        done
     }
 
     fn advance_steps(&mut self, n: u64) -> Result<()> {
@@ -472,6 +486,7 @@ impl<D: Dim> Md<D> {
         let domain = &self.domain;
         self.particles.pos[..n]
             .par_iter_mut()
+            .with_min_len(crate::parallel::min_len(1))
             .for_each(|x| *x = domain.wrap(*x));
         let saved = self.save_springs();
         let sort_every = self.settings.sort_every;
@@ -499,6 +514,7 @@ impl<D: Dim> Md<D> {
             .pairs
             .par_iter()
             .zip(self.springs.par_iter())
+            .with_min_len(crate::parallel::min_len(1))
             .filter(|(_, &s)| s != D::zero())
             .map(|(&[i, j], &s)| {
                 let (a, b) = (id[i as usize], id[j as usize]);
@@ -524,6 +540,7 @@ impl<D: Dim> Md<D> {
         self.springs
             .par_iter_mut()
             .zip(self.neighbors.pairs.par_iter())
+            .with_min_len(crate::parallel::min_len(1))
             .for_each(|(spring, &[i, j])| {
                 let (a, b) = (id[i as usize], id[j as usize]);
                 if a < b {
@@ -582,7 +599,7 @@ impl<D: Dim> Md<D> {
             // The first such grain, whatever the threads.
             if let Some(i) = (0..p.n_owned())
                 .into_par_iter()
-                .with_min_len(4096)
+                .with_min_len(crate::parallel::min_len(4096))
                 .find_first(|&i| !(D::is_finite(p.pos[i]) && D::is_finite(p.vel[i])))
             {
                 return Err(self.non_finite_error(i));

@@ -237,7 +237,7 @@ pub fn pair_forces<D: Dim>(
     let min_len = if nb >= MIN_BLOCKS_TO_SHARE { 1 } else { nb };
     let block_stats: Vec<BlockStats> = tasks
         .par_iter_mut()
-        .with_min_len(min_len)
+        .with_min_len(crate::parallel::min_len(min_len))
         .map(|t| {
             // The LAMMPS-shaped law gets its own compiled loop.
             let mut s = match hooke {
@@ -266,7 +266,7 @@ pub fn pair_forces<D: Dim>(
         .force
         .par_chunks_mut(block)
         .zip(p.torque.par_chunks_mut(block))
-        .with_min_len(min_len)
+        .with_min_len(crate::parallel::min_len(min_len))
         .enumerate()
         .map(|(c, (force, torque))| {
             let first = c * block;

@@ -191,6 +191,7 @@ impl<D: Dim> NeighborList<D> {
         } else {
             let parts: Vec<(Vec<[u32; 2]>, Vec<u8>)> = (0..n.div_ceil(CHUNK))
                 .into_par_iter()
+                .with_min_len(crate::parallel::min_len(1))
                 .map(|k| {
                     let (mut p, mut im) = (Vec::new(), Vec::new());
                     scan.run(k * CHUNK..((k + 1) * CHUNK).min(n), &mut p, &mut im);
@@ -223,6 +224,7 @@ impl<D: Dim> NeighborList<D> {
         let limit = 0.25 * self.skin * self.skin;
         pos.par_chunks(4096)
             .zip(self.ref_pos.par_chunks(4096))
+            .with_min_len(crate::parallel::min_len(1))
             .any(|(a, b)| a.iter().zip(b).any(|(&p, &q)| D::norm2(p - q) > limit))
     }
 

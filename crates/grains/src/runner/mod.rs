@@ -516,6 +516,13 @@ fn run_loop<D: Dim>(
     // Seconds per phase of the step; `other` is mostly measurements and output.
     let phases = md.timing.to_json(wall_seconds, 1.0);
     summary.insert("phase_seconds".into(), phases);
+    // How the governor ran the steps (it depends on the machine's load,
+    // never on the result).
+    let (wide, narrow) = md.governor.steps_wide_narrow();
+    summary.insert(
+        "threads".into(),
+        json!({ "pool": rayon::current_num_threads(), "steps_on_pool": wide, "steps_on_one": narrow }),
+    );
     measurements.scalars(&mut summary);
     flow.finish(&opts.out_dir, &md, &mut summary)?;
     let summary = Value::Object(summary);

@@ -1,5 +1,10 @@
-//! Where the engines' parallel loops run.
+//! Where the engines' parallel loops run, and on how many threads.
 
+mod governor;
+
+pub use governor::Governor;
+
+use std::cell::Cell;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -10,6 +15,37 @@ use std::time::{Duration, Instant};
 /// cost a small system like vib2d three quarters of its time).
 pub fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
     rayon::scope(|_| f())
+}
+
+thread_local! {
+    /// Set on a thread inside [`serial`].
+    static SERIAL: Cell<bool> = const { Cell::new(false) };
+}
+
+/// Runs `f` with the engines' parallel loops on this thread alone: each
+/// loop is one piece ([`min_len`]), so no other worker is woken or waited
+/// for. The loops' results do not depend on how they are cut.
+pub fn serial<R>(f: impl FnOnce() -> R) -> R {
+    /// Puts the flag back when `f` returns or unwinds.
+    struct Restore(bool);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            SERIAL.set(self.0);
+        }
+    }
+    let _restore = Restore(SERIAL.replace(true));
+    f()
+}
+
+/// The least number of items a parallel loop of the engines gives one job:
+/// `least`, or all of them inside [`serial`]. Every parallel loop of the
+/// engines passes it to `with_min_len`.
+pub fn min_len(least: usize) -> usize {
+    if SERIAL.get() {
+        usize::MAX
+    } else {
+        least
+    }
 }
 
 /// Set while some call of [`with_workers_awake`] keeps workers busy.
@@ -60,7 +96,7 @@ pub fn with_workers_awake<R>(f: impl FnOnce() -> R) -> R {
         return f();
     };
     let others = rayon::current_num_threads() - 1;
-    if others == 0 || AWAKE.swap(true, Ordering::SeqCst) {
+    if others == 0 || SERIAL.get() || AWAKE.swap(true, Ordering::SeqCst) {
         return f();
     }
     /// Stops the spinners, waits for them and lets the next call start
@@ -127,6 +163,28 @@ mod tests {
 
     /// Runs `body` on a thread of its own and fails if it has not ended
     /// within a minute (a hang would otherwise stall the test run).
+    /// Inside `serial` every item of a loop runs on the calling thread, and
+    /// the flag is put back after the call, after a panic too.
+    #[test]
+    fn serial_keeps_the_loops_on_the_calling_thread() {
+        pool_of(2).install(|| {
+            let me = std::thread::current().id();
+            let threads = || -> Vec<_> {
+                (0..100_000)
+                    .into_par_iter()
+                    .with_min_len(min_len(1))
+                    .map(|_| std::thread::current().id())
+                    .collect()
+            };
+            assert!(serial(threads).iter().all(|&t| t == me));
+            assert_eq!(serial(|| serial(|| min_len(1))), usize::MAX);
+            assert_eq!(min_len(7), 7);
+            let panicked = std::panic::catch_unwind(|| serial(|| panic!("in f")));
+            assert!(panicked.is_err());
+            assert_eq!(min_len(7), 7);
+        });
+    }
+
     fn ends_in_time(body: impl FnOnce() + Send + 'static) {
         let (done, ended) = mpsc::channel();
         let runner = std::thread::spawn(move || {
