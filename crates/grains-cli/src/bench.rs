@@ -328,6 +328,8 @@ fn gas<D: grains::dsmc::GasDim>(args: &BenchArgs) -> Result<()> {
         return Err(Error::input("--particles must be at least 1"));
     }
     let steps = args.steps.unwrap_or(300);
+    let bytes = grains::scenario::memory::dsmc_bytes_per_particle(D::D);
+    grains::scenario::memory::check("--particles", n, bytes)?;
     let mut gas = grains::dsmc::workload::hard_sphere_gas::<D>(n, 12345);
     gas.run(30);
     let before = gas.totals;

@@ -77,6 +77,11 @@ pub fn build<D: GasDim>(loaded: &Loaded) -> Result<(Dsmc<D>, Plan)> {
             "method = \"dsmc\" places particles.count particles uniformly at random in particles.region: use placement = \"random\" and count >= 1",
         ));
     }
+    crate::scenario::memory::check(
+        "particles.count",
+        ps.count,
+        crate::scenario::memory::dsmc_bytes_per_particle(D::D),
+    )?;
     if !(ds.restitution > 0.0 && ds.restitution <= 1.0) {
         return Err(Error::input("dsmc.restitution must be in (0, 1]"));
     }

@@ -1,5 +1,6 @@
 //! Turns a scenario into a ready MD engine: domain, grains, walls, settings.
 
+use super::memory;
 use super::placement;
 use super::resolve::{resolve, Resolved};
 use super::schema::{FileFormat, MotionSpec, Placement, Scenario, ShapeSpec, WallSpec};
@@ -108,7 +109,8 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Vec<ParticleRecord
         )));
     }
     if matches!(ps.placement, Placement::Lattice | Placement::Random) {
-        check_memory(ps.count)?;
+        let bytes = memory::md_bytes_per_grain(D::D, loaded.scenario.run.integrator);
+        memory::check("particles.count", ps.count, bytes)?;
     }
     // 2v must be finite too: velocities are drawn from [-v, v).
     if !((2.0 * ps.random_velocity).is_finite() && ps.random_velocity >= 0.0) {
@@ -182,35 +184,6 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Vec<ParticleRecord
         ));
     }
     Ok(out)
-}
-
-/// Memory a grain needs, all told: its state (about 400 bytes with the Gear
-/// history) plus its share of the neighbour list and contact springs. A
-/// generous round figure, used only to refuse impossible runs up front.
-const BYTES_PER_GRAIN: u64 = 1024;
-
-/// Refuses a grain count that cannot fit in the memory available now.
-fn check_memory(count: usize) -> Result<()> {
-    let need = (count as u64).saturating_mul(BYTES_PER_GRAIN);
-    if let Some(avail) = available_memory() {
-        if need > avail {
-            return Err(Error::input(format!(
-                "particles.count = {count} needs about {:.1} GiB (about {BYTES_PER_GRAIN} bytes per grain), \
-                 but only {:.1} GiB of memory is available",
-                need as f64 / 1073741824.0,
-                avail as f64 / 1073741824.0
-            )));
-        }
-    }
-    Ok(())
-}
-
-/// MemAvailable from /proc/meminfo (Linux); `None` elsewhere.
-fn available_memory() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
 }
 
 /// Names the scenario key when the initial-state file cannot be read.
