@@ -134,3 +134,12 @@ def test_unstable_raises(scenarios):
     sim = grains.Simulation(s)
     with pytest.raises(grains.UnstableError, match="overlaps grain"):
         sim.run(steps=1000)
+
+
+def test_help_reads():
+    text = grains.Simulation.__doc__ + grains.Simulation.positions.__doc__
+    assert "id order" in text
+    assert "KEY=VALUE" in grains.Scenario.overrides.__doc__
+    assert grains.__doc__.startswith("grains: granular dynamics")
+    assert issubclass(grains.InputError, ValueError)
+    assert issubclass(grains.UnstableError, RuntimeError)

@@ -37,3 +37,26 @@ def test_contact_force_is_the_elastic_law(scenarios):
     # The force pushes the first grain away from the second.
     assert np.sign(f[0]) == (-1.0 if first == 1 else 1.0)
     assert abs(f[1]) < 1e-15
+
+
+def test_sweep_over_restitution(scenarios, tmp_path):
+    """grains.sweep runs each variant as `grains sweep` does; the head-on
+    collision keeps e^2 of its kinetic energy for each restitution e
+    (contact.restitution sets gamma_n from the closed form)."""
+    path = scenarios / "two-particle-collision.toml"
+    e0 = grains.Simulation(path).kinetic_energy
+    results = grains.sweep(path, vary={"contact.restitution": [0.5, 0.8]}, out=tmp_path, jobs=2)
+    assert [r["values"]["contact.restitution"] for r in results] == [0.5, 0.8]
+    for r in results:
+        assert r["error"] is None
+        assert (r["dir"] / "summary.json").is_file()
+        e = r["values"]["contact.restitution"]
+        # The dashpot acts on half-step velocities: a first-order error in
+        # dt / t_c = 1/50 on e.
+        assert np.sqrt(r["summary"]["kinetic_energy"] / e0) == pytest.approx(e, rel=0.02)
+    # A bad key fails before any run; a bad value fails its variant only.
+    with pytest.raises(grains.InputError, match="restitutio"):
+        grains.sweep(path, vary={"contact.restitutio": [0.5]}, out=tmp_path)
+    bad = grains.sweep(path, vary={"contact.restitution": [0.5, 2.0]}, out=tmp_path)
+    assert bad[0]["error"] is None and bad[1]["summary"] is None
+    assert "contact.restitution = 2" in bad[1]["error"]

@@ -49,6 +49,13 @@ impl Simulation {
         py.detach(|| guard(|| pool.install(|| f(session))))
     }
 
+    /// `f` on the simulation's thread pool (the arrays are gathered in
+    /// parallel).
+    fn pooled<T: Send>(&self, f: impl FnOnce(&Session) -> T + Send) -> T {
+        let session = &self.session;
+        self.pool.install(|| f(session))
+    }
+
     fn flat_array<'py>(
         &self,
         py: Python<'py>,
@@ -195,13 +202,17 @@ impl Simulation {
     /// Grain ids, int64, shape (n,), ascending. (DSMC: places in the store.)
     #[getter]
     fn ids<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        let ids: Vec<i64> = self.session.ids().into_iter().map(|i| i as i64).collect();
+        let ids: Vec<i64> = self
+            .pooled(Session::ids)
+            .into_iter()
+            .map(|i| i as i64)
+            .collect();
         ids.into_pyarray(py).into_any()
     }
     /// Positions (m), float64, shape (n, dim), a copy in id order.
     #[getter]
     fn get_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        self.flat_array(py, self.session.positions(), self.session.dim())
+        self.flat_array(py, self.pooled(Session::positions), self.session.dim())
     }
     /// Sets every position (array-like of shape (n, dim), id order); the
     /// engine restarts from the new state: neighbour list rebuilt, springs
@@ -215,7 +226,7 @@ impl Simulation {
     /// Velocities (m/s), float64, shape (n, dim), a copy in id order.
     #[getter]
     fn get_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        self.flat_array(py, self.session.velocities(), self.session.dim())
+        self.flat_array(py, self.pooled(Session::velocities), self.session.dim())
     }
     /// Sets every velocity (array-like of shape (n, dim), id order), as
     /// the `positions` setter does.
@@ -229,22 +240,22 @@ impl Simulation {
     #[getter]
     fn angular_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let w = if self.session.dim() == 2 { 1 } else { 3 };
-        self.flat_array(py, self.session.angular_velocities(), w)
+        self.flat_array(py, self.pooled(Session::angular_velocities), w)
     }
     /// Diameters (m), float64, shape (n,), a copy in id order.
     #[getter]
     fn diameters<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        self.session.diameters().into_pyarray(py).into_any()
+        self.pooled(Session::diameters).into_pyarray(py).into_any()
     }
     /// Masses (kg), float64, shape (n,), a copy in id order.
     #[getter]
     fn masses<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        self.session.masses().into_pyarray(py).into_any()
+        self.pooled(Session::masses).into_pyarray(py).into_any()
     }
     /// Whether each grain is frozen in place, bool, shape (n,), id order.
     #[getter]
     fn frozen<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
-        self.session.frozen().into_pyarray(py).into_any()
+        self.pooled(Session::frozen).into_pyarray(py).into_any()
     }
 
     /// Translational kinetic energy of the mobile grains (J).

@@ -10,11 +10,17 @@ use crate::runner::checkpointing::Found;
 use crate::runner::md_summary;
 use crate::runner::output::THERMO_COLUMNS;
 use crate::scenario::{build_md, Loaded, Resolved};
+use rayon::prelude::*;
 use serde_json::{json, Map, Value};
+use std::sync::{Arc, Mutex};
 
 struct MdEngine<D: Dim> {
     md: Md<D>,
     resolved: Resolved,
+    /// The id order of the store and the neighbour build it was taken at:
+    /// the store is reordered only when the list is rebuilt, and reading
+    /// the arrays of a large system (10^6 grains) must stay fast.
+    order: Mutex<Option<(u64, Arc<Vec<u32>>)>>,
 }
 
 type Built = (Box<dyn Engine>, (u64, u64), u64);
@@ -30,7 +36,12 @@ pub(super) fn build<D: Dim>(loaded: &Loaded) -> Result<Built> {
 fn wrap<D: Dim>(mut md: Md<D>, resolved: Resolved, plan: (u64, u64)) -> Built {
     md.timing.reset();
     let every = resolved.output_every;
-    (Box::new(MdEngine { md, resolved }), plan, every)
+    let engine = MdEngine {
+        md,
+        resolved,
+        order: Mutex::new(None),
+    };
+    (Box::new(engine), plan, every)
 }
 
 /// The engine of an MD checkpoint and its output interval.
@@ -41,23 +52,47 @@ pub(super) fn restore<D: Dim>(found: &Found) -> Result<(Box<dyn Engine>, u64)> {
 }
 
 impl<D: Dim> MdEngine<D> {
-    /// One vector per grain, flat, in id order.
-    fn vectors(&self, v: &[D::V]) -> Vec<f64> {
-        let mut out = Vec::with_capacity(v.len() * D::D);
-        for i in self.md.id_order() {
-            let x = D::to_xyz(v[i as usize]);
-            out.extend_from_slice(&x[..D::D]);
+    /// Store indices in ascending id order (cached until the next rebuild).
+    fn order(&self) -> Arc<Vec<u32>> {
+        let builds = self.md.neighbor_builds();
+        let mut cache = self.order.lock().unwrap_or_else(|e| e.into_inner());
+        match &*cache {
+            Some((b, order)) if *b == builds => Arc::clone(order),
+            _ => {
+                let order = Arc::new(self.md.id_order());
+                *cache = Some((builds, Arc::clone(&order)));
+                order
+            }
         }
+    }
+
+    /// `width` numbers per grain from `get`, flat, in id order (in
+    /// parallel: a million grains are tens of megabytes).
+    fn gather<T: Copy + Default + Send + Sync>(
+        &self,
+        width: usize,
+        get: impl Fn(usize, &mut [T]) + Sync,
+    ) -> Vec<T> {
+        let order = self.order();
+        let mut out = vec![T::default(); order.len() * width];
+        out.par_chunks_mut(width * 4096)
+            .zip(order.par_chunks(4096))
+            .for_each(|(o, idx)| {
+                for (o, &i) in o.chunks_exact_mut(width).zip(idx) {
+                    get(i as usize, o);
+                }
+            });
         out
     }
 
+    /// One vector per grain, flat, in id order.
+    fn vectors(&self, v: &[D::V]) -> Vec<f64> {
+        self.gather(D::D, |i, o| o.copy_from_slice(&D::to_xyz(v[i])[..D::D]))
+    }
+
     /// One number per grain, in id order.
-    fn scalars<T: Copy>(&self, v: &[T]) -> Vec<T> {
-        self.md
-            .id_order()
-            .into_iter()
-            .map(|i| v[i as usize])
-            .collect()
+    fn scalars<T: Copy + Default + Send + Sync>(&self, v: &[T]) -> Vec<T> {
+        self.gather(1, |i, o| o[0] = v[i])
     }
 }
 
@@ -117,15 +152,10 @@ impl<D: Dim> Engine for MdEngine<D> {
     }
     fn angular_velocities(&self) -> Vec<f64> {
         let w = &self.md.particles.omega;
-        let mut out = Vec::with_capacity(w.len() * if D::D == 2 { 1 } else { 3 });
-        for i in self.md.id_order() {
-            let x = D::ang_to_xyz(w[i as usize]);
-            match D::D {
-                2 => out.push(x[2]),
-                _ => out.extend_from_slice(&x),
-            }
+        match D::D {
+            2 => self.gather(1, |i, o| o[0] = D::ang_to_xyz(w[i])[2]),
+            _ => self.gather(3, |i, o| o.copy_from_slice(&D::ang_to_xyz(w[i]))),
         }
-        out
     }
     fn diameters(&self) -> Vec<f64> {
         let mut d = self.scalars(&self.md.particles.radius);
