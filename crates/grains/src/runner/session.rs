@@ -32,6 +32,29 @@ pub struct Contacts {
     pub force: Vec<f64>,
 }
 
+/// A per-grain array of floats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Column {
+    Positions,
+    Velocities,
+    /// One number per grain in 2D (the spin about z), three in 3D.
+    AngularVelocities,
+    Diameters,
+    Masses,
+}
+
+impl Column {
+    /// Numbers per grain in dimension `dim`.
+    pub fn width(self, dim: usize) -> usize {
+        match self {
+            Column::Positions | Column::Velocities => dim,
+            Column::AngularVelocities if dim == 2 => 1,
+            Column::AngularVelocities => 3,
+            Column::Diameters | Column::Masses => 1,
+        }
+    }
+}
+
 /// What a session needs of an engine, MD or DSMC, in 2D or 3D. Arrays are
 /// flat (`dim` numbers per grain for vectors) and in ascending id order.
 trait Engine: Send + Sync {
@@ -47,12 +70,9 @@ trait Engine: Send + Sync {
     /// After a thermo row (the DSMC validity window).
     fn after_output(&mut self) {}
     fn ids(&self) -> Vec<u64>;
-    fn positions(&self) -> Vec<f64>;
-    fn velocities(&self) -> Vec<f64>;
-    /// One number per grain in 2D (the spin), three in 3D.
-    fn angular_velocities(&self) -> Vec<f64>;
-    fn diameters(&self) -> Vec<f64>;
-    fn masses(&self) -> Vec<f64>;
+    /// Writes `col` of every grain into `out` (its length checked by the
+    /// caller: [`Column::width`] numbers per grain).
+    fn fill(&self, col: Column, out: &mut [f64]);
     fn frozen(&self) -> Vec<bool>;
     fn set_state(&mut self, pos: Option<&[f64]>, vel: Option<&[f64]>) -> Result<()>;
     fn kinetic_energy(&self) -> f64;
@@ -237,20 +257,30 @@ impl Session {
     pub fn ids(&self) -> Vec<u64> {
         self.engine.ids()
     }
+    /// Writes a column of every grain, in id order, into `out` (a caller's
+    /// buffer: a large array is best allocated where it will live).
+    pub fn fill(&self, col: Column, out: &mut [f64]) -> Result<()> {
+        let want = self.len() * col.width(self.dim());
+        if out.len() != want {
+            return Err(Error::input(format!(
+                "{col:?}: a buffer of {} numbers for {want}",
+                out.len()
+            )));
+        }
+        self.engine.fill(col, out);
+        Ok(())
+    }
+    /// A column of every grain, flat, in id order.
+    pub fn column(&self, col: Column) -> Vec<f64> {
+        let mut out = vec![0.0; self.len() * col.width(self.dim())];
+        self.engine.fill(col, &mut out);
+        out
+    }
     pub fn positions(&self) -> Vec<f64> {
-        self.engine.positions()
+        self.column(Column::Positions)
     }
     pub fn velocities(&self) -> Vec<f64> {
-        self.engine.velocities()
-    }
-    pub fn angular_velocities(&self) -> Vec<f64> {
-        self.engine.angular_velocities()
-    }
-    pub fn diameters(&self) -> Vec<f64> {
-        self.engine.diameters()
-    }
-    pub fn masses(&self) -> Vec<f64> {
-        self.engine.masses()
+        self.column(Column::Velocities)
     }
     pub fn frozen(&self) -> Vec<bool> {
         self.engine.frozen()

@@ -2,7 +2,7 @@
 //! identity: their ids are their places in the store (1..=n), which the
 //! engine reorders by cell every few steps, as in the runner's frames.
 
-use super::{Contacts, Engine};
+use super::{Column, Contacts, Engine};
 use crate::checkpoint::codec::{Dec, Enc};
 use crate::checkpoint::dsmc as ckdsmc;
 use crate::dsmc::collide::GasDim;
@@ -71,18 +71,6 @@ pub(super) fn restore<D: GasDim>(found: &Found) -> Result<(Box<dyn Engine>, u64)
     Ok((Box::new(engine), every))
 }
 
-impl<D: GasDim> DsmcEngine<D> {
-    fn vectors(&self, v: impl Fn(usize) -> D::V) -> Vec<f64> {
-        let n = self.sim.store.len();
-        let mut out = Vec::with_capacity(n * D::D);
-        for i in 0..n {
-            let x = D::to_xyz(v(i));
-            out.extend_from_slice(&x[..D::D]);
-        }
-        out
-    }
-}
-
 impl<D: GasDim> Engine for DsmcEngine<D> {
     fn dim(&self) -> usize {
         D::D
@@ -117,20 +105,21 @@ impl<D: GasDim> Engine for DsmcEngine<D> {
     fn ids(&self) -> Vec<u64> {
         (1..=self.sim.store.len() as u64).collect()
     }
-    fn positions(&self) -> Vec<f64> {
-        self.vectors(|i| self.sim.store.p[i].x)
-    }
-    fn velocities(&self) -> Vec<f64> {
-        self.vectors(|i| self.sim.store.p[i].v)
-    }
-    fn angular_velocities(&self) -> Vec<f64> {
-        vec![0.0; self.len() * if D::D == 2 { 1 } else { 3 }]
-    }
-    fn diameters(&self) -> Vec<f64> {
-        vec![self.sim.store.diameter; self.len()]
-    }
-    fn masses(&self) -> Vec<f64> {
-        vec![self.sim.store.mass; self.len()]
+    fn fill(&self, col: Column, out: &mut [f64]) {
+        let store = &self.sim.store;
+        let vector = |out: &mut [f64], get: &dyn Fn(usize) -> D::V| {
+            for (k, o) in out.chunks_exact_mut(D::D).enumerate() {
+                o.copy_from_slice(&D::to_xyz(get(k))[..D::D]);
+            }
+        };
+        match col {
+            Column::Positions => vector(out, &|k| store.p[k].x),
+            Column::Velocities => vector(out, &|k| store.p[k].v),
+            // Point particles: no spin.
+            Column::AngularVelocities => out.fill(0.0),
+            Column::Diameters => out.fill(store.diameter),
+            Column::Masses => out.fill(store.mass),
+        }
     }
     fn frozen(&self) -> Vec<bool> {
         vec![false; self.len()]

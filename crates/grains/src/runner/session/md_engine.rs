@@ -1,6 +1,6 @@
 //! The MD engine of a [`super::Session`].
 
-use super::{Contacts, Engine};
+use super::{Column, Contacts, Engine};
 use crate::checkpoint::engine as ckengine;
 use crate::dim::Dim;
 use crate::error::{Error, Result};
@@ -51,48 +51,60 @@ pub(super) fn restore<D: Dim>(found: &Found) -> Result<(Box<dyn Engine>, u64)> {
     Ok((engine, every))
 }
 
+/// The start of an output buffer shared by the threads of a scatter.
+struct Base<T>(*mut T);
+// SAFETY: the threads write disjoint entries (see `MdEngine::gather`).
+unsafe impl<T: Send> Sync for Base<T> {}
+
 impl<D: Dim> MdEngine<D> {
-    /// Store indices in ascending id order (cached until the next rebuild).
+    /// The place in ascending id order of each store entry (cached until
+    /// the next neighbour build, the only time the store is reordered).
     fn order(&self) -> Arc<Vec<u32>> {
         let builds = self.md.neighbor_builds();
         let mut cache = self.order.lock().unwrap_or_else(|e| e.into_inner());
         match &*cache {
             Some((b, order)) if *b == builds => Arc::clone(order),
             _ => {
-                let order = Arc::new(self.md.id_order());
-                *cache = Some((builds, Arc::clone(&order)));
-                order
+                // The rank in id order of each store entry.
+                let order = self.md.id_order();
+                let mut rank = vec![0u32; order.len()];
+                for (k, &i) in order.iter().enumerate() {
+                    rank[i as usize] = k as u32;
+                }
+                let rank = Arc::new(rank);
+                *cache = Some((builds, Arc::clone(&rank)));
+                rank
             }
         }
     }
 
-    /// `width` numbers per grain from `get`, flat, in id order (in
-    /// parallel: a million grains are tens of megabytes).
-    fn gather<T: Copy + Default + Send + Sync>(
-        &self,
-        width: usize,
-        get: impl Fn(usize, &mut [T]) + Sync,
-    ) -> Vec<T> {
-        let order = self.order();
-        let mut out = vec![T::default(); order.len() * width];
-        out.par_chunks_mut(width * 4096)
-            .zip(order.par_chunks(4096))
-            .for_each(|(o, idx)| {
-                for (o, &i) in o.chunks_exact_mut(width).zip(idx) {
-                    get(i as usize, o);
-                }
-            });
-        out
-    }
-
-    /// One vector per grain, flat, in id order.
-    fn vectors(&self, v: &[D::V]) -> Vec<f64> {
-        self.gather(D::D, |i, o| o.copy_from_slice(&D::to_xyz(v[i])[..D::D]))
+    /// `width` numbers per grain from `get` into `out`, in id order. The
+    /// store is read in its own order and each grain's numbers written to
+    /// their place (in parallel): reading in id order would wait on a
+    /// cache miss per grain of a large system.
+    fn gather<T: Send>(&self, out: &mut [T], width: usize, get: impl Fn(usize, &mut [T]) + Sync) {
+        let rank = self.order();
+        assert_eq!(out.len(), rank.len() * width);
+        let base = Base(out.as_mut_ptr());
+        rank.par_chunks(4096).enumerate().for_each(|(c, ranks)| {
+            let base = &base;
+            for (j, &k) in ranks.iter().enumerate() {
+                // SAFETY: `rank` is a permutation of 0..n, so every grain
+                // writes its own `width` entries of `out` (n * width long,
+                // checked above) and no two threads write the same one.
+                let o = unsafe {
+                    std::slice::from_raw_parts_mut(base.0.add(k as usize * width), width)
+                };
+                get(c * 4096 + j, o);
+            }
+        });
     }
 
     /// One number per grain, in id order.
     fn scalars<T: Copy + Default + Send + Sync>(&self, v: &[T]) -> Vec<T> {
-        self.gather(1, |i, o| o[0] = v[i])
+        let mut out = vec![T::default(); self.len()];
+        self.gather(&mut out, 1, |i, o| o[0] = v[i]);
+        out
     }
 }
 
@@ -144,26 +156,25 @@ impl<D: Dim> Engine for MdEngine<D> {
     fn ids(&self) -> Vec<u64> {
         self.scalars(&self.md.particles.id)
     }
-    fn positions(&self) -> Vec<f64> {
-        self.vectors(&self.md.particles.pos)
-    }
-    fn velocities(&self) -> Vec<f64> {
-        self.vectors(&self.md.particles.vel)
-    }
-    fn angular_velocities(&self) -> Vec<f64> {
-        let w = &self.md.particles.omega;
-        match D::D {
-            2 => self.gather(1, |i, o| o[0] = D::ang_to_xyz(w[i])[2]),
-            _ => self.gather(3, |i, o| o.copy_from_slice(&D::ang_to_xyz(w[i]))),
+    fn fill(&self, col: Column, out: &mut [f64]) {
+        let p = &self.md.particles;
+        let vector = |v: &[D::V], out: &mut [f64]| {
+            self.gather(out, D::D, |i, o| {
+                o.copy_from_slice(&D::to_xyz(v[i])[..D::D])
+            })
+        };
+        match col {
+            Column::Positions => vector(&p.pos, out),
+            Column::Velocities => vector(&p.vel, out),
+            Column::AngularVelocities if D::D == 2 => {
+                self.gather(out, 1, |i, o| o[0] = D::ang_to_xyz(p.omega[i])[2])
+            }
+            Column::AngularVelocities => {
+                self.gather(out, 3, |i, o| o.copy_from_slice(&D::ang_to_xyz(p.omega[i])))
+            }
+            Column::Diameters => self.gather(out, 1, |i, o| o[0] = 2.0 * p.radius[i]),
+            Column::Masses => self.gather(out, 1, |i, o| o[0] = p.mass[i]),
         }
-    }
-    fn diameters(&self) -> Vec<f64> {
-        let mut d = self.scalars(&self.md.particles.radius);
-        d.iter_mut().for_each(|r| *r *= 2.0);
-        d
-    }
-    fn masses(&self) -> Vec<f64> {
-        self.scalars(&self.md.particles.mass)
     }
     fn frozen(&self) -> Vec<bool> {
         self.scalars(&self.md.particles.frozen)
