@@ -56,3 +56,21 @@ def test_ctrl_c_stops_within_a_second_at_a_complete_step(scenarios):
     assert np.isfinite(sim.positions).all()
     sim.run(steps=10)
     assert sim.step == step + 10
+
+
+@pytest.mark.skipif(os.name != "posix", reason="SIGINT by os.kill")
+def test_ctrl_c_stops_grains_run_with_a_checkpoint(scenarios, tmp_path):
+    """As `grains run` on SIGINT: the run stops at its next check, writes a
+    checkpoint, and Python gets KeyboardInterrupt; Simulation.resume
+    continues from the checkpoint."""
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    start = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        grains.run(scenarios / "bench-vib2d.toml", out=tmp_path, steps=10_000_000)
+    timer.join()
+    assert time.perf_counter() - start < 1.5
+    checkpoints = sorted(tmp_path.glob("checkpoint-*.grck"))
+    assert len(checkpoints) == 1
+    sim = grains.Simulation.resume(tmp_path)
+    assert sim.step > 0 and str(sim.step) in checkpoints[0].name
