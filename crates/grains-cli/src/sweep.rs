@@ -4,6 +4,7 @@
 
 use clap::Args;
 use grains::measure::plot::{save_plot, Series, Titles, PALETTE};
+use grains::runner::sweep_grid::{grid, variant_name, variant_sets};
 use grains::runner::{self, RunOptions, Silent};
 use grains::scenario;
 use grains::Error;
@@ -83,52 +84,6 @@ fn parse_vary(s: &str) -> grains::Result<(String, Vec<String>)> {
     Ok((k.trim().to_string(), vals))
 }
 
-/// The `--set` overrides of one value of a varied key; `K1+K2+...` sets the
-/// same value at every key (e.g. the frequency of all three vibrating walls
-/// of a cell).
-fn overrides(key: &str, value: &str) -> Vec<String> {
-    key.split('+')
-        .map(|k| format!("{}={value}", k.trim()))
-        .collect()
-}
-
-/// Every combination of the values, the first key varying slowest.
-fn grid(axes: &[(String, Vec<String>)]) -> Vec<Vec<String>> {
-    let mut out = vec![Vec::new()];
-    for (_, vals) in axes {
-        out = out
-            .into_iter()
-            .flat_map(|row: Vec<String>| {
-                vals.iter().map(move |v| {
-                    let mut r = row.clone();
-                    r.push(v.clone());
-                    r
-                })
-            })
-            .collect();
-    }
-    out
-}
-
-/// A directory name for a variant: key=value pairs joined by '_', with
-/// characters unsafe in file names replaced.
-fn variant_name(axes: &[(String, Vec<String>)], vals: &[String]) -> String {
-    axes.iter()
-        .zip(vals)
-        .map(|((k, _), v)| format!("{k}={v}"))
-        .collect::<Vec<_>>()
-        .join("_")
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || "=._-+".contains(c) {
-                c
-            } else {
-                '-'
-            }
-        })
-        .collect()
-}
-
 fn csv_field(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
         format!("\"{}\"", s.replace('"', "\"\""))
@@ -156,12 +111,7 @@ pub fn run(args: SweepArgs) -> grains::Result<()> {
     let variants = grid(&axes);
     let mut loaded = Vec::new();
     for vals in &variants {
-        let mut sets = args.sets.clone();
-        sets.extend(
-            axes.iter()
-                .zip(vals)
-                .flat_map(|((k, _), v)| overrides(k, v)),
-        );
+        let sets = variant_sets(&args.sets, &axes, vals);
         loaded.push(scenario::load_file(&args.scenario, &sets)?);
     }
     let name = loaded[0].scenario.name.clone();
@@ -433,19 +383,10 @@ mod tests {
     }
 
     #[test]
-    fn grid_is_the_product_first_key_slowest() {
-        let axes = vec![
-            ("a".to_string(), vec!["1".to_string(), "2".to_string()]),
-            ("b".to_string(), vec!["x".to_string(), "y".to_string()]),
-        ];
-        let g = grid(&axes);
-        assert_eq!(g.len(), 4);
-        assert_eq!(g[1], vec!["1".to_string(), "y".to_string()]);
-        assert_eq!(variant_name(&axes, &g[2]), "a=2_b=x");
+    fn vary_arguments_parse() {
         assert!(parse_vary("k=").is_err());
         assert_eq!(parse_vary("k=1, 2").unwrap().1, vec!["1", "2"]);
         assert!(parse_vary("a+=1").is_err());
-        assert_eq!(overrides("a + b", "3"), vec!["a=3", "b=3"]);
     }
 
     #[test]

@@ -16,7 +16,9 @@
 //! between steps (see the scenario runner).
 
 pub mod balance;
+pub mod contact_list;
 pub mod decomp;
+pub mod edit;
 mod field_forces;
 pub mod halo;
 mod pair_forces;

@@ -239,6 +239,18 @@ pub(super) fn write_payload(
     engine: &[u8],
     measurements: Option<&[u8]>,
 ) -> Result<PathBuf> {
+    let payload = payload(run, outputs, step, engine, measurements);
+    checkpoint::write(dir, step, &payload)
+}
+
+/// The payload [`write_payload`] writes.
+pub(super) fn payload(
+    run: &RunHeader,
+    outputs: &OutputState,
+    step: u64,
+    engine: &[u8],
+    measurements: Option<&[u8]>,
+) -> Vec<u8> {
     let mut e = Enc::default();
     e.str(run.scenario);
     e.str(run.origin);
@@ -252,7 +264,7 @@ pub(super) fn write_payload(
     e.len(engine.len());
     e.buf.extend_from_slice(engine);
     encode_measurements(&mut e, measurements);
-    checkpoint::write(dir, step, &e.buf)
+    e.buf
 }
 
 /// The (relax, measured) step plan of a resumed run: the checkpoint's own,
@@ -339,10 +351,10 @@ pub struct Found {
     pub step: u64,
     loaded: Loaded,
     pub(super) dim: usize,
-    plan: (u64, u64),
+    pub(super) plan: (u64, u64),
     interval: u64,
     pub(super) outputs: OutputState,
-    engine: Vec<u8>,
+    pub(super) engine: Vec<u8>,
     measurements: Option<Vec<u8>>,
 }
 
@@ -543,7 +555,7 @@ impl Found {
 
     /// [`Found::restore_md`] with the scenario's resolved run parameters
     /// from the same build.
-    fn restore_built<D: Dim>(&self) -> Result<(Md<D>, Resolved)> {
+    pub(super) fn restore_built<D: Dim>(&self) -> Result<(Md<D>, Resolved)> {
         if checkpoint::dsmc::is_dsmc(&self.engine) {
             return Err(Error::input(format!(
                 "checkpoint {}: holds a DSMC engine state, but its scenario is an MD run \

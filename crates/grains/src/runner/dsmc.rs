@@ -497,7 +497,7 @@ impl Measure {
         }
     }
 
-    fn encode(&self, e: &mut Enc) {
+    pub(super) fn encode(&self, e: &mut Enc) {
         e.f64(self.t_start);
         e.f64(self.temp0);
         e.u64(self.c0.candidates);
@@ -509,7 +509,7 @@ impl Measure {
         }
     }
 
-    fn decode<D: GasDim>(sim: &Dsmc<D>, ds: &DsmcSpec, d: &mut Dec) -> DecResult<Self> {
+    pub(super) fn decode<D: GasDim>(sim: &Dsmc<D>, ds: &DsmcSpec, d: &mut Dec) -> DecResult<Self> {
         let mut m = Self::new(sim, ds);
         m.t_start = d.f64("measure start")?;
         m.temp0 = d.f64("initial temperature")?;

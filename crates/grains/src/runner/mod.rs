@@ -11,6 +11,8 @@ mod distributed_md;
 pub mod dsmc;
 pub mod flow;
 mod output;
+pub mod session;
+pub mod sweep_grid;
 
 use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use crate::dim::{Dim, D2, D3};

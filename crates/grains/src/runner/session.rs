@@ -1,0 +1,396 @@
+//! A scenario's engine held between calls, for driving a run step by step
+//! from a script (the Python bindings): build MD or DSMC from a scenario,
+//! advance in stretches, read the state as arrays in id order, set
+//! positions and velocities, record thermo rows, report the summary, save
+//! and resume checkpoints.
+//!
+//! The engine is the one `grains run` builds ([`build_md`], the DSMC
+//! runner's `build`), advanced with the same calls, so `n` steps here give
+//! the bits of `grains run --steps n`. Output files, `[hopper]` recycling,
+//! `run.events` and the `measure` tables belong to the runner and are not
+//! run here (see [`Session::new`]).
+
+mod dsmc_engine;
+mod md_engine;
+
+use super::checkpointing::{self, payload, scenario_text, RunHeader};
+use super::output::OutputState;
+use crate::dim::{D2, D3};
+use crate::error::{Error, Result};
+use crate::scenario::schema::Dimension;
+use crate::scenario::Loaded;
+use serde_json::{Map, Value};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Grain–grain contacts as flat arrays (vectors as `dim` numbers each).
+#[derive(Clone, Debug, Default)]
+pub struct Contacts {
+    pub ids: Vec<[u64; 2]>,
+    pub overlap: Vec<f64>,
+    pub normal: Vec<f64>,
+    pub force: Vec<f64>,
+}
+
+/// A per-grain array of floats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Column {
+    Positions,
+    Velocities,
+    /// One number per grain in 2D (the spin about z), three in 3D.
+    AngularVelocities,
+    Diameters,
+    Masses,
+}
+
+impl Column {
+    /// Numbers per grain in dimension `dim`.
+    pub fn width(self, dim: usize) -> usize {
+        match self {
+            Column::Positions | Column::Velocities => dim,
+            Column::AngularVelocities if dim == 2 => 1,
+            Column::AngularVelocities => 3,
+            Column::Diameters | Column::Masses => 1,
+        }
+    }
+}
+
+/// What a session needs of an engine, MD or DSMC, in 2D or 3D. Arrays are
+/// flat (`dim` numbers per grain for vectors) and in ascending id order.
+trait Engine: Send + Sync {
+    fn dim(&self) -> usize;
+    fn len(&self) -> usize;
+    fn step(&self) -> u64;
+    fn time(&self) -> f64;
+    fn dt(&self) -> f64;
+    /// `n` steps, the same bits as `grains run` takes them.
+    fn advance(&mut self, n: u64) -> Result<()>;
+    fn thermo_columns(&self) -> &'static [&'static str];
+    fn thermo_row(&self) -> Vec<f64>;
+    /// After a thermo row (the DSMC validity window).
+    fn after_output(&mut self) {}
+    fn ids(&self) -> Vec<u64>;
+    /// Writes `col` of every grain into `out` (its length checked by the
+    /// caller: [`Column::width`] numbers per grain).
+    fn fill(&self, col: Column, out: &mut [f64]);
+    fn frozen(&self) -> Vec<bool>;
+    fn set_state(&mut self, pos: Option<&[f64]>, vel: Option<&[f64]>) -> Result<()>;
+    fn kinetic_energy(&self) -> f64;
+    fn rotational_energy(&self) -> f64;
+    fn granular_temperature(&self) -> f64;
+    fn contacts(&self) -> Result<Contacts>;
+    /// The summary.json scalars of the state now.
+    fn summary(&self, loaded: &Loaded, stepped: u64, wall_seconds: f64) -> Map<String, Value>;
+    /// The engine field of a checkpoint payload.
+    fn checkpoint(&self) -> Result<Vec<u8>>;
+}
+
+/// A scenario's engine, its thermo table, and its run plan.
+pub struct Session {
+    loaded: Loaded,
+    engine: Box<dyn Engine>,
+    /// The scenario's (relaxation, measured) steps.
+    plan: (u64, u64),
+    output_every: u64,
+    rows: Vec<Vec<f64>>,
+    last_row: Option<u64>,
+    /// Steps taken and wall time spent by this session's `advance` calls.
+    stepped: u64,
+    wall_seconds: f64,
+    /// Seconds per step, as last measured (sizes the stretches).
+    step_seconds: f64,
+}
+
+impl Session {
+    /// Builds the engine of a scenario (MD or DSMC, 2D or 3D) at step 0.
+    /// Refuses `[hopper]` and `run.events`, which act between the runner's
+    /// steps and are not run here: run such scenarios whole.
+    pub fn new(loaded: &Loaded) -> Result<Self> {
+        let s = &loaded.scenario;
+        runner_only(loaded)?;
+        let (engine, plan, every) = match (s.method, s.dimension) {
+            (crate::dsmc::Method::Dsmc, Dimension::Two) => dsmc_engine::build::<D2>(loaded)?,
+            (crate::dsmc::Method::Dsmc, Dimension::Three) => dsmc_engine::build::<D3>(loaded)?,
+            (_, Dimension::Two) => md_engine::build::<D2>(loaded)?,
+            (_, Dimension::Three) => md_engine::build::<D3>(loaded)?,
+        };
+        Ok(Self::around(loaded.clone(), engine, plan, every))
+    }
+
+    fn around(loaded: Loaded, engine: Box<dyn Engine>, plan: (u64, u64), every: u64) -> Self {
+        let mut me = Self {
+            loaded,
+            engine,
+            plan,
+            output_every: every.max(1),
+            rows: Vec::new(),
+            last_row: None,
+            stepped: 0,
+            wall_seconds: 0.0,
+            step_seconds: 0.0,
+        };
+        me.record(false);
+        me
+    }
+
+    /// Resumes a session from a checkpoint file written by
+    /// [`Session::save_checkpoint`] or by `grains run --checkpoint-every`
+    /// (or the newest valid one of a run directory).
+    pub fn resume(path: &Path) -> Result<Self> {
+        let (found, _skipped) = checkpointing::find(path)?;
+        let loaded = found.loaded().clone();
+        let s = &loaded.scenario;
+        runner_only(&loaded)?;
+        let (engine, every) = match (s.method, found.dim) {
+            (crate::dsmc::Method::Dsmc, 2) => dsmc_engine::restore::<D2>(&found)?,
+            (crate::dsmc::Method::Dsmc, _) => dsmc_engine::restore::<D3>(&found)?,
+            (_, 2) => md_engine::restore::<D2>(&found)?,
+            (_, _) => md_engine::restore::<D3>(&found)?,
+        };
+        Ok(Self::around(loaded, engine, found.plan, every))
+    }
+
+    /// The scenario the session runs.
+    pub fn loaded(&self) -> &Loaded {
+        &self.loaded
+    }
+    pub fn dim(&self) -> usize {
+        self.engine.dim()
+    }
+    /// Number of grains (particles, for DSMC).
+    pub fn len(&self) -> usize {
+        self.engine.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    pub fn step(&self) -> u64 {
+        self.engine.step()
+    }
+    pub fn time(&self) -> f64 {
+        self.engine.time()
+    }
+    pub fn dt(&self) -> f64 {
+        self.engine.dt()
+    }
+    /// Whether the engine is DSMC.
+    pub fn is_dsmc(&self) -> bool {
+        self.loaded.scenario.method == crate::dsmc::Method::Dsmc
+    }
+    /// Steps of the scenario's whole run (relaxation and measurement).
+    pub fn planned_steps(&self) -> u64 {
+        self.plan.0 + self.plan.1
+    }
+    /// Steps between thermo rows.
+    pub fn output_every(&self) -> u64 {
+        self.output_every
+    }
+
+    /// Advances up to `steps` steps, returning once they are done or once
+    /// `budget` of wall time has passed (at the end of a stretch, at least
+    /// one step): the number taken. Stretches end at the steps that record
+    /// a thermo row (multiples of the output interval), and at the end.
+    /// Every step is complete when this returns, even on error.
+    pub fn advance_for(&mut self, steps: u64, budget: Duration) -> Result<u64> {
+        let started = Instant::now();
+        let mut done = 0;
+        while done < steps {
+            let left = budget.saturating_sub(started.elapsed()).as_secs_f64();
+            if done > 0 && left <= 0.0 {
+                break;
+            }
+            // As many steps as fit the time left, judged from the last
+            // stretch; the first stretch of a call is one step when the
+            // speed is unknown.
+            let fit = if self.step_seconds > 0.0 {
+                (left / self.step_seconds).clamp(1.0, 1e9) as u64
+            } else {
+                1
+            };
+            let step = self.engine.step();
+            let to_row = self.output_every - step % self.output_every;
+            let n = fit.min(to_row).min(steps - done).max(1);
+            let t0 = Instant::now();
+            let r = self.engine.advance(n);
+            let secs = t0.elapsed().as_secs_f64();
+            self.wall_seconds += secs;
+            self.stepped += n;
+            self.step_seconds = secs / n as f64;
+            r?;
+            done += n;
+            if self.engine.step().is_multiple_of(self.output_every) || done == steps {
+                self.record(true);
+            }
+        }
+        Ok(done)
+    }
+
+    /// Advances `steps` steps (see [`Session::advance_for`]).
+    pub fn advance(&mut self, steps: u64) -> Result<()> {
+        self.advance_for(steps, Duration::MAX).map(|_| ())
+    }
+
+    /// A thermo row for the step now, unless it has one; `sampled`: the
+    /// engine's output hook runs too (not at a session's first row, where
+    /// the build or the checkpoint left it as the runner does).
+    fn record(&mut self, sampled: bool) {
+        let step = self.engine.step();
+        if self.last_row != Some(step) {
+            self.last_row = Some(step);
+            self.rows.push(self.engine.thermo_row());
+            if sampled {
+                self.engine.after_output();
+            }
+        }
+    }
+
+    /// The thermo table's columns (those of thermo.csv).
+    pub fn thermo_columns(&self) -> &'static [&'static str] {
+        self.engine.thermo_columns()
+    }
+    /// The thermo rows recorded so far: at the start, at every multiple of
+    /// the output interval, and at the end of each [`Session::advance`].
+    pub fn thermo_rows(&self) -> &[Vec<f64>] {
+        &self.rows
+    }
+
+    pub fn ids(&self) -> Vec<u64> {
+        self.engine.ids()
+    }
+    /// Writes a column of every grain, in id order, into `out` (a caller's
+    /// buffer: a large array is best allocated where it will live).
+    pub fn fill(&self, col: Column, out: &mut [f64]) -> Result<()> {
+        let want = self.len() * col.width(self.dim());
+        if out.len() != want {
+            return Err(Error::input(format!(
+                "{col:?}: a buffer of {} numbers for {want}",
+                out.len()
+            )));
+        }
+        self.engine.fill(col, out);
+        Ok(())
+    }
+    /// A column of every grain, flat, in id order.
+    pub fn column(&self, col: Column) -> Vec<f64> {
+        let mut out = vec![0.0; self.len() * col.width(self.dim())];
+        self.engine.fill(col, &mut out);
+        out
+    }
+    pub fn positions(&self) -> Vec<f64> {
+        self.column(Column::Positions)
+    }
+    pub fn velocities(&self) -> Vec<f64> {
+        self.column(Column::Velocities)
+    }
+    pub fn frozen(&self) -> Vec<bool> {
+        self.engine.frozen()
+    }
+    /// Replaces positions and/or velocities (flat, `dim` numbers per
+    /// grain, in id order); the engine restarts from that state (see
+    /// [`crate::md::Md::set_state`]).
+    pub fn set_state(&mut self, pos: Option<&[f64]>, vel: Option<&[f64]>) -> Result<()> {
+        let want = self.len() * self.dim();
+        for (what, v) in [("positions", pos), ("velocities", vel)] {
+            if let Some(v) = v {
+                if v.len() != want {
+                    return Err(Error::input(format!(
+                        "{what}: {} numbers given; {} grains in {}D need {want} (shape ({}, {}))",
+                        v.len(),
+                        self.len(),
+                        self.dim(),
+                        self.len(),
+                        self.dim()
+                    )));
+                }
+            }
+        }
+        self.engine.set_state(pos, vel)
+    }
+    pub fn kinetic_energy(&self) -> f64 {
+        self.engine.kinetic_energy()
+    }
+    pub fn rotational_energy(&self) -> f64 {
+        self.engine.rotational_energy()
+    }
+    pub fn granular_temperature(&self) -> f64 {
+        self.engine.granular_temperature()
+    }
+    /// The grain–grain contacts now (MD only).
+    pub fn contacts(&self) -> Result<Contacts> {
+        self.engine.contacts()
+    }
+
+    /// The summary.json of a run that stopped here: what ran, the timing of
+    /// this session's steps, the final energies (measurement scalars are
+    /// the runner's and absent).
+    pub fn summary(&self) -> Value {
+        Value::Object(
+            self.engine
+                .summary(&self.loaded, self.stepped, self.wall_seconds),
+        )
+    }
+
+    /// Writes a checkpoint of the engine to `path` (atomically), in the
+    /// format of `grains run --checkpoint-every`, which
+    /// [`Session::resume`] reads back to continue bit for bit.
+    pub fn save_checkpoint(&self, path: &Path) -> Result<PathBuf> {
+        let scenario = scenario_text(&self.loaded.scenario)?;
+        let base_dir = self.loaded.base_dir.to_string_lossy().into_owned();
+        let run = RunHeader {
+            scenario: &scenario,
+            origin: &self.loaded.origin,
+            base_dir: &base_dir,
+            dim: self.dim(),
+            plan: self.plan,
+            interval: None,
+        };
+        // No output files belong to a session.
+        let outputs = OutputState {
+            thermo_len: 0,
+            dump_len: None,
+            frames: Vec::new(),
+            last_step: None,
+        };
+        let bytes = payload(
+            &run,
+            &outputs,
+            self.step(),
+            &self.engine.checkpoint()?,
+            None,
+        );
+        crate::io::write_atomic(path, &crate::checkpoint::seal(&bytes))?;
+        Ok(path.to_path_buf())
+    }
+}
+
+/// Refuses a scenario with `[hopper]` or `run.events`, which act between
+/// the runner's steps and are not run by a session.
+fn runner_only(loaded: &Loaded) -> Result<()> {
+    let s = &loaded.scenario;
+    if s.hopper.is_some() || s.run.events.is_some() {
+        return Err(Error::input(format!(
+            "{}: [hopper] recycling and run.events act inside the scenario runner; \
+             run this scenario with `grains run` (grains.run in Python)",
+            loaded.origin
+        )));
+    }
+    Ok(())
+}
+
+/// The output directory `grains run` picks for a scenario named `name`:
+/// `runs/<name>` with the name made one harmless path component (no
+/// separators, no leading dots).
+pub fn default_out_dir(name: &str) -> PathBuf {
+    let cleaned: String = name
+        .chars()
+        .map(|c| match c.is_alphanumeric() || "-_.".contains(c) {
+            true => c,
+            false => '_',
+        })
+        .collect();
+    let cleaned = cleaned.trim_start_matches('.');
+    Path::new("runs").join(match cleaned.is_empty() {
+        true => "run",
+        false => cleaned,
+    })
+}
