@@ -399,6 +399,14 @@ const PROGRESS_EVERY: u64 = 256;
 
 /// The step that ends the stretch after step `from`: the first step before
 /// `end` after which a hook reads or changes the run (`hooks`), else `end`.
+/// How the governor ran an engine's steps: the pool's size, the steps run
+/// on all of it and on one thread (they depend on the machine's load, never
+/// on the result).
+pub(crate) fn threads_json<D: Dim>(md: &Md<D>) -> Value {
+    let (wide, narrow) = md.governor.steps_wide_narrow();
+    json!({ "pool": rayon::current_num_threads(), "steps_on_pool": wide, "steps_on_one": narrow })
+}
+
 /// The run loop advances to it with [`Md::advance`] (the fused pass) and
 /// runs its hooks there only: at the steps in between they do nothing.
 fn stretch_end(from: u64, end: u64, hooks: impl Fn(u64) -> bool) -> u64 {
@@ -518,13 +526,7 @@ fn run_loop<D: Dim>(
     // Seconds per phase of the step; `other` is mostly measurements and output.
     let phases = md.timing.to_json(wall_seconds, 1.0);
     summary.insert("phase_seconds".into(), phases);
-    // How the governor ran the steps (it depends on the machine's load,
-    // never on the result).
-    let (wide, narrow) = md.governor.steps_wide_narrow();
-    summary.insert(
-        "threads".into(),
-        json!({ "pool": rayon::current_num_threads(), "steps_on_pool": wide, "steps_on_one": narrow }),
-    );
+    summary.insert("threads".into(), threads_json(&md));
     measurements.scalars(&mut summary);
     flow.finish(&opts.out_dir, &md, &mut summary)?;
     let summary = Value::Object(summary);

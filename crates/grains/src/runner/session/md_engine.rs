@@ -213,6 +213,7 @@ impl<D: Dim> Engine for MdEngine<D> {
         let mut s = md_summary(loaded, md, &self.resolved, md.step, stepped, wall_seconds);
         s.insert("neighbor_builds".into(), json!(md.neighbor_builds()));
         s.insert("phase_seconds".into(), md.timing.to_json(wall_seconds, 1.0));
+        s.insert("threads".into(), crate::runner::threads_json(md));
         s
     }
     fn checkpoint(&self) -> Result<Vec<u8>> {
