@@ -4,6 +4,7 @@
 
 mod bench;
 mod launch;
+mod movie;
 mod progress;
 mod sweep;
 
@@ -46,6 +47,8 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Run a grid of scenario variants; collect summaries in sweep.csv and plot one.
     Sweep(sweep::SweepArgs),
+    /// Draw a run's frames into movie.gif (and movie.mp4 with ffmpeg).
+    Movie(movie::MovieArgs),
 }
 
 #[derive(Args)]
@@ -200,6 +203,7 @@ fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
         }
         Command::Bench(args) => bench::run(args).map(|_| ExitCode::SUCCESS),
         Command::Sweep(args) => sweep::run(args).map(|_| ExitCode::SUCCESS),
+        Command::Movie(args) => movie::run(args).map(|_| ExitCode::SUCCESS),
     }
 }
 

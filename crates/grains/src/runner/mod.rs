@@ -501,7 +501,7 @@ fn run_loop<D: Dim>(
     let wall_seconds = started.elapsed().as_secs_f64();
 
     let last = md.frame();
-    outputs.finish(&last, measurements.displacement.as_ref())?;
+    outputs.finish(&last, &md.walls, measurements.displacement.as_ref())?;
     measurements.write(&opts.out_dir, &md, &last)?;
     let steps = relax + measure;
     let mut summary = md_summary(

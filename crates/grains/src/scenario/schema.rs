@@ -400,6 +400,9 @@ pub struct OutputSpec {
     /// Draw final.png.
     #[serde(default = "yes")]
     pub picture: bool,
+    /// Draw movie.gif (and movie.mp4 with ffmpeg) from the frames at the end.
+    #[serde(default)]
+    pub movie: bool,
 }
 
 /// The files of one VTK frame (`output.frames_layout`).
@@ -422,6 +425,7 @@ impl Default for OutputSpec {
             frames_layout: FramesLayout::Gathered,
             dump: false,
             picture: true,
+            movie: false,
         }
     }
 }
