@@ -7,6 +7,7 @@ mod launch;
 mod movie;
 mod progress;
 mod sweep;
+mod view;
 
 use clap::{Args, Parser, Subcommand};
 use grains::comm::Comm;
@@ -49,6 +50,8 @@ enum Command {
     Sweep(sweep::SweepArgs),
     /// Draw a run's frames into movie.gif (and movie.mp4 with ffmpeg).
     Movie(movie::MovieArgs),
+    /// Play a run in the browser: serves a page on 127.0.0.1 (prints its address).
+    View(view::ViewArgs),
 }
 
 #[derive(Args)]
@@ -204,6 +207,7 @@ fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
         Command::Bench(args) => bench::run(args).map(|_| ExitCode::SUCCESS),
         Command::Sweep(args) => sweep::run(args).map(|_| ExitCode::SUCCESS),
         Command::Movie(args) => movie::run(args).map(|_| ExitCode::SUCCESS),
+        Command::View(args) => view::run(args).map(|_| ExitCode::SUCCESS),
     }
 }
 
