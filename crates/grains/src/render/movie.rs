@@ -109,14 +109,7 @@ pub fn make_movie(run_dir: &Path, opts: &MovieOptions) -> Result<MovieReport> {
     let tmp = run_dir.join(".movie.gif.partial");
     let file = std::fs::File::create(&tmp).map_err(|e| Error::io(&tmp, e))?;
     let gif_err = |e: gif::EncodingError| Error::io(&tmp, std::io::Error::other(e));
-    let mut enc = gif::Encoder::new(
-        std::io::BufWriter::new(file),
-        w as u16,
-        h as u16,
-        &PALETTE.rgb,
-    )
-    .map_err(gif_err)?;
-    enc.set_repeat(gif::Repeat::Infinite).map_err(gif_err)?;
+    let mut gif = GifWriter::new(std::io::BufWriter::new(file), w, h, opts.fps).map_err(gif_err)?;
     let (mut ffmpeg, mut mp4_note) = match opts.mp4 {
         true => match start_ffmpeg(run_dir, w, h, opts.fps) {
             Ok(child) => (Some(child), None),
@@ -124,8 +117,6 @@ pub fn make_movie(run_dir: &Path, opts: &MovieOptions) -> Result<MovieReport> {
         },
         false => (None, None),
     };
-    let delay = (100 / opts.fps) as u16;
-    let mut indices = vec![0u8; (w * h) as usize];
     for (k, e) in entries.iter().enumerate() {
         let frame = if k == 0 {
             first.clone()
@@ -133,10 +124,7 @@ pub fn make_movie(run_dir: &Path, opts: &MovieOptions) -> Result<MovieReport> {
             load_frame(e, &scene)?
         };
         let img = painter.paint(&frame, &scene.wires(frame.time));
-        PALETTE.index(&img.rgb, &mut indices);
-        let mut gf = gif::Frame::from_indexed_pixels(w as u16, h as u16, indices.clone(), None);
-        gf.delay = delay;
-        enc.write_frame(&gf).map_err(gif_err)?;
+        gif.push(&img).map_err(gif_err)?;
         if let Some(child) = ffmpeg.as_mut() {
             if let Err(note) = feed(child, &img) {
                 mp4_note = Some(note);
@@ -145,7 +133,7 @@ pub fn make_movie(run_dir: &Path, opts: &MovieOptions) -> Result<MovieReport> {
             }
         }
     }
-    let inner = enc.into_inner().map_err(|e| Error::io(&tmp, e))?;
+    let inner = gif.finish().map_err(|e| Error::io(&tmp, e))?;
     inner
         .into_inner()
         .map_err(|e| Error::io(&tmp, e.into_error()))?
@@ -168,6 +156,44 @@ pub fn make_movie(run_dir: &Path, opts: &MovieOptions) -> Result<MovieReport> {
         mp4,
         mp4_note,
     })
+}
+
+/// An animated GIF being written: frames of one size, one fixed palette,
+/// looping forever.
+pub struct GifWriter<W: std::io::Write> {
+    enc: gif::Encoder<W>,
+    size: (u16, u16),
+    delay: u16,
+    indices: Vec<u8>,
+}
+
+impl<W: std::io::Write> GifWriter<W> {
+    /// A GIF of `w` × `h` pixels (each at most 65535) at `fps` (1 to 100).
+    pub fn new(out: W, w: u32, h: u32, fps: u32) -> std::result::Result<Self, gif::EncodingError> {
+        let size = (w as u16, h as u16);
+        let mut enc = gif::Encoder::new(out, size.0, size.1, &PALETTE.rgb)?;
+        enc.set_repeat(gif::Repeat::Infinite)?;
+        Ok(GifWriter {
+            enc,
+            size,
+            delay: (100 / fps.clamp(1, 100)) as u16,
+            indices: vec![0; w as usize * h as usize],
+        })
+    }
+
+    /// Appends `img` (of the GIF's size).
+    pub fn push(&mut self, img: &Image) -> std::result::Result<(), gif::EncodingError> {
+        PALETTE.index(&img.rgb, &mut self.indices);
+        let mut f =
+            gif::Frame::from_indexed_pixels(self.size.0, self.size.1, &self.indices[..], None);
+        f.delay = self.delay;
+        self.enc.write_frame(&f)
+    }
+
+    /// Ends the GIF; gives back the writer.
+    pub fn finish(self) -> std::io::Result<W> {
+        self.enc.into_inner()
+    }
 }
 
 /// Whether a program called `name` is on the PATH.

@@ -316,30 +316,38 @@ impl Painter {
 
     fn draw_grains(&self, img: &mut Image, frame: &Frame) {
         let mut order: Vec<usize> = (0..frame.len()).collect();
-        if let Some((axis, far_large)) = self.proj.depth {
-            order.sort_unstable_by(|&a, &b| {
-                let c = frame.pos[a][axis].total_cmp(&frame.pos[b][axis]);
-                if far_large {
-                    c.reverse()
+        let Some((axis, far_large)) = self.proj.depth else {
+            for i in order {
+                let c = img.view.to_pixel(self.proj.pair(frame.pos[i]));
+                let r = frame.radius[i] * self.scale;
+                let colour = self.colour(frame, i);
+                if r < 1.0 {
+                    // Smaller than a pixel (a DSMC gas): a point.
+                    fill_point(img, c, colour);
                 } else {
-                    c
+                    img.fill_disk(c, r, colour, true);
                 }
-            });
-        }
-        let shaded = self.proj.depth.is_some();
+            }
+            return;
+        };
+        // Near to far, each sphere under those already drawn: a pixel that is
+        // covered is skipped at once, so the hidden bulk of a deep packing
+        // costs a test per pixel, not a shading.
+        order.sort_unstable_by(|&a, &b| {
+            let c = frame.pos[a][axis].total_cmp(&frame.pos[b][axis]);
+            if far_large {
+                c
+            } else {
+                c.reverse()
+            }
+        });
+        let mut layer = Layer::new(img.width, img.height);
         for i in order {
             let c = img.view.to_pixel(self.proj.pair(frame.pos[i]));
-            let r = frame.radius[i] * self.scale;
-            let colour = self.colour(frame, i);
-            if r < 1.0 {
-                // Smaller than a pixel (a DSMC gas): a point.
-                fill_point(img, c, colour);
-            } else if shaded {
-                fill_sphere(img, c, r, colour);
-            } else {
-                img.fill_disk(c, r, colour, true);
-            }
+            let r = (frame.radius[i] * self.scale).max(0.5);
+            layer.sphere(c, r, self.colour(frame, i));
         }
+        layer.over(img);
     }
 
     fn draw_wires(&self, img: &mut Image, wires: &[Wire]) {
@@ -430,38 +438,108 @@ fn fill_point(img: &mut Image, c: [f64; 2], colour: [u8; 3]) {
     }
 }
 
-/// A sphere lit from the upper left of the viewer: the colour scaled by
-/// a diffuse term, with a soft edge one pixel wide.
-fn fill_sphere(img: &mut Image, c: [f64; 2], r: f64, colour: [u8; 3]) {
-    if !(c[0].is_finite() && c[1].is_finite() && r.is_finite()) {
-        return;
+/// Spheres composited front to back ("under"): premultiplied colour and
+/// coverage per pixel, laid over the picture at the end.
+struct Layer {
+    width: usize,
+    height: usize,
+    rgb: Vec<f32>,
+    alpha: Vec<f32>,
+    /// Per tile of TILE × TILE pixels, how many are covered: a sphere whose
+    /// box lies in full tiles is skipped without looking at its pixels.
+    covered: Vec<u16>,
+    tiles_x: usize,
+}
+
+const TILE: usize = 8;
+/// Coverage from which a pixel counts as covered.
+const OPAQUE: f32 = 0.998;
+
+impl Layer {
+    fn new(width: u32, height: u32) -> Self {
+        let (w, h) = (width as usize, height as usize);
+        let tiles_x = w.div_ceil(TILE);
+        Layer {
+            width: w,
+            height: h,
+            rgb: vec![0.0; 3 * w * h],
+            alpha: vec![0.0; w * h],
+            covered: vec![0; tiles_x * h.div_ceil(TILE)],
+            tiles_x,
+        }
     }
-    let (w, h) = (img.width as i64, img.height as i64);
-    let x0 = ((c[0] - r - 1.0).floor() as i64).clamp(0, w);
-    let x1 = ((c[0] + r + 1.0).ceil() as i64).clamp(0, w);
-    let y0 = ((c[1] - r - 1.0).floor() as i64).clamp(0, h);
-    let y1 = ((c[1] + r + 1.0).ceil() as i64).clamp(0, h);
-    let inv = 1.0 / r;
-    // Light direction (toward the viewer, up and left), unit length.
-    let (lx, ly, lz) = (-0.40, -0.45, 0.80);
-    let outer2 = (r + 0.5) * (r + 0.5);
-    for y in y0..y1 {
-        let dy = y as f64 + 0.5 - c[1];
-        let row = (y * w) as usize;
-        for x in x0..x1 {
-            let dx = x as f64 + 0.5 - c[0];
-            let d2 = dx * dx + dy * dy;
-            if d2 >= outer2 {
+
+    /// Whether every pixel of tile (tx, ty) is covered.
+    fn tile_full(&self, tx: usize, ty: usize) -> bool {
+        let area = TILE.min(self.width - tx * TILE) * TILE.min(self.height - ty * TILE);
+        self.covered[ty * self.tiles_x + tx] as usize == area
+    }
+
+    /// A sphere lit from the upper left of the viewer (a diffuse term), with
+    /// a soft edge one pixel wide, behind what is already drawn.
+    fn sphere(&mut self, c: [f64; 2], r: f64, colour: [u8; 3]) {
+        if !(c[0].is_finite() && c[1].is_finite() && r.is_finite()) {
+            return;
+        }
+        let (w, h) = (self.width as i64, self.height as i64);
+        let x0 = ((c[0] - r - 1.0).floor() as i64).clamp(0, w) as usize;
+        let x1 = ((c[0] + r + 1.0).ceil() as i64).clamp(0, w) as usize;
+        let y0 = ((c[1] - r - 1.0).floor() as i64).clamp(0, h) as usize;
+        let y1 = ((c[1] + r + 1.0).ceil() as i64).clamp(0, h) as usize;
+        if x0 >= x1 || y0 >= y1 {
+            return;
+        }
+        let hidden = (y0 / TILE..=(y1 - 1) / TILE)
+            .all(|ty| (x0 / TILE..=(x1 - 1) / TILE).all(|tx| self.tile_full(tx, ty)));
+        if hidden {
+            return;
+        }
+        let inv = (1.0 / r) as f32;
+        let (cx, cy, r) = (c[0] as f32, c[1] as f32, r as f32);
+        let outer2 = (r + 0.5) * (r + 0.5);
+        // Light direction (toward the viewer, up and left), unit length.
+        let (lx, ly, lz) = (-0.40f32, -0.45, 0.80);
+        let col = colour.map(|x| x as f32);
+        for y in y0..y1 {
+            let dy = y as f32 + 0.5 - cy;
+            let row = y * self.width;
+            for x in x0..x1 {
+                let k = row + x;
+                let a = self.alpha[k];
+                if a >= OPAQUE {
+                    continue;
+                }
+                let dx = x as f32 + 0.5 - cx;
+                let d2 = dx * dx + dy * dy;
+                if d2 >= outer2 {
+                    continue;
+                }
+                let (nx, ny) = (dx * inv, dy * inv);
+                let nz = (1.0 - nx * nx - ny * ny).max(0.0).sqrt();
+                let light = 0.35 + 0.65 * (nx * lx + ny * ly + nz * lz).max(0.0);
+                let cover = (r + 0.5 - d2.sqrt()).clamp(0.0, 1.0);
+                let t = (1.0 - a) * cover;
+                for (acc, c) in self.rgb[3 * k..3 * k + 3].iter_mut().zip(col) {
+                    *acc += t * (c * light).min(255.0);
+                }
+                self.alpha[k] = a + t;
+                if a + t >= OPAQUE {
+                    self.covered[(y / TILE) * self.tiles_x + x / TILE] += 1;
+                }
+            }
+        }
+    }
+
+    /// Lays the spheres over `img` (what it holds shows where they do not cover).
+    fn over(&self, img: &mut Image) {
+        for (k, &a) in self.alpha.iter().enumerate() {
+            if a <= 0.0 {
                 continue;
             }
-            let (nx, ny) = (dx * inv, dy * inv);
-            let nz = (1.0 - nx * nx - ny * ny).max(0.0).sqrt();
-            let light = 0.35 + 0.65 * (nx * lx + ny * ly + nz * lz).max(0.0);
-            let cover = (r + 0.5 - d2.sqrt()).clamp(0.0, 1.0);
-            let k = (row + x as usize) * 3;
-            for (o, &cc) in img.rgb[k..k + 3].iter_mut().zip(&colour) {
-                let new = (cc as f64 * light).min(255.0);
-                *o = (*o as f64 + (new - *o as f64) * cover) as u8;
+            for ch in 0..3 {
+                let old = img.rgb[3 * k + ch] as f32;
+                img.rgb[3 * k + ch] =
+                    (self.rgb[3 * k + ch] + (1.0 - a) * old).round().min(255.0) as u8;
             }
         }
     }
