@@ -69,7 +69,8 @@ for (const dir of runs) {
     }
     const counter = await page.textContent("#counter");
     await page.click("#play");
-    await page.waitForFunction(() => window.grainsView.frame >= 2, null, { timeout: 30000 });
+    await page.waitForFunction(() => window.grainsView.frame >= 2 || window.grainsView.errors.length, null, { timeout: 30000 });
+    if (errors.length) throw new Error(`console errors: ${errors.join(" | ")}`);
     const later = await page.textContent("#counter");
     if (later === counter) throw new Error(`frame counter did not move: ${counter}`);
     if (errors.length) throw new Error(`console errors: ${errors.join(" | ")}`);
