@@ -4,8 +4,10 @@
 
 mod bench;
 mod launch;
+mod movie;
 mod progress;
 mod sweep;
+mod view;
 
 use clap::{Args, Parser, Subcommand};
 use grains::comm::Comm;
@@ -46,6 +48,10 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Run a grid of scenario variants; collect summaries in sweep.csv and plot one.
     Sweep(sweep::SweepArgs),
+    /// Draw a run's frames into movie.gif (and movie.mp4 with ffmpeg).
+    Movie(movie::MovieArgs),
+    /// Play a run in the browser: serves a page on 127.0.0.1 (prints its address).
+    View(view::ViewArgs),
 }
 
 #[derive(Args)]
@@ -200,6 +206,8 @@ fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
         }
         Command::Bench(args) => bench::run(args).map(|_| ExitCode::SUCCESS),
         Command::Sweep(args) => sweep::run(args).map(|_| ExitCode::SUCCESS),
+        Command::Movie(args) => movie::run(args).map(|_| ExitCode::SUCCESS),
+        Command::View(args) => view::run(args).map(|_| ExitCode::SUCCESS),
     }
 }
 

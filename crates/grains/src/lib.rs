@@ -19,6 +19,7 @@ pub mod measure;
 pub mod neighbors;
 pub mod parallel;
 pub mod particles;
+pub mod render;
 pub mod runner;
 pub mod scenario;
 pub mod simd;

@@ -11,6 +11,7 @@ pub mod lammps_dump;
 pub mod picture;
 pub mod thermo;
 pub mod vtk;
+pub mod vtk_read;
 
 pub use atomic::{write_atomic, write_durable, AtomicWriter};
 pub use csv_particles::{parse_particles_csv, read_particles_csv, CsvParticle};
@@ -24,6 +25,7 @@ pub use picture::{
 };
 pub use thermo::ThermoWriter;
 pub use vtk::{pvtp_string, vtp_string, write_piece, PvdCollection, VtkSeries};
+pub use vtk_read::{read_frame, read_series, FrameEntry};
 
 /// Displays an `f64` with full (round-trip) precision and compactly: plain
 /// decimals for moderate magnitudes, scientific notation (`1e-300`) otherwise.

@@ -1,10 +1,11 @@
 //! Drawing helpers shared by the measurement pictures: walls at a given time
 //! on a particle picture, faint backgrounds, per-grain colours.
 
-use crate::boundary::{Shape, Wall};
+use crate::boundary::Wall;
 use crate::dim::Dim;
 use crate::io::picture::Image;
 use crate::io::{render_particles, Frame, PictureOptions};
+use crate::render::{wires_at, Wire};
 
 /// World (horizontal, vertical) pair of a vector: (x, y) in 2D, (x, z) in 3D.
 pub fn hv<D: Dim>(v: D::V) -> [f64; 2] {
@@ -16,43 +17,34 @@ pub fn hv3(x: [f64; 3], dim: usize) -> [f64; 2] {
     [x[0], if dim == 3 { x[2] } else { x[1] }]
 }
 
-/// Draws the walls as they stand at time `t`: segments and planes as lines,
-/// obstacles as filled disks. Cylinders and polygons are not drawn.
+/// Draws the walls as they stand at time `t` (every shape: lines for planes,
+/// segments, polygon outlines and cylinders, filled disks for obstacles),
+/// cut to the part of the world the picture shows.
 pub fn draw_walls<D: Dim>(img: &mut Image, walls: &[Wall<D>], t: f64, colour: [u8; 3], width: f64) {
     let view = img.view;
-    let px = |v: D::V| view.to_pixel(hv::<D>(v));
-    for w in walls.iter().filter(|w| w.is_active(t)) {
-        match &w.shape {
-            Shape::Segment { a, b } => {
-                let (pa, pb) = (px(w.motion.place(*a, t)), px(w.motion.place(*b, t)));
-                img.draw_segment(pa, pb, width, colour);
-            }
-            Shape::Plane { point, normal } => {
-                // The line in the picture plane perpendicular to the normal,
-                // sampled so that a modulated vibration shows its shape.
-                let n = hv::<D>(*normal);
-                let dir = [-n[1], n[0]];
-                let span = 2.0 * (img.width.max(img.height) as f64) / view.scale;
-                let k = 64;
-                let mut last: Option<[f64; 2]> = None;
-                for i in 0..=k {
-                    let s = span * (i as f64 / k as f64 - 0.5);
-                    let mut q = *point;
-                    D::set(&mut q, 0, D::get(*point, 0) + s * dir[0]);
-                    let up = D::vertical();
-                    D::set(&mut q, up, D::get(*point, up) + s * dir[1]);
-                    let p = px(w.motion.place(q, t));
-                    if let Some(l) = last {
-                        img.draw_segment(l, p, width, colour);
-                    }
-                    last = Some(p);
+    let (h0, v0) = (view.origin[0], view.origin[1]);
+    let (h1, v1) = (
+        h0 + img.width as f64 / view.scale,
+        v0 + img.height as f64 / view.scale,
+    );
+    // The depth axis (y in 3D) is not shown: any reach will do.
+    let far = 1e3 * (h1 - h0).abs().max((v1 - v0).abs());
+    let (lo, hi) = if D::D == 3 {
+        ([h0, -far, v0], [h1, far, v1])
+    } else {
+        ([h0, v0, -0.5], [h1, v1, 0.5])
+    };
+    let px = |p: [f64; 3]| view.to_pixel(hv3(p, D::D));
+    for w in wires_at(walls, t, lo, hi) {
+        match w {
+            Wire::Line { points } => {
+                for pair in points.windows(2) {
+                    img.draw_segment(px(pair[0]), px(pair[1]), width, colour);
                 }
             }
-            Shape::Obstacle { center, diameter } => {
-                let c = px(w.motion.place(*center, t));
-                img.fill_disk(c, 0.5 * diameter * view.scale, colour, true);
+            Wire::Ball { center, radius } => {
+                img.fill_disk(px(center), radius * view.scale, colour, true);
             }
-            _ => {}
         }
     }
 }

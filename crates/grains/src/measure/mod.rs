@@ -5,6 +5,7 @@
 pub mod convection;
 pub mod displacement;
 pub mod draw;
+pub mod flow_field;
 pub mod phase;
 pub mod plot;
 pub mod profiles;
@@ -14,6 +15,7 @@ pub mod trajectories;
 
 pub use convection::Convection;
 pub use displacement::DisplacementField;
+pub use flow_field::FlowField;
 pub use phase::PhaseSnapshots;
 pub use profiles::Profiles;
 pub use temperature::granular_temperature;

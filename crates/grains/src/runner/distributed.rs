@@ -29,7 +29,6 @@ use crate::dsmc::collide::GasDim;
 use crate::dsmc::decomp::Decomposed;
 use crate::dsmc::Method;
 use crate::error::{Error, Result};
-use crate::io::{render_particles, PictureOptions};
 use crate::scenario::schema::Dimension;
 use crate::scenario::Loaded;
 use serde_json::{json, Map, Value};
@@ -197,10 +196,7 @@ fn run_dim<D: GasDim>(
         return Ok(Value::Null);
     };
     let dir = &opts.out_dir;
-    if loaded.scenario.output.picture {
-        render_particles(&frame(sim), &PictureOptions::default())
-            .save_png(&dir.join("final.png"))?;
-    }
+    super::output::finish_gas(dir, &loaded.scenario.output, &frame(sim))?;
     if let Some(p) = &m.profiles {
         crate::io::write_atomic(&dir.join("profiles.csv"), p.csv(sim).as_bytes())?;
     }

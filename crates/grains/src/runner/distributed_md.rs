@@ -302,7 +302,7 @@ fn drive<D: Dim>(
     };
     measurements.sample(&md);
     let last = md.frame();
-    outputs.finish(&last, measurements.displacement.as_ref())?;
+    outputs.finish(&last, &md.walls, measurements.displacement.as_ref())?;
     measurements.write(&opts.out_dir, &md, &last)?;
     let steps = relax + measure;
     let mut summary = md_summary(

@@ -16,7 +16,7 @@ use crate::dsmc::rng::Stream;
 use crate::dsmc::spec::DsmcSpec;
 use crate::dsmc::store::{particle_volume, Particle, Store};
 use crate::error::{Error, Result};
-use crate::io::{render_particles, Frame, PictureOptions, ThermoWriter, VtkSeries};
+use crate::io::{Frame, ThermoWriter, VtkSeries};
 use crate::scenario::build::vector;
 use crate::scenario::resolve::cycle_frequency;
 use crate::scenario::schema::OutputSpec;
@@ -804,10 +804,7 @@ fn run_loop<D: GasDim>(
     }
     progress.finish();
     let wall = started.elapsed().as_secs_f64();
-    if loaded.scenario.output.picture {
-        render_particles(&frame(&sim), &PictureOptions::default())
-            .save_png(&dir.join("final.png"))?;
-    }
+    super::output::finish_gas(dir, &loaded.scenario.output, &frame(&sim))?;
     if let Some(p) = &m.profiles {
         crate::io::write_atomic(&dir.join("profiles.csv"), p.csv(&sim).as_bytes())?;
     }

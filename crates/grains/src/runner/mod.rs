@@ -21,8 +21,8 @@ use crate::io::Frame;
 use crate::md::Md;
 use crate::measure::phase::drive;
 use crate::measure::{
-    granular_temperature, Convection, DisplacementField, PhaseSnapshots, Profiles, Tracer,
-    Trajectories,
+    granular_temperature, Convection, DisplacementField, FlowField, PhaseSnapshots, Profiles,
+    Tracer, Trajectories,
 };
 use crate::scenario::schema::Dimension;
 use crate::scenario::{build_md, Loaded, Resolved};
@@ -179,6 +179,7 @@ pub(crate) struct Measurements {
     tracer: Option<Tracer>,
     profiles: Option<Profiles>,
     trajectories: Option<Trajectories>,
+    flow_field: Option<FlowField>,
 }
 
 impl Measurements {
@@ -213,7 +214,12 @@ impl Measurements {
                 )));
             }
         }
+        let flow_field = match &m.flow_field {
+            Some(f) => Some(FlowField::for_md(md, &f.cells, f.from, f.top)?),
+            None => None,
+        };
         Ok(Self {
+            flow_field,
             displacement: m.displacement.then(|| DisplacementField::begin(md)),
             convection: m.convection.as_ref().map(|c| Convection::new(c.band)),
             phases,
@@ -239,12 +245,21 @@ impl Measurements {
         one(&mut e, &self.tracer, Tracer::save);
         one(&mut e, &self.profiles, Profiles::save);
         one(&mut e, &self.trajectories, Trajectories::save);
+        // Last, so that checkpoints from before it existed still load.
+        if let Some(f) = &self.flow_field {
+            e.bool(true);
+            f.save(&mut e);
+        }
         e.buf
     }
 
     /// The accumulators saved by [`Measurements::save`]; each must be present
     /// exactly when the scenario asks for it.
-    fn load(loaded: &Loaded, bytes: &[u8]) -> std::result::Result<Self, String> {
+    fn load<D: Dim>(
+        loaded: &Loaded,
+        md: &Md<D>,
+        bytes: &[u8],
+    ) -> std::result::Result<Self, String> {
         let m = &loaded.scenario.measure;
         let mut d = Dec::new(bytes);
         fn one<T>(
@@ -285,7 +300,30 @@ impl Measurements {
                 m.trajectories.is_some(),
                 Trajectories::load,
             )?,
+            flow_field: None,
         };
+        let mut out = out;
+        // Written only when asked for (see `save`).
+        let has_flow = d.remaining() > 0 && d.bool("flow_field")?;
+        match (&m.flow_field, has_flow) {
+            (Some(f), true) => {
+                let fresh =
+                    FlowField::for_md(md, &f.cells, f.from, f.top).map_err(|e| e.to_string())?;
+                out.flow_field = Some(fresh.load(&mut d)?);
+            }
+            (None, false) => {}
+            (want, _) => {
+                return Err(format!(
+                    "measurement flow_field: {} in the checkpoint but {} in the scenario",
+                    if has_flow { "present" } else { "absent" },
+                    if want.is_some() {
+                        "asked for"
+                    } else {
+                        "not asked for"
+                    }
+                ))
+            }
+        }
         if d.remaining() != 0 {
             return Err(format!(
                 "{} unexpected bytes after the measurements",
@@ -328,6 +366,9 @@ impl Measurements {
         if let Some(p) = &mut self.profiles {
             p.sample(md);
         }
+        if let Some(f) = &mut self.flow_field {
+            f.sample(md);
+        }
     }
 
     fn write<D: Dim>(&self, dir: &Path, md: &Md<D>, last: &Frame) -> Result<()> {
@@ -345,6 +386,9 @@ impl Measurements {
         }
         if let Some(t) = &self.trajectories {
             t.write(dir, last, &md.walls)?;
+        }
+        if let Some(f) = &self.flow_field {
+            f.write(dir, last, &md.walls)?;
         }
         Ok(())
     }
@@ -511,7 +555,7 @@ fn run_loop<D: Dim>(
     let wall_seconds = started.elapsed().as_secs_f64();
 
     let last = md.frame();
-    outputs.finish(&last, measurements.displacement.as_ref())?;
+    outputs.finish(&last, &md.walls, measurements.displacement.as_ref())?;
     measurements.write(&opts.out_dir, &md, &last)?;
     let steps = relax + measure;
     let mut summary = md_summary(

@@ -1,16 +1,15 @@
 //! The files a run writes in its output directory.
 
+use crate::boundary::Wall;
 use crate::comm::Comm;
 use crate::dim::Dim;
 use crate::error::Error;
 use crate::error::Result;
-use crate::io::{
-    draw_arrows, render_particles, write_atomic, DumpWriter, Frame, Num, PictureOptions,
-    ThermoWriter, VtkSeries,
-};
+use crate::io::{draw_arrows, write_atomic, DumpWriter, Frame, Num, ThermoWriter, VtkSeries};
 use crate::md::Md;
-use crate::measure::draw::{faint, in_box};
+use crate::measure::draw::{draw_walls, faint, in_box};
 use crate::measure::DisplacementField;
+use crate::render::{Painter, Scene, StillOptions};
 use crate::scenario::schema::{FramesLayout, OutputSpec};
 use serde_json::Value;
 use std::fmt::Write as _;
@@ -75,6 +74,11 @@ pub(super) fn frame_series(
     spec: &OutputSpec,
     resumed: Option<&[(f64, String)]>,
 ) -> Result<Option<VtkSeries>> {
+    if spec.movie && !spec.frames {
+        return Err(Error::input(
+            "output.movie = true needs output.frames = true: the movie is drawn from the frames",
+        ));
+    }
     if !spec.frames {
         return Ok(None);
     }
@@ -122,12 +126,31 @@ impl<'a> Pieces<'a> {
     }
 }
 
+/// The end-of-run pictures of a DSMC run (a gas: no walls but the box):
+/// scene.json with the frames, final.png, and the movie when asked.
+pub(super) fn finish_gas(dir: &Path, spec: &OutputSpec, last: &Frame) -> Result<()> {
+    let scene = Scene::bare(last);
+    if spec.frames {
+        scene.write(dir)?;
+    }
+    if spec.picture {
+        Painter::new(&[last], &StillOptions::default())
+            .paint(last, &[])
+            .save_png(&dir.join("final.png"))?;
+    }
+    if spec.movie {
+        crate::render::make_movie(dir, &Default::default())?;
+    }
+    Ok(())
+}
+
 pub struct Outputs {
     dir: PathBuf,
     thermo: Thermo,
     frames: Option<VtkSeries>,
     dump: Option<DumpWriter>,
     picture: bool,
+    movie: bool,
     last_step: Option<u64>,
 }
 
@@ -146,6 +169,7 @@ impl Outputs {
                 None
             },
             picture: spec.picture,
+            movie: spec.movie,
             last_step: None,
         })
     }
@@ -221,6 +245,7 @@ impl Outputs {
             frames,
             dump,
             picture: spec.picture,
+            movie: spec.movie,
             last_step: state.last_step,
         })
     }
@@ -229,6 +254,11 @@ impl Outputs {
     pub fn record<D: Dim>(&mut self, md: &Md<D>, frame: &Frame, temperature: f64) -> Result<()> {
         if self.last_step == Some(md.step) {
             return Ok(());
+        }
+        if self.last_step.is_none() && self.frames.is_some() {
+            // What a later `grains movie` or `grains view` needs besides the
+            // frames (written again at the end, with any walls removed).
+            Scene::new(&md.walls, frame).write(&self.dir)?;
         }
         self.last_step = Some(md.step);
         self.thermo.write_row(&[
@@ -251,9 +281,20 @@ impl Outputs {
 
     /// The final picture and measurement files. (The final state was
     /// recorded as the last frame by the run loop.)
-    pub fn finish(&mut self, last: &Frame, displacement: Option<&DisplacementField>) -> Result<()> {
+    pub fn finish<D: Dim>(
+        &mut self,
+        last: &Frame,
+        walls: &[Wall<D>],
+        displacement: Option<&DisplacementField>,
+    ) -> Result<()> {
+        let scene = Scene::new(walls, last);
+        if self.frames.is_some() {
+            scene.write(&self.dir)?;
+        }
         if self.picture {
-            render_particles(&in_box(last), &PictureOptions::default())
+            let shown = in_box(last);
+            Painter::new(&[&shown], &StillOptions::default())
+                .paint(&shown, &scene.wires(last.time))
                 .save_png(&self.dir.join("final.png"))?;
         }
         if let Some(field) = displacement {
@@ -273,8 +314,12 @@ impl Outputs {
             let from: Vec<[f64; 2]> = rows.iter().map(|r| [r.start[0], r.start[v]]).collect();
             let to: Vec<[f64; 2]> = rows.iter().map(|r| [r.end[0], r.end[v]]).collect();
             let mut img = faint(last);
+            draw_walls(&mut img, walls, last.time, [60, 60, 60], 1.5);
             draw_arrows(&mut img, &from, &to, [200, 30, 30]);
             img.save_png(&self.dir.join("displacement.png"))?;
+        }
+        if self.movie {
+            crate::render::make_movie(&self.dir, &Default::default())?;
         }
         Ok(())
     }

@@ -400,6 +400,9 @@ pub struct OutputSpec {
     /// Draw final.png.
     #[serde(default = "yes")]
     pub picture: bool,
+    /// Draw movie.gif (and movie.mp4 with ffmpeg) from the frames at the end.
+    #[serde(default)]
+    pub movie: bool,
 }
 
 /// The files of one VTK frame (`output.frames_layout`).
@@ -422,6 +425,7 @@ impl Default for OutputSpec {
             frames_layout: FramesLayout::Gathered,
             dump: false,
             picture: true,
+            movie: false,
         }
     }
 }
@@ -463,6 +467,23 @@ pub struct MeasureSpec {
     /// Density along the vertical axis against time: spacetime.csv/png.
     #[serde(default)]
     pub spacetime: Option<SpacetimeSpec>,
+    /// Coarse-grained packing fraction, velocity and granular temperature
+    /// on a grid, averaged over time: flow_field.csv/png.
+    #[serde(default)]
+    pub flow_field: Option<FlowFieldSpec>,
+}
+
+/// `measure.flow_field`: `cells` = [along x, along the vertical axis] over
+/// the box (in 3D each cell is a slab through y), samples from time `from`
+/// (s) on, the grid's top at `top` (m; default the box top).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FlowFieldSpec {
+    pub cells: Vec<usize>,
+    #[serde(default)]
+    pub from: f64,
+    #[serde(default)]
+    pub top: Option<f64>,
 }
 
 /// A free-surface fit: the top grain of each column of width `column` (d0)

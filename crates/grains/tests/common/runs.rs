@@ -6,7 +6,7 @@ use grains::runner::{distributed, RunOptions, Silent};
 use grains::scenario::Loaded;
 
 /// Runs a shipped scenario (scenarios/NAME.toml) through the library runner
-/// with `sets` applied and no frames or pictures; returns summary.json.
+/// with `sets` applied and no frames, pictures or movie; returns summary.json.
 pub fn run_scenario(name: &str, tag: &str, sets: &[&str]) -> serde_json::Value {
     let (s, out) = run_scenario_kept(name, tag, sets);
     let _ = std::fs::remove_dir_all(&out);
@@ -22,7 +22,11 @@ pub fn run_scenario_kept(
 ) -> (serde_json::Value, std::path::PathBuf) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let path = root.join("scenarios").join(format!("{name}.toml"));
-    let mut all: Vec<String> = vec!["output.frames=false".into(), "output.picture=false".into()];
+    let mut all: Vec<String> = vec![
+        "output.frames=false".into(),
+        "output.picture=false".into(),
+        "output.movie=false".into(),
+    ];
     all.extend(sets.iter().map(|s| s.to_string()));
     let loaded = grains::scenario::load_file(&path, &all).expect("scenario loads");
     let out = std::env::temp_dir().join(format!("grains-test-{name}-{tag}-{}", std::process::id()));
