@@ -13,19 +13,21 @@
 
 use std::time::Instant;
 
-/// Wall time a slice of steps aims at: long enough that a slice's own cost
-/// (its predictor and corrector not fused with the neighbouring steps, the
-/// start of the workers) is small, short enough to follow the load.
-const SLICE_SECONDS: f64 = 0.02;
-/// A look at the other width is this fraction of a slice: what a probe costs
-/// when the other width is the slower one.
-const PROBE_FRACTION: f64 = 0.25;
-/// Steps of a slice whose width has not been timed yet.
-const FIRST_SLICE: u64 = 16;
+/// Wall time a slice of steps aims at: a fifth of the time to the next
+/// probe, within these bounds. Long enough that a slice's own cost (its
+/// predictor and corrector not fused with the neighbouring steps, the start
+/// of the workers) is small, short enough to follow the load.
+const SLICE_MIN: f64 = 0.02;
+const SLICE_MAX: f64 = 0.2;
+/// Wall time a probe of the other width aims at: what it costs when the
+/// other width is the slower one.
+const PROBE_SECONDS: f64 = 0.005;
+/// Steps of the first slice, before anything is timed.
+const FIRST_SLICE: u64 = 4;
 /// Seconds run on the chosen width between two probes of the other: the
 /// first interval, and the longest it grows to while probes keep confirming
-/// the choice (doubling each time). A probe costs at most a quarter slice at
-/// the slower width, so once settled probing costs well under 1 %.
+/// the choice (doubling each time). A probe is [`PROBE_SECONDS`] at the
+/// slower width, so once settled probing costs well under 1 %.
 const PROBE_AFTER_MIN: f64 = 0.1;
 const PROBE_AFTER_MAX: f64 = 10.0;
 /// The other width must be this much faster to be chosen, so that noise
@@ -131,13 +133,15 @@ impl Governor {
     }
 
     fn slice_len(&self, width: Width, probe: bool) -> u64 {
-        let Some(per_step) = self.per_step[width as usize] else {
+        // A width not timed yet is sized by the other's figure.
+        let known = self.per_step[width as usize].or(self.per_step[width.other() as usize]);
+        let Some(per_step) = known else {
             return FIRST_SLICE;
         };
         let seconds = if probe {
-            SLICE_SECONDS * PROBE_FRACTION
+            PROBE_SECONDS
         } else {
-            SLICE_SECONDS
+            (self.probe_after / 5.0).clamp(SLICE_MIN, SLICE_MAX)
         };
         // At least one step; a step that cannot be timed (0 s) is cheap.
         (seconds / per_step.max(1e-9)).clamp(1.0, 1e9) as u64
@@ -257,8 +261,8 @@ mod tests {
             .unwrap();
             assert_eq!(g.steps_wide_narrow(), (per_width[0], per_width[1]));
             assert_eq!(g.choice, Some(Width::Narrow));
-            // Probes are a quarter slice, the first 0.1 s apart and then
-            // ever more: well under a tenth of the steps ran wide.
+            // Probes are 5 ms, the first 0.1 s apart and then ever more:
+            // well under a tenth of the steps ran wide.
             assert!(
                 per_width[0] * 10 < per_width[1],
                 "wide {} narrow {}",
