@@ -21,10 +21,12 @@
 
 mod flat;
 mod geom;
+mod mesh;
 mod motion;
 mod round;
 mod shape;
 
+pub use mesh::{Mesh, MeshPlacement, MeshScratch};
 pub use motion::Motion;
 use motion::Pose;
 pub use shape::Shape;

@@ -2,6 +2,7 @@
 //! that turns a scenario into a ready MD engine.
 
 pub mod build;
+mod mesh_wall;
 pub mod overrides;
 pub mod placement;
 pub mod resolve;
