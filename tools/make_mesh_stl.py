@@ -2,6 +2,7 @@
 """Writes the STL meshes of the shipped mesh scenarios (binary STL, mm).
 
     python3 tools/make_mesh_stl.py [OUT_DIR]     # default scenarios/meshes
+    python3 tools/make_mesh_stl.py --bench-floor FILE   # bench/mesh_vs_plane.sh
 
 - cone-hopper.stl: a conical funnel, outlet radius 3 mm at z = 0, opening
   at 30 deg from the vertical up to radius 12 mm (beyond the half diagonal
@@ -12,6 +13,9 @@
   (1848 triangles), for the STL-versus-analytic discharge comparison.
 - mixer-blade.stl: a flat two-armed paddle, 22 mm across and 4 mm high,
   in the plane y = 0 about the z axis, 2 x 11 x 4 squares.
+- --bench-floor: a 100 mm square at z = 0 cut into 224 x 224 squares
+  (100 352 triangles, 0.45 mm wide: a 1 mm grain touches several), the
+  floor of bench/mesh-floor.toml (not committed: 5 MB).
 
 Only the standard library: the files are small and the format is simple
 (80-byte header, triangle count, then per triangle a normal, three
@@ -65,7 +69,7 @@ def silo_floor(side=16.0, hole=5.0, cell=0.5):
     for i in range(n):
         for j in range(n):
             x0, y0, x1, y1 = i * cell, j * cell, (i + 1) * cell, (j + 1) * cell
-            if lo <= x0 and x1 <= hi and lo <= y0 and y1 <= hi:
+            if hole > 0 and lo <= x0 and x1 <= hi and lo <= y0 and y1 <= hi:
                 continue
             tris += quad((x0, y0, 0.0), (x1, y0, 0.0), (x1, y1, 0.0), (x0, y1, 0.0))
     return tris
@@ -83,6 +87,9 @@ def blade(radius=11.0, height=4.0, cells=11, rows=4):
 
 
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == "--bench-floor":
+        write_stl(sys.argv[2], silo_floor(side=100.0, hole=0.0, cell=100.0 / 224))
+        return
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(
         os.path.dirname(__file__), "..", "scenarios", "meshes")
     os.makedirs(out, exist_ok=True)

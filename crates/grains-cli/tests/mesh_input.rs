@@ -101,7 +101,9 @@ fn bad_stl_files_exit_2_naming_the_file_and_the_triangle() {
         nan.extend(x.to_le_bytes());
     }
     nan.extend([0, 0]);
-    let cases: [(&str, Option<Vec<u8>>, &[&str]); 4] = [
+    // (name, the file's bytes or none, what stderr must say)
+    type Case<'a> = (&'a str, Option<Vec<u8>>, &'a [&'a str]);
+    let cases: [Case; 4] = [
         ("missing", None, &["floor.stl", "walls[0] (floor)"]),
         (
             "malformed",

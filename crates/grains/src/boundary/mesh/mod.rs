@@ -88,6 +88,9 @@ pub struct Mesh {
     source: String,
     vertices: Vec<DVec3>,
     tris: Vec<[u32; 3]>,
+    /// Each triangle's unit normal (its plane turns most far triangles
+    /// down before the nearest-point search).
+    normals: Vec<DVec3>,
     boxes: Vec<(DVec3, DVec3)>,
     /// Each triangle's patch.
     patch: Vec<u32>,
@@ -141,6 +144,8 @@ struct Candidate {
 pub struct MeshScratch {
     candidates: Vec<Candidate>,
     touches: Vec<MeshTouch>,
+    /// Patches already met at their face: nothing of theirs is nearer.
+    done: Vec<u32>,
 }
 
 impl Mesh {
@@ -189,6 +194,7 @@ impl Mesh {
     }
 
     fn from_indexed(source: &str, vertices: Vec<DVec3>, tris: Vec<[u32; 3]>) -> Self {
+        let (vertices, tris) = spatial_order(vertices, tris);
         let corner = |t: &[u32; 3]| t.map(|i| vertices[i as usize]);
         let normals: Vec<DVec3> = tris
             .iter()
@@ -215,11 +221,12 @@ impl Mesh {
             area += w;
             moment += (a + b + c) * (w / 3.0);
         }
-        let grid = TriGrid::new(&boxes, lo, hi);
+        let grid = TriGrid::new(&boxes, &patch, lo, hi);
         Self {
             source: source.to_string(),
             vertices,
             tris,
+            normals,
             boxes,
             patch,
             planes,
@@ -295,12 +302,19 @@ impl Mesh {
         let MeshScratch {
             candidates,
             touches,
+            done,
         } = scratch;
         candidates.clear();
         touches.clear();
+        done.clear();
         let reach = DVec3::splat(r * (1.0 + 1e-9));
-        self.grid.visit(p - reach, p + reach, &self.boxes, |t| {
+        // A patch met at its face is met at its nearest point (every point
+        // of it is in that plane): its other triangles are passed over.
+        self.grid.visit(p - reach, p + reach, done, |t, done| {
             if let Some(c) = self.candidate(t, p, r) {
+                if c.rank == 0 {
+                    done.push(c.patch);
+                }
                 candidates.push(c);
             }
         });
@@ -338,6 +352,10 @@ impl Mesh {
     fn candidate(&self, t: usize, p: DVec3, r: f64) -> Option<Candidate> {
         let ids = self.tris[t];
         let [a, b, c] = ids.map(|i| self.vertices[i as usize]);
+        // Every point of the triangle is at least this far from p.
+        if (p - a).dot(self.normals[t]).abs() >= r {
+            return None;
+        }
         let (q, region) = closest_on_triangle(p, a, b, c);
         let patch = self.patch[t];
         let (point, n) = self.planes[patch as usize];
@@ -438,6 +456,44 @@ fn patches(
         .map(|&(_, t)| (vertices[tris[t][0] as usize], normals[t]))
         .collect();
     (patch, planes)
+}
+
+/// The triangles in Morton order of their centroids, and the vertices in
+/// order of first use: triangles near each other in space are then near in
+/// memory, as are the grains a wall pass meets one after the other (they
+/// are sorted by cell), so a lookup finds its triangles in the cache.
+fn spatial_order(vertices: Vec<DVec3>, mut tris: Vec<[u32; 3]>) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let centre = |t: &[u32; 3]| t.iter().map(|&i| vertices[i as usize]).sum::<DVec3>() / 3.0;
+    let lo = vertices.iter().fold(DVec3::INFINITY, |l, v| l.min(*v));
+    let hi = vertices.iter().fold(DVec3::NEG_INFINITY, |h, v| h.max(*v));
+    let span = (hi - lo).max(DVec3::splat(1e-300));
+    // 10 bits per axis, interleaved.
+    let spread = |x: u64| {
+        let mut x = x & 0x3ff;
+        x = (x | (x << 16)) & 0x0300_00ff;
+        x = (x | (x << 8)) & 0x0300_f00f;
+        x = (x | (x << 4)) & 0x030c_30c3;
+        (x | (x << 2)) & 0x0924_9249
+    };
+    let key = |t: &[u32; 3]| {
+        let f = ((centre(t) - lo) / span * 1023.0)
+            .to_array()
+            .map(|x| x as u64);
+        spread(f[0]) | spread(f[1]) << 1 | spread(f[2]) << 2
+    };
+    tris.sort_by_cached_key(key);
+    let mut new = vec![u32::MAX; vertices.len()];
+    let mut out = Vec::with_capacity(vertices.len());
+    for t in &mut tris {
+        for i in t.iter_mut() {
+            if new[*i as usize] == u32::MAX {
+                new[*i as usize] = out.len() as u32;
+                out.push(vertices[*i as usize]);
+            }
+            *i = new[*i as usize];
+        }
+    }
+    (out, tris)
 }
 
 /// Each vertex's patches, sorted, as one list with offsets.

@@ -171,11 +171,11 @@ fn the_grid_finds_what_a_scan_of_all_triangles_finds() {
         let p = DVec3::new(rnd(), rnd(), 0.1 * rnd() - 0.02);
         let r = 0.02 + 0.1 * rnd();
         let mut seen = Vec::new();
-        m.grid
-            .visit(p - DVec3::splat(r), p + DVec3::splat(r), &m.boxes, |t| {
-                seen.push(t)
-            });
+        let none = &mut Vec::new();
+        let (lo, hi) = (p - DVec3::splat(r), p + DVec3::splat(r));
+        m.grid.visit(lo, hi, none, |t, _| seen.push(t));
         seen.sort_unstable();
+        seen.dedup();
         let all: Vec<usize> = (0..m.triangles())
             .filter(|&t| m.candidate(t, p, r).is_some())
             .collect();
