@@ -16,15 +16,18 @@
 //! Conventions: a particle exactly touching (overlap 0) is not in contact.
 //! Planes and cylinders are one-sided surfaces; a particle whose centre has
 //! crossed one is pushed back, but one wholly behind it (signed distance
-//! below −r) is treated as lost and feels nothing. Segments, polygons and
-//! obstacles are two-sided.
+//! below −r) is treated as lost and feels nothing. Segments, polygons,
+//! obstacles and meshes are two-sided. A mesh answers with several contacts
+//! where it bends ([`PlacedWall::mesh_contacts`]).
 
 mod flat;
 mod geom;
+mod mesh;
 mod motion;
 mod round;
 mod shape;
 
+pub use mesh::{Mesh, MeshPlacement, MeshScratch};
 pub use motion::Motion;
 use motion::Pose;
 pub use shape::Shape;

@@ -1,11 +1,13 @@
 //! Wall shapes: the geometry of a wall in its reference (time-zero) position.
 
 use super::flat;
-use super::geom::{to3, Touch};
+use super::geom::{from3, to3, Touch};
+use super::mesh::{Mesh, MeshScratch};
 use super::round;
 use crate::dim::Dim;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// The geometry of a wall, before any prescribed motion is applied.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -44,6 +46,12 @@ pub enum Shape<D: Dim> {
     },
     /// Fixed circle (2D) or sphere (3D) of diameter d1: overlap r + d1/2 − |p − c|.
     Obstacle { center: D::V, diameter: f64 },
+    /// A triangle mesh (3D only), read from a file by the scenario builder;
+    /// two-sided, pushing with several contacts where it bends
+    /// ([`super::mesh`]). Not written or read by serde (it comes from its
+    /// file).
+    #[serde(skip)]
+    Mesh(Arc<Mesh>),
 }
 
 fn finite<D: Dim>(v: D::V, what: &str) -> Result<(), String> {
@@ -81,6 +89,7 @@ impl<D: Dim> Shape<D> {
             Shape::Polygon { .. } => "polygon",
             Shape::Cylinder { .. } => "cylinder",
             Shape::Obstacle { .. } => "obstacle",
+            Shape::Mesh(_) => "mesh",
         }
     }
 
@@ -138,15 +147,20 @@ impl<D: Dim> Shape<D> {
                 finite::<D>(*center, "obstacle center")?;
                 positive(*diameter, "obstacle diameter")
             }
+            Shape::Mesh(_) if D::D != 3 => {
+                Err(format!("meshes are 3D walls; in {} use segments", D::NAME))
+            }
+            Shape::Mesh(_) => Ok(()),
         }
     }
 
     /// The point that represents the shape's position (for output and for
     /// [`super::Wall::displacement`]): the plane's point, the segment's
     /// midpoint, the polygon's vertex mean, the cylinder's point, the
-    /// obstacle's centre.
+    /// obstacle's centre, the mesh's load point (by default its centroid).
     pub fn reference_point(&self) -> D::V {
         match self {
+            Shape::Mesh(m) => from3::<D>(m.load_point()),
             Shape::Plane { point, .. } | Shape::Cylinder { point, .. } => *point,
             Shape::Segment { a, b } => (*a + *b) * 0.5,
             Shape::Polygon { vertices, .. } => {
@@ -169,6 +183,7 @@ impl<D: Dim> Shape<D> {
         };
         match self {
             Shape::Plane { .. } | Shape::Cylinder { .. } => None,
+            Shape::Mesh(m) => Some(m.bounds()),
             Shape::Segment { a, b } => Some(corners(&mut [*a, *b].into_iter().map(to3::<D>))),
             Shape::Polygon { vertices, .. } => {
                 // `touch` meets the polygon projected along its normal onto
@@ -222,6 +237,18 @@ impl<D: Dim> Shape<D> {
             Shape::Obstacle { center, diameter } => {
                 let up = to3::<D>(D::unit(D::vertical()));
                 round::obstacle(p, to3::<D>(*center), *diameter, r, up)
+            }
+            Shape::Mesh(m) => {
+                // The deepest of its contacts: the wall pass asks for all of
+                // them (`PlacedWall::mesh_contacts`); this answers the
+                // one-contact questions (`Wall::contact`).
+                let mut scratch = MeshScratch::default();
+                m.touches(p, r, &mut scratch);
+                let deepest = scratch
+                    .touches()
+                    .iter()
+                    .max_by(|a, b| a.touch.overlap.total_cmp(&b.touch.overlap));
+                deepest.map(|t| t.touch)
             }
         }
     }

@@ -104,6 +104,15 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
 
     /// As [`Self::new`], split as `spec` says.
     pub fn with_spec(full: Md<D>, comm: &'c dyn Comm, spec: &ParallelSpec) -> Result<Self> {
+        let mesh = full.walls.iter().find(|w| w.shape.kind() == "mesh");
+        if let (Some(w), true) = (mesh, comm.size() > 1) {
+            // Their springs, keyed by patch, do not migrate between ranks.
+            return Err(Error::input(format!(
+                "wall '{}' is a mesh: mesh walls do not run over several ranks yet; \
+                 run on one process (--threads N)",
+                w.name
+            )));
+        }
         let global = full.domain.clone();
         let reach = 2.0 * full.particles.max_radius() + full.settings.skin;
         let n = full.particles.n_owned();

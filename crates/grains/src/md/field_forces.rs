@@ -4,9 +4,10 @@
 //! force sums fewer); each grain's sum is formed in wall order, whatever
 //! the threads.
 
-use super::wall_springs::{ChunkSprings, WallSprings};
+use super::wall_loads::WallLoad;
+use super::wall_springs::{ChunkSprings, MeshKey, WallSprings};
 use super::MdStats;
-use crate::boundary::PlacedWall;
+use crate::boundary::{MeshScratch, PlacedWall, WallContact};
 use crate::contact::ContactLaw;
 use crate::dim::Dim;
 
@@ -17,6 +18,8 @@ pub struct FieldInput<'a, D: Dim> {
     pub gravity: D::V,
     pub dt: f64,
     pub update: bool,
+    /// The mesh walls' springs, keyed by (grain, wall, patch).
+    pub mesh_springs: &'a WallSprings<D, MeshKey>,
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -45,6 +48,10 @@ pub struct GrainView<'a, D: Dim> {
 pub struct FieldPart<D: Dim> {
     stats: PartStats,
     kept: ChunkSprings<D>,
+    mesh_kept: ChunkSprings<D, MeshKey>,
+    /// Per wall, what this range's grains push on it (mesh walls only;
+    /// empty when there is none).
+    loads: Vec<WallLoad>,
 }
 
 impl<D: Dim> FieldInput<'_, D> {
@@ -69,6 +76,8 @@ pub fn field_part<D: Dim>(
     let empty = || FieldPart {
         stats: PartStats::default(),
         kept: ChunkSprings::default(),
+        mesh_kept: ChunkSprings::default(),
+        loads: Vec::new(),
     };
     let len = force.len().min(g.owned.saturating_sub(first));
     if !input.acts() || len == 0 {
@@ -110,6 +119,20 @@ fn wall_contacts<D: Dim>(
     let range = first..first + force.len();
     let law = input.law;
     let mut springs = springs_in.cursor(range.clone());
+    // Mesh walls: several contacts per wall, springs per patch, and the
+    // load they take (nothing allocated when there is no mesh).
+    let meshes = input.walls.iter().any(|w| w.mesh().is_some());
+    let mut mesh = MeshPass {
+        springs: input.mesh_springs.cursor(range.clone()),
+        kept: ChunkSprings::default(),
+        scratch: MeshScratch::default(),
+        found: Vec::new(),
+        loads: if meshes {
+            vec![WallLoad::default(); input.walls.len()]
+        } else {
+            Vec::new()
+        },
+    };
     // The range's own slices: no bounds check per array and grain.
     let (frozen, radius, mass) = (
         &g.frozen[range.clone()],
@@ -130,41 +153,112 @@ fn wall_contacts<D: Dim>(
     let candidates = (0..force.len()).filter(|&k| near[k] && !frozen[k]);
     for k in candidates {
         let (i, ri, mi) = (first + k, radius[k], mass[k]);
+        let grain = Grain {
+            vel: vel[k],
+            omega: omega[k],
+            radius: ri,
+            mass: mi,
+        };
         for (w, wall) in input.walls.iter().enumerate() {
+            if meshes && wall.mesh().is_some() {
+                wall.mesh_contacts(pos[k], ri, &mut mesh.scratch, &mut mesh.found);
+                for &(patch, contact) in &mesh.found {
+                    let key = (i as u32, w as u32, patch);
+                    let mut spring = mesh.springs.get_key(key);
+                    let (f, t) = push(input, &grain, &contact, &mut spring);
+                    mesh.kept.keep_key(key, spring);
+                    force[k] += f;
+                    if law.rotation {
+                        torque[k] -= t;
+                    }
+                    mesh.loads[w].add::<D>(f, contact.point);
+                    s.count(&contact, ri, g.id[i]);
+                }
+                continue;
+            }
             // An open contact keeps no spring.
             let Some(contact) = wall.contact(pos[k], ri) else {
                 continue;
             };
             let mut spring = springs.get(i, w);
-            let mut v_rel = vel[k] - contact.velocity;
-            if law.rotation {
-                v_rel -= D::ang_cross(omega[k] * ri, contact.normal);
-            }
-            let out = law.evaluate::<D>(
-                contact.overlap,
-                contact.normal,
-                v_rel,
-                law.damping_mass(mi, f64::INFINITY),
-                &mut spring,
-                input.dt,
-                input.update,
-            );
+            let (f, t) = push(input, &grain, &contact, &mut spring);
             kept.keep(i, w, spring);
-            let fi = law.scaling.force_factor(mi);
-            force[k] += out.force * fi;
+            force[k] += f;
             if law.rotation {
-                torque[k] -= D::torque(contact.normal, out.tangential) * (ri * fi);
+                torque[k] -= t;
             }
-            s.contacts += 1;
-            s.max_overlap = s.max_overlap.max(contact.overlap);
-            let frac = contact.overlap / ri;
-            if frac > s.max_fraction {
-                s.max_fraction = frac;
-                s.worst = g.id[i];
-            }
+            s.count(&contact, ri, g.id[i]);
         }
     }
-    FieldPart { stats: s, kept }
+    FieldPart {
+        stats: s,
+        kept,
+        mesh_kept: mesh.kept,
+        loads: mesh.loads,
+    }
+}
+
+/// A grain's state that its wall contacts read.
+struct Grain<D: Dim> {
+    vel: D::V,
+    omega: D::A,
+    radius: f64,
+    mass: f64,
+}
+
+/// What a range of grains keeps while meeting mesh walls.
+struct MeshPass<'a, D: Dim> {
+    springs: super::wall_springs::Cursor<'a, D, MeshKey>,
+    kept: ChunkSprings<D, MeshKey>,
+    scratch: MeshScratch,
+    found: Vec<(u32, WallContact<D>)>,
+    loads: Vec<WallLoad>,
+}
+
+/// The force on a grain from one wall contact, and the torque to take
+/// from its sum (the contact law on the relative velocity at the contact).
+#[inline(always)]
+fn push<D: Dim>(
+    input: &FieldInput<D>,
+    g: &Grain<D>,
+    contact: &WallContact<D>,
+    spring: &mut D::V,
+) -> (D::V, D::A) {
+    let law = input.law;
+    let mut v_rel = g.vel - contact.velocity;
+    if law.rotation {
+        v_rel -= D::ang_cross(g.omega * g.radius, contact.normal);
+    }
+    let out = law.evaluate::<D>(
+        contact.overlap,
+        contact.normal,
+        v_rel,
+        law.damping_mass(g.mass, f64::INFINITY),
+        spring,
+        input.dt,
+        input.update,
+    );
+    let fi = law.scaling.force_factor(g.mass);
+    let torque = if law.rotation {
+        D::torque(contact.normal, out.tangential) * (g.radius * fi)
+    } else {
+        D::A::default()
+    };
+    (out.force * fi, torque)
+}
+
+impl PartStats {
+    /// Counts a wall contact of a grain (`id`, radius `r`).
+    #[inline(always)]
+    fn count<D: Dim>(&mut self, contact: &WallContact<D>, r: f64, id: u64) {
+        self.contacts += 1;
+        self.max_overlap = self.max_overlap.max(contact.overlap);
+        let frac = contact.overlap / r;
+        if frac > self.max_fraction {
+            self.max_fraction = frac;
+            self.worst = id;
+        }
+    }
 }
 
 /// Which grains of `pos` and `radius` some wall may touch: each wall's
@@ -181,14 +275,27 @@ fn near_walls<D: Dim>(walls: &[PlacedWall<D>], pos: &[D::V], radius: &[f64]) -> 
 /// statistics.
 pub fn finish_fields<D: Dim>(
     parts: Vec<FieldPart<D>>,
-    wall_springs: &mut WallSprings<D>,
+    (wall_springs, mesh_springs): (&mut WallSprings<D>, &mut WallSprings<D, MeshKey>),
+    loads: &mut Vec<WallLoad>,
     stats: &mut MdStats,
 ) {
     let mut part_stats = Vec::with_capacity(parts.len());
+    let mut mesh_kept = Vec::new();
+    // Summed part by part in grain order: the same bits on any threads.
+    loads.clear();
     wall_springs.assemble(parts.into_iter().map(|part| {
         part_stats.push(part.stats);
+        if loads.len() < part.loads.len() {
+            loads.resize(part.loads.len(), WallLoad::default());
+        }
+        for (sum, l) in loads.iter_mut().zip(&part.loads) {
+            sum.force += l.force;
+            sum.moment += l.moment;
+        }
+        mesh_kept.push(part.mesh_kept);
         part.kept
     }));
+    mesh_springs.assemble(mesh_kept);
     for s in &part_stats {
         stats.contacts += s.contacts;
         stats.max_overlap = stats.max_overlap.max(s.max_overlap);

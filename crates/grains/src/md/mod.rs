@@ -26,6 +26,7 @@ mod pair_hash;
 pub mod parallel_spec;
 pub mod phase_times;
 pub mod subdomains;
+mod wall_loads;
 mod wall_springs;
 
 use crate::boundary::Wall;
@@ -47,7 +48,9 @@ use phase_times::{add_since, PhaseTimes};
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::time::Instant;
-use wall_springs::WallSprings;
+pub use wall_loads::MeshLoad;
+use wall_loads::WallLoad;
+use wall_springs::{MeshKey, WallSprings};
 
 /// Numerical settings of an MD run.
 #[derive(Clone, Debug)]
@@ -111,6 +114,11 @@ pub struct Md<D: Dim> {
     springs: Vec<D::V>,
     /// Tangential springs of the grain–wall contacts that are stretched.
     wall_springs: WallSprings<D>,
+    /// Those of mesh walls, one per grain, wall and flat patch.
+    mesh_springs: WallSprings<D, MeshKey>,
+    /// What the grains put on each wall at the last force evaluation
+    /// (empty unless a wall is a mesh), and its time.
+    wall_loads: (Vec<WallLoad>, f64),
     /// The pair list cut into blocks for the parallel force loop.
     blocks: PairBlocks,
     deferred: Deferred<D>,
@@ -155,6 +163,8 @@ impl<D: Dim> Md<D> {
             timing: PhaseTimes::default(),
             springs: Vec::new(),
             wall_springs: WallSprings::default(),
+            mesh_springs: WallSprings::default(),
+            wall_loads: (Vec::new(), 0.0),
             blocks: PairBlocks::default(),
             deferred: Deferred::default(),
             rebuilds_since_sort: 0,
@@ -497,6 +507,7 @@ impl<D: Dim> Md<D> {
             let order = spatial_sort_order(&self.particles.pos[..n], &self.domain, cell);
             self.particles.permute(&order);
             self.wall_springs.permute(&order);
+            self.mesh_springs.permute(&order);
         }
         self.rebuilds_since_sort = self.rebuilds_since_sort.wrapping_add(1);
         let p = &self.particles;
@@ -578,6 +589,7 @@ impl<D: Dim> Md<D> {
             gravity: s.gravity,
             dt: s.dt,
             update: update_history,
+            mesh_springs: &self.mesh_springs,
         };
         // Walls and gravity are added block by block after the contacts.
         let (parts, fields_start) = pair_forces(
@@ -588,7 +600,9 @@ impl<D: Dim> Md<D> {
             (&mut self.stats, &mut self.timing.contacts),
             (&fields, &self.wall_springs),
         );
-        finish_fields(parts, &mut self.wall_springs, &mut self.stats);
+        let springs = (&mut self.wall_springs, &mut self.mesh_springs);
+        finish_fields(parts, springs, &mut self.wall_loads.0, &mut self.stats);
+        self.wall_loads.1 = self.time;
         add_since(&mut self.timing.fields, fields_start);
     }
 
@@ -645,6 +659,27 @@ impl<D: Dim> Md<D> {
             self.particles.id[i],
             self.dt_advice()
         ))
+    }
+
+    /// What the grains put on each mesh wall at the last force evaluation
+    /// (walls that are not meshes are left out).
+    pub fn mesh_loads(&self) -> Vec<MeshLoad> {
+        let (loads, t) = &self.wall_loads;
+        let placed = self.walls.iter().map(|w| w.at(*t));
+        let points = placed
+            .enumerate()
+            .filter_map(|(w, p)| Some((w, p.load_point()?)));
+        points
+            .map(|(w, point)| {
+                let l = loads.get(w).copied().unwrap_or_default();
+                MeshLoad {
+                    wall: w,
+                    force: l.force,
+                    torque: l.torque_about(point),
+                    point,
+                }
+            })
+            .collect()
     }
 
     /// The largest overlap of the last force evaluation as a fraction of the

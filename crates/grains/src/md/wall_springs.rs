@@ -11,17 +11,50 @@
 use crate::dim::Dim;
 use std::ops::Range;
 
+/// What a spring is keyed by: a grain index first, then what it touches.
+pub trait SpringKey: Copy + Ord + std::fmt::Debug {
+    fn grain(self) -> u32;
+    /// The same key for the grain's new index.
+    fn regrain(self, grain: u32) -> Self;
+}
+
+/// (grain, wall): one spring per grain and wall.
+impl SpringKey for (u32, u32) {
+    #[inline]
+    fn grain(self) -> u32 {
+        self.0
+    }
+    fn regrain(self, grain: u32) -> Self {
+        (grain, self.1)
+    }
+}
+
+/// (grain, wall, patch): a mesh wall's springs, one per flat patch a grain
+/// touches ([`crate::boundary::Mesh`]).
+impl SpringKey for (u32, u32, u32) {
+    #[inline]
+    fn grain(self) -> u32 {
+        self.0
+    }
+    fn regrain(self, grain: u32) -> Self {
+        (grain, self.1, self.2)
+    }
+}
+
+/// The key of a mesh wall's springs.
+pub type MeshKey = (u32, u32, u32);
+
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct WallSprings<D: Dim> {
-    /// (grain, wall), strictly ascending.
-    keys: Vec<(u32, u32)>,
+pub struct WallSprings<D: Dim, K = (u32, u32)> {
+    /// Keys strictly ascending.
+    keys: Vec<K>,
     springs: Vec<D::V>,
 }
 
 /// A chunk's springs after a force evaluation, appended in key order.
 #[derive(Debug, Default)]
-pub struct ChunkSprings<D: Dim> {
-    keys: Vec<(u32, u32)>,
+pub struct ChunkSprings<D: Dim, K = (u32, u32)> {
+    keys: Vec<K>,
     springs: Vec<D::V>,
 }
 
@@ -30,16 +63,25 @@ impl<D: Dim> ChunkSprings<D> {
     /// come in ascending order.
     #[inline]
     pub fn keep(&mut self, grain: usize, wall: usize, spring: D::V) {
+        self.keep_key((grain as u32, wall as u32), spring);
+    }
+}
+
+impl<D: Dim, K: SpringKey> ChunkSprings<D, K> {
+    /// Keeps `spring` for `key` when it is stretched; keys must come in
+    /// ascending order.
+    #[inline]
+    pub fn keep_key(&mut self, key: K, spring: D::V) {
         if spring != D::zero() {
-            self.keys.push((grain as u32, wall as u32));
+            self.keys.push(key);
             self.springs.push(spring);
         }
     }
 }
 
 /// Reads one chunk's springs in key order.
-pub struct Cursor<'a, D: Dim> {
-    keys: &'a [(u32, u32)],
+pub struct Cursor<'a, D: Dim, K = (u32, u32)> {
+    keys: &'a [K],
     springs: &'a [D::V],
     at: usize,
 }
@@ -48,7 +90,14 @@ impl<D: Dim> Cursor<'_, D> {
     /// The spring of (`grain`, `wall`); queries must come in ascending order.
     #[inline]
     pub fn get(&mut self, grain: usize, wall: usize) -> D::V {
-        let key = (grain as u32, wall as u32);
+        self.get_key((grain as u32, wall as u32))
+    }
+}
+
+impl<D: Dim, K: SpringKey> Cursor<'_, D, K> {
+    /// The spring of `key`; queries must come in ascending order.
+    #[inline]
+    pub fn get_key(&mut self, key: K) -> D::V {
         while self.at < self.keys.len() && self.keys[self.at] < key {
             self.at += 1;
         }
@@ -60,11 +109,15 @@ impl<D: Dim> Cursor<'_, D> {
     }
 }
 
-impl<D: Dim> WallSprings<D> {
+impl<D: Dim, K: SpringKey> WallSprings<D, K> {
     /// The springs of grains in `grains`, for reading in key order.
-    pub fn cursor(&self, grains: Range<usize>) -> Cursor<'_, D> {
-        let lo = self.keys.partition_point(|k| (k.0 as usize) < grains.start);
-        let hi = self.keys.partition_point(|k| (k.0 as usize) < grains.end);
+    pub fn cursor(&self, grains: Range<usize>) -> Cursor<'_, D, K> {
+        let lo = self
+            .keys
+            .partition_point(|k| (k.grain() as usize) < grains.start);
+        let hi = self
+            .keys
+            .partition_point(|k| (k.grain() as usize) < grains.end);
         Cursor {
             keys: &self.keys[lo..hi],
             springs: &self.springs[lo..hi],
@@ -73,7 +126,7 @@ impl<D: Dim> WallSprings<D> {
     }
 
     /// Replaces the springs by the chunks' (chunks in grain order).
-    pub fn assemble(&mut self, chunks: impl IntoIterator<Item = ChunkSprings<D>>) {
+    pub fn assemble(&mut self, chunks: impl IntoIterator<Item = ChunkSprings<D, K>>) {
         self.keys.clear();
         self.springs.clear();
         for c in chunks {
@@ -92,17 +145,19 @@ impl<D: Dim> WallSprings<D> {
         for (k, &o) in order.iter().enumerate() {
             new_index[o as usize] = k as u32;
         }
-        let mut entries: Vec<((u32, u32), D::V)> = self
+        let mut entries: Vec<(K, D::V)> = self
             .keys
             .iter()
             .zip(&self.springs)
-            .map(|(&(g, w), &s)| ((new_index[g as usize], w), s))
+            .map(|(&k, &s)| (k.regrain(new_index[k.grain() as usize]), s))
             .collect();
         entries.sort_unstable_by_key(|e| e.0);
         self.keys = entries.iter().map(|e| e.0).collect();
         self.springs = entries.iter().map(|e| e.1).collect();
     }
+}
 
+impl<D: Dim> WallSprings<D> {
     /// Every stretched spring as ((grain, wall), spring), in key order.
     pub fn entries(&self) -> impl Iterator<Item = ((u32, u32), D::V)> + '_ {
         self.keys.iter().copied().zip(self.springs.iter().copied())

@@ -13,6 +13,7 @@ pub mod flow;
 mod output;
 pub mod session;
 pub mod sweep_grid;
+mod wall_table;
 
 use crate::checkpoint::codec::{Dec, DecResult, Enc};
 use crate::dim::{Dim, D2, D3};
@@ -476,6 +477,7 @@ fn run_loop<D: Dim>(
     let mut ckpt = checkpointing::Checkpointer::new(loaded, opts, &md, (relax, measure))?;
     ckpt.at_start(&md, &outputs)?;
     let mut flow = flow::FlowRun::begin(loaded, &md)?;
+    let mut walls_csv = wall_table::WallTable::create(&opts.out_dir, &md)?;
     // Sampling more often than the output keeps the displacement unwrapping
     // safe and the convection average smooth.
     let every = resolved.output_every;
@@ -514,6 +516,9 @@ fn run_loop<D: Dim>(
     };
     if measure_done == 0 {
         outputs.record(&md, &md.frame(), granular_temperature(&md.particles))?;
+        if let Some(w) = &mut walls_csv {
+            w.record(&md)?;
+        }
     }
     // Measured step k is engine step `base + k`, at time (base + k) dt (as
     // `Md::step` sets it).
@@ -541,6 +546,9 @@ fn run_loop<D: Dim>(
         }
         if k.is_multiple_of(every) || k == measure {
             outputs.record(&md, &md.frame(), granular_temperature(&md.particles))?;
+            if let Some(w) = &mut walls_csv {
+                w.record(&md)?;
+            }
         }
         if k.is_multiple_of(PROGRESS_EVERY) || k == measure {
             progress.advance(k, md.time);

@@ -270,7 +270,7 @@ fn from_file<D: Dim>(loaded: &Loaded) -> Result<Vec<ParticleRecord<D>>> {
     Ok(out)
 }
 
-fn wall<D: Dim>(k: usize, w: &WallSpec, dom: &Domain<D>) -> Result<Wall<D>> {
+fn wall<D: Dim>(k: usize, w: &WallSpec, dom: &Domain<D>, loaded: &Loaded) -> Result<Wall<D>> {
     let key = format!("walls[{k}] ({})", w.name);
     let v = |field: &str, x: &[f64]| vector::<D>(&format!("{key}.{field}"), x);
     let shape = match &w.shape {
@@ -308,6 +308,7 @@ fn wall<D: Dim>(k: usize, w: &WallSpec, dom: &Domain<D>) -> Result<Wall<D>> {
             center: v("shape.center", center)?,
             diameter: *diameter,
         },
+        ShapeSpec::Mesh { .. } => super::mesh_wall::shape::<D>(&key, &w.shape, loaded)?,
     };
     let motion = motion::<D>(&key, &w.motion, dom)?;
     let mut wall = Wall::new(w.name.clone(), shape, motion)
@@ -386,7 +387,7 @@ fn build_md_inner<D: Dim>(loaded: &Loaded) -> Result<(Md<D>, Resolved)> {
         .walls
         .iter()
         .enumerate()
-        .map(|(k, w)| wall::<D>(k, w, &dom))
+        .map(|(k, w)| wall::<D>(k, w, &dom, loaded))
         .collect::<Result<Vec<_>>>()?;
     let dmax = records.iter().map(|g| 2.0 * g.radius).fold(0.0, f64::max);
     if !(s.run.skin.is_finite() && s.run.skin > 0.0) {

@@ -3,6 +3,7 @@
 
 pub mod build;
 pub mod memory;
+mod mesh_wall;
 pub mod overrides;
 pub mod placement;
 pub mod resolve;

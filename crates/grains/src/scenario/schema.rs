@@ -255,6 +255,25 @@ pub enum ShapeSpec {
     },
     /// Fixed circular/spherical obstacle of `diameter` d1.
     Obstacle { center: Vec<f64>, diameter: f64 },
+    /// Triangle mesh (3D) from an STL file (binary or ASCII; `file`
+    /// relative to the scenario), scaled, turned about x, y, z (degrees)
+    /// and shifted, in that order; `load_point`: the point torques on it
+    /// are taken about (default its centroid).
+    Mesh {
+        file: String,
+        #[serde(default = "unit_scale")]
+        scale: f64,
+        #[serde(default)]
+        rotate_deg: Option<Vec<f64>>,
+        #[serde(default)]
+        translate: Option<Vec<f64>>,
+        #[serde(default)]
+        load_point: Option<Vec<f64>>,
+    },
+}
+
+fn unit_scale() -> f64 {
+    1.0
 }
 
 fn yes() -> bool {

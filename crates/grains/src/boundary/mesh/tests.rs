@@ -1,0 +1,186 @@
+//! The mesh's contacts against the planes they stand for.
+
+use super::*;
+
+/// An n × n grid of squares over [0, size]², each cut into two triangles
+/// along alternating diagonals, in the plane z = `z`.
+pub(crate) fn flat_sheet(n: usize, size: f64, z: f64) -> Vec<[[f64; 3]; 3]> {
+    let h = size / n as f64;
+    let mut out = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let (x0, y0, x1, y1) = (
+                i as f64 * h,
+                j as f64 * h,
+                (i + 1) as f64 * h,
+                (j + 1) as f64 * h,
+            );
+            let (a, b, c, d) = ([x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]);
+            if (i + j) % 2 == 0 {
+                out.push([a, b, c]);
+                out.push([a, c, d]);
+            } else {
+                out.push([a, b, d]);
+                out.push([b, c, d]);
+            }
+        }
+    }
+    out
+}
+
+fn mesh(tris: &[[[f64; 3]; 3]]) -> Mesh {
+    Mesh::new("test", tris, &MeshPlacement::default()).unwrap()
+}
+
+fn touches(m: &Mesh, p: DVec3, r: f64) -> Vec<MeshTouch> {
+    let mut s = MeshScratch::default();
+    m.touches(p, r, &mut s);
+    s.touches().to_vec()
+}
+
+/// A little random stream for positions.
+fn stream(seed: u64) -> impl FnMut() -> f64 {
+    let mut s = seed;
+    move || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+#[test]
+fn a_flat_sheet_is_one_patch_that_pushes_once_like_a_plane() {
+    let m = mesh(&flat_sheet(10, 1.0, 0.0));
+    assert_eq!(m.triangles(), 200);
+    assert_eq!(m.patches(), 1);
+    let mut rnd = stream(7);
+    let r = 0.05;
+    // Over the inside, on edges and corners of the triangles too.
+    for k in 0..2000 {
+        let (x, y) = if k % 3 == 0 {
+            ((rnd() * 10.0).round() / 10.0, 0.1 + 0.8 * rnd())
+        } else {
+            (0.1 + 0.8 * rnd(), 0.1 + 0.8 * rnd())
+        };
+        let z = (rnd() - 0.3) * r;
+        let t = touches(&m, DVec3::new(x, y, z), r);
+        assert_eq!(t.len(), 1, "({x}, {y}, {z})");
+        let want = r - z.abs();
+        // A centre right above an inner edge may be met by the edge's
+        // nearest point, which rounding leaves 1e-15 from the plane's.
+        assert!(
+            (t[0].touch.overlap - want).abs() <= 1e-15,
+            "{}",
+            t[0].touch.overlap
+        );
+        assert!((t[0].touch.normal - DVec3::Z * z.signum()).length() < 1e-12);
+        assert!((t[0].touch.point - DVec3::new(x, y, 0.0)).length() < 1e-15);
+    }
+}
+
+#[test]
+fn a_concave_corner_pushes_from_both_faces_and_a_ridge_once() {
+    // Floor z = 0 over x in [0, 1] and a wall x = 0 over z in [0, 1]: an L
+    // sharing the edge x = z = 0 (y in [0, 1]).
+    let floor = flat_sheet(4, 1.0, 0.0);
+    let wall: Vec<_> = floor
+        .iter()
+        .map(|t| t.map(|[x, y, _]| [0.0, y, x]))
+        .collect();
+    let m = mesh(&[floor.clone(), wall].concat());
+    assert_eq!(m.patches(), 2);
+    let r = 0.1;
+    let p = DVec3::new(0.07, 0.4, 0.08);
+    let t = touches(&m, p, r);
+    assert_eq!(t.len(), 2);
+    let mut got: Vec<(f64, DVec3)> = t
+        .iter()
+        .map(|t| (t.touch.overlap, t.touch.normal))
+        .collect();
+    got.sort_by(|a, b| a.0.total_cmp(&b.0));
+    assert!((got[0].0 - (r - 0.08)).abs() < 1e-15 && got[0].1 == DVec3::Z);
+    assert!((got[1].0 - (r - 0.07)).abs() < 1e-15 && got[1].1 == DVec3::X);
+
+    // The same floor with a wall going down from x = 1: a convex ridge
+    // along x = 1, z = 0. A grain beyond it meets the edge once.
+    let down: Vec<_> = floor
+        .iter()
+        .map(|t| t.map(|[x, y, _]| [1.0, y, -x]))
+        .collect();
+    let m = mesh(&[floor, down].concat());
+    let p = DVec3::new(1.03, 0.5, 0.04);
+    let t = touches(&m, p, r);
+    assert_eq!(t.len(), 1);
+    assert!((t[0].touch.overlap - (r - 0.05)).abs() < 1e-15);
+    // On the floor's side near the ridge: the floor's face only.
+    let t = touches(&m, DVec3::new(0.97, 0.5, 0.04), r);
+    assert_eq!(t.len(), 1);
+    assert_eq!(t[0].touch.normal, DVec3::Z);
+}
+
+#[test]
+fn placement_scales_turns_and_shifts() {
+    let place = MeshPlacement {
+        scale: 2.0,
+        rotate_deg: [0.0, 0.0, 90.0],
+        translate: [1.0, 0.0, 0.0],
+    };
+    let x = place.apply([1.0, 0.0, 0.0]);
+    assert!((x - DVec3::new(1.0, 2.0, 0.0)).length() < 1e-15);
+    // About x first, then z: (0, 1, 0) -> (0, 0, 1) -> (0, 0, 1).
+    let place = MeshPlacement {
+        rotate_deg: [90.0, 0.0, 90.0],
+        ..MeshPlacement::default()
+    };
+    assert!((place.apply([0.0, 1.0, 0.0]) - DVec3::Z).length() < 1e-15);
+    assert!((place.apply([1.0, 0.0, 0.0]) - DVec3::Y).length() < 1e-15);
+}
+
+#[test]
+fn bad_triangles_are_named() {
+    let mut tris = flat_sheet(2, 1.0, 0.0);
+    tris[5][1] = tris[5][0];
+    let e = Mesh::new("m.stl", &tris, &MeshPlacement::default()).unwrap_err();
+    assert!(e.contains("triangle 5") && e.contains("degenerate"), "{e}");
+    let mut tris = flat_sheet(2, 1.0, 0.0);
+    tris[3][2][1] = f64::NAN;
+    let e = Mesh::new("m.stl", &tris, &MeshPlacement::default()).unwrap_err();
+    assert!(e.contains("triangle 3") && e.contains("not finite"), "{e}");
+    let bad = MeshPlacement {
+        scale: 0.0,
+        ..MeshPlacement::default()
+    };
+    let e = Mesh::new("m.stl", &flat_sheet(1, 1.0, 0.0), &bad).unwrap_err();
+    assert!(e.contains("scale"), "{e}");
+}
+
+#[test]
+fn the_grid_finds_what_a_scan_of_all_triangles_finds() {
+    // A bumpy sheet: many patches, contacts of every kind.
+    let mut tris = flat_sheet(12, 1.0, 0.0);
+    let bump = |x: f64, y: f64| 0.03 * ((7.0 * x).sin() + (5.0 * y).cos());
+    for t in &mut tris {
+        for v in t.iter_mut() {
+            v[2] = bump(v[0], v[1]);
+        }
+    }
+    let m = mesh(&tris);
+    let mut rnd = stream(3);
+    for _ in 0..500 {
+        let p = DVec3::new(rnd(), rnd(), 0.1 * rnd() - 0.02);
+        let r = 0.02 + 0.1 * rnd();
+        let mut seen = Vec::new();
+        let none = &mut Vec::new();
+        let (lo, hi) = (p - DVec3::splat(r), p + DVec3::splat(r));
+        m.grid.visit(lo, hi, none, |t, _| seen.push(t));
+        seen.sort_unstable();
+        seen.dedup();
+        let all: Vec<usize> = (0..m.triangles())
+            .filter(|&t| m.candidate(t, p, r).is_some())
+            .collect();
+        for t in &all {
+            assert!(seen.binary_search(t).is_ok(), "triangle {t} missed");
+        }
+    }
+}

@@ -1,0 +1,53 @@
+//! walls.csv: the force and torque the grains put on each mesh wall, one
+//! row per output step (written only when the scenario has a mesh wall).
+
+use crate::dim::Dim;
+use crate::error::Result;
+use crate::io::ThermoWriter;
+use crate::md::Md;
+use std::path::Path;
+
+/// The open walls.csv of a run.
+pub(super) struct WallTable {
+    writer: ThermoWriter,
+    last_step: Option<u64>,
+}
+
+impl WallTable {
+    /// Creates `dir/walls.csv` with columns `step, time`, then for each
+    /// mesh wall `NAME_fx, NAME_fy, NAME_fz` (the force on it) and
+    /// `NAME_tx, NAME_ty, NAME_tz` (the torque about its load point); `None`
+    /// when no wall is a mesh.
+    pub(super) fn create<D: Dim>(dir: &Path, md: &Md<D>) -> Result<Option<Self>> {
+        let loads = md.mesh_loads();
+        if loads.is_empty() {
+            return Ok(None);
+        }
+        let mut columns = vec!["step".to_string(), "time".to_string()];
+        for l in &loads {
+            let name = &md.walls[l.wall].name;
+            for c in ["fx", "fy", "fz", "tx", "ty", "tz"] {
+                columns.push(format!("{name}_{c}"));
+            }
+        }
+        let columns: Vec<&str> = columns.iter().map(String::as_str).collect();
+        Ok(Some(Self {
+            writer: ThermoWriter::create(&dir.join("walls.csv"), &columns)?,
+            last_step: None,
+        }))
+    }
+
+    /// A row for the engine's step (once per step).
+    pub(super) fn record<D: Dim>(&mut self, md: &Md<D>) -> Result<()> {
+        if self.last_step == Some(md.step) {
+            return Ok(());
+        }
+        self.last_step = Some(md.step);
+        let mut row = vec![md.step as f64, md.time];
+        for l in md.mesh_loads() {
+            row.extend(l.force.to_array());
+            row.extend(l.torque.to_array());
+        }
+        self.writer.write_row(&row)
+    }
+}
