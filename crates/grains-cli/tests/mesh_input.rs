@@ -147,6 +147,8 @@ fn a_mesh_run_writes_the_load_on_the_mesh_to_walls_csv() {
         .collect();
     assert!(rows.len() >= 2, "{csv}");
     assert_eq!(rows[0][0], 0.0);
+    // One row per output step, in order.
+    assert!(rows.windows(2).all(|w| w[1][0] > w[0][0]), "{csv}");
     // Grains start above the floor: nothing on it at step 0.
     assert_eq!(&rows[0][2..], &[0.0; 6]);
 }

@@ -49,7 +49,14 @@ impl Scene {
     /// The scene of `frame`'s box with `walls`.
     pub fn new<D: Dim>(walls: &[Wall<D>], frame: &Frame) -> Self {
         // D is D2 or D3 (the only dimensions): a downcast picks the variant.
-        let any: Box<dyn std::any::Any> = Box::new(walls.to_vec());
+        // Mesh walls come from their STL file and are not drawn (yet):
+        // scene.json leaves them out.
+        let drawn: Vec<Wall<D>> = walls
+            .iter()
+            .filter(|w| !matches!(w.shape, crate::boundary::Shape::Mesh(_)))
+            .cloned()
+            .collect();
+        let any: Box<dyn std::any::Any> = Box::new(drawn);
         let walls = match any.downcast::<Vec<Wall<D2>>>() {
             Ok(w) => Walls::Two(*w),
             Err(any) => Walls::Three(*any.downcast().expect("walls are 2D or 3D")),
