@@ -185,6 +185,29 @@ impl Image {
     }
 
     /// Encodes the image as PNG and writes it atomically.
+    /// Draws the box of `frame` seen along axes (`h`, `v`) as lines of
+    /// `width` pixels: periodic sides light grey, the others in `edge`;
+    /// nothing when the box is not finite.
+    pub fn draw_box(&mut self, frame: &Frame, (h, v): (usize, usize), width: f64, edge: [u8; 3]) {
+        let (lo, hi) = (frame.box_lo, frame.box_hi);
+        if ![lo[h], hi[h], lo[v], hi[v]].iter().all(|x| x.is_finite()) {
+            return;
+        }
+        let p = |a: f64, b: f64| self.view.to_pixel([a, b]);
+        let colour = |periodic: bool| if periodic { PERIODIC_EDGE } else { edge };
+        let (side, flat) = (colour(frame.periodic[h]), colour(frame.periodic[v]));
+        let (ll, lr, ul, ur) = (
+            p(lo[h], lo[v]),
+            p(hi[h], lo[v]),
+            p(lo[h], hi[v]),
+            p(hi[h], hi[v]),
+        );
+        self.draw_segment(ll, ul, width, side);
+        self.draw_segment(lr, ur, width, side);
+        self.draw_segment(ll, lr, width, flat);
+        self.draw_segment(ul, ur, width, flat);
+    }
+
     pub fn save_png(&self, path: &Path) -> Result<()> {
         let mut bytes = Vec::new();
         {
@@ -339,30 +362,7 @@ pub fn render_particles(frame: &Frame, opts: &PictureOptions) -> Image {
     }
 
     // Box outline, clipped to the drawn rectangle by the image bounds.
-    let (bl, bh) = (frame.box_lo, frame.box_hi);
-    if [bl[h], bh[h], bl[v], bh[v]].iter().all(|x| x.is_finite()) {
-        let p = |a: f64, b: f64| img.view.to_pixel([a, b]);
-        let vertical_edge = if frame.periodic[h] {
-            PERIODIC_EDGE
-        } else {
-            WALL
-        };
-        let horizontal_edge = if frame.periodic[v] {
-            PERIODIC_EDGE
-        } else {
-            WALL
-        };
-        let (ll, lr, ul, ur) = (
-            p(bl[h], bl[v]),
-            p(bh[h], bl[v]),
-            p(bl[h], bh[v]),
-            p(bh[h], bh[v]),
-        );
-        img.draw_segment(ll, ul, 1.5, vertical_edge);
-        img.draw_segment(lr, ur, 1.5, vertical_edge);
-        img.draw_segment(ll, lr, 1.5, horizontal_edge);
-        img.draw_segment(ul, ur, 1.5, horizontal_edge);
-    }
+    img.draw_box(frame, (h, v), 1.5, WALL);
     img
 }
 

@@ -182,14 +182,8 @@ impl Governor {
 
 #[cfg(test)]
 mod tests {
+    use super::super::tests::pool_of;
     use super::*;
-
-    fn pool_of(threads: usize) -> rayon::ThreadPool {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-    }
 
     /// The slices cover the stretch exactly, in order, and an error stops
     /// the run at once.

@@ -154,7 +154,7 @@ mod tests {
         (0..n).into_par_iter().map(|k| k * k).sum()
     }
 
-    fn pool_of(threads: usize) -> rayon::ThreadPool {
+    pub(super) fn pool_of(threads: usize) -> rayon::ThreadPool {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()

@@ -125,7 +125,6 @@ impl Default for StillOptions {
 }
 
 const BOX_EDGE: [u8; 3] = [60, 60, 60];
-const PERIODIC_EDGE: [u8; 3] = [190, 190, 190];
 const WALL: [u8; 3] = [40, 40, 40];
 const OBSTACLE: [u8; 3] = [120, 120, 120];
 /// Colours for kinds 1, 2, … (kind 0 and beyond the list wrap around).
@@ -256,7 +255,7 @@ impl Painter {
     /// The frame drawn with `wires` (its walls at its time).
     pub fn paint(&self, frame: &Frame, wires: &[Wire]) -> Image {
         let mut img = self.canvas();
-        self.draw_box(&mut img, frame);
+        img.draw_box(frame, (self.proj.h, self.proj.v), 1.0, BOX_EDGE);
         self.draw_grains(&mut img, frame);
         self.draw_wires(&mut img, wires);
         let legend = match self.color {
@@ -283,35 +282,6 @@ impl Painter {
             &legend,
         );
         img
-    }
-
-    fn draw_box(&self, img: &mut Image, frame: &Frame) {
-        let (h, v) = (self.proj.h, self.proj.v);
-        let (lo, hi) = (frame.box_lo, frame.box_hi);
-        if ![lo[h], hi[h], lo[v], hi[v]].iter().all(|x| x.is_finite()) {
-            return;
-        }
-        let p = |a: f64, b: f64| img.view.to_pixel([a, b]);
-        let side = if frame.periodic[h] {
-            PERIODIC_EDGE
-        } else {
-            BOX_EDGE
-        };
-        let flat = if frame.periodic[v] {
-            PERIODIC_EDGE
-        } else {
-            BOX_EDGE
-        };
-        let (ll, lr, ul, ur) = (
-            p(lo[h], lo[v]),
-            p(hi[h], lo[v]),
-            p(lo[h], hi[v]),
-            p(hi[h], hi[v]),
-        );
-        img.draw_segment(ll, ul, 1.0, side);
-        img.draw_segment(lr, ur, 1.0, side);
-        img.draw_segment(ll, lr, 1.0, flat);
-        img.draw_segment(ul, ur, 1.0, flat);
     }
 
     fn draw_grains(&self, img: &mut Image, frame: &Frame) {
