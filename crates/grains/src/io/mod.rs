@@ -22,7 +22,7 @@ pub use lammps_data::{
 };
 pub use lammps_dump::{write_snapshot, DumpWriter};
 pub use picture::{
-    draw_arrows, render_particles, viridis, world_rect, Image, PictureOptions, View,
+    draw_arrows, render_particles, viridis, world_rect, world_rect_of, Image, PictureOptions, View,
 };
 pub use thermo::ThermoWriter;
 pub use vtk::{pvtp_string, vtp_string, write_piece, PvdCollection, VtkSeries};

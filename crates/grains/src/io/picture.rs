@@ -274,7 +274,13 @@ fn axes(frame: &Frame) -> (usize, usize) {
 /// particle) to the box top, clipped to the particles' top plus a margin when
 /// the particles fill less than 80% of the box height (or the box is open).
 pub fn world_rect(frame: &Frame) -> [f64; 4] {
-    let (h, v) = axes(frame);
+    world_rect_of(&[frame], axes(frame), true)
+}
+
+/// As [`world_rect`], for the grains of all `frames` seen along axes
+/// (`h`, `v`) in the box of the first; the top is cut to the grains only
+/// when `cut_top` (the vertical axis is the one gravity pulls along).
+pub fn world_rect_of(frames: &[&Frame], (h, v): (usize, usize), cut_top: bool) -> [f64; 4] {
     let mut ext = [
         f64::INFINITY,
         f64::NEG_INFINITY,
@@ -282,27 +288,32 @@ pub fn world_rect(frame: &Frame) -> [f64; 4] {
         f64::NEG_INFINITY,
     ];
     let mut rmax = 0.0f64;
-    for (p, &r) in frame.pos.iter().zip(&frame.radius) {
-        if p[h].is_finite() && p[v].is_finite() && r.is_finite() {
-            ext = [
-                ext[0].min(p[h] - r),
-                ext[1].max(p[h] + r),
-                ext[2].min(p[v] - r),
-                ext[3].max(p[v] + r),
-            ];
-            rmax = rmax.max(r);
+    for f in frames {
+        for (p, &r) in f.pos.iter().zip(&f.radius) {
+            if p[h].is_finite() && p[v].is_finite() && r.is_finite() {
+                ext = [
+                    ext[0].min(p[h] - r),
+                    ext[1].max(p[h] + r),
+                    ext[2].min(p[v] - r),
+                    ext[3].max(p[v] + r),
+                ];
+                rmax = rmax.max(r);
+            }
         }
     }
     let have = ext[0] <= ext[1];
     let valid = |lo: f64, hi: f64| lo.is_finite() && hi.is_finite() && hi > lo;
-    let (mut h0, mut h1) = (frame.box_lo[h], frame.box_hi[h]);
+    let (blo, bhi) = frames
+        .first()
+        .map_or(([f64::NAN; 3], [f64::NAN; 3]), |f| (f.box_lo, f.box_hi));
+    let (mut h0, mut h1) = (blo[h], bhi[h]);
     if !valid(h0, h1) {
         (h0, h1) = if have { (ext[0], ext[1]) } else { (0.0, 1.0) };
     }
-    let (mut v0, mut v1) = (frame.box_lo[v], frame.box_hi[v]);
+    let (mut v0, mut v1) = (blo[v], bhi[v]);
     if !valid(v0, v1) {
         (v0, v1) = if have { (ext[2], ext[3]) } else { (0.0, 1.0) };
-    } else if have {
+    } else if have && cut_top {
         v0 = v0.min(ext[2]);
         let top = ext[3] + (0.1 * (ext[3] - v0)).max(2.0 * rmax);
         if top < v0 + 0.8 * (v1 - v0) {

@@ -8,7 +8,7 @@
 
 use super::legend::{draw_band, Legend, BAND_ROWS};
 use super::wires::Wire;
-use crate::io::{viridis, Frame, Image, View};
+use crate::io::{viridis, world_rect_of, Frame, Image, View};
 use crate::measure::draw::id_colour;
 
 /// What the grains' colour shows.
@@ -340,60 +340,11 @@ impl Painter {
     }
 }
 
-/// The rectangle the frames need, as `io::world_rect` chooses it for one:
-/// the box across; up the vertical axis from the box floor (or lowest
-/// grain) to the box top, cut to the highest grain plus a margin when the
-/// grains fill less than 80% of it.
+/// The rectangle the frames need, as `io::world_rect` chooses it for one;
+/// the top is cut to the grains only along the axis gravity pulls.
 fn extent(frames: &[&Frame], proj: Projection) -> [f64; 4] {
-    let (h, v) = (proj.h, proj.v);
-    let mut ext = [
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-    ];
-    let mut rmax = 0.0f64;
-    for f in frames {
-        for (p, &r) in f.pos.iter().zip(&f.radius) {
-            if p[h].is_finite() && p[v].is_finite() && r.is_finite() {
-                ext = [
-                    ext[0].min(p[h] - r),
-                    ext[1].max(p[h] + r),
-                    ext[2].min(p[v] - r),
-                    ext[3].max(p[v] + r),
-                ];
-                rmax = rmax.max(r);
-            }
-        }
-    }
-    let have = ext[0] <= ext[1];
-    let valid = |lo: f64, hi: f64| lo.is_finite() && hi.is_finite() && hi > lo;
-    let (blo, bhi) = frames
-        .first()
-        .map_or(([f64::NAN; 3], [f64::NAN; 3]), |f| (f.box_lo, f.box_hi));
-    let (mut h0, mut h1) = (blo[h], bhi[h]);
-    if !valid(h0, h1) {
-        (h0, h1) = if have { (ext[0], ext[1]) } else { (0.0, 1.0) };
-    }
-    let (mut v0, mut v1) = (blo[v], bhi[v]);
-    let gravity_axis = frames.first().map_or(1, |f| f.vertical()) == v;
-    if !valid(v0, v1) {
-        (v0, v1) = if have { (ext[2], ext[3]) } else { (0.0, 1.0) };
-    } else if have && gravity_axis {
-        v0 = v0.min(ext[2]);
-        let top = ext[3] + (0.1 * (ext[3] - v0)).max(2.0 * rmax);
-        if top < v0 + 0.8 * (v1 - v0) {
-            v1 = top;
-        }
-    }
-    let size = (h1 - h0).max(v1 - v0).max(2.0 * rmax).max(1e-9);
-    if h1 - h0 < 1e-6 * size {
-        (h0, h1) = (h0 - 0.5 * size, h1 + 0.5 * size);
-    }
-    if v1 - v0 < 1e-6 * size {
-        (v0, v1) = (v0 - 0.5 * size, v1 + 0.5 * size);
-    }
-    [h0, h1, v0, v1]
+    let gravity_axis = frames.first().map_or(1, |f| f.vertical()) == proj.v;
+    world_rect_of(frames, (proj.h, proj.v), gravity_axis)
 }
 
 /// One pixel (a grain smaller than a pixel).
