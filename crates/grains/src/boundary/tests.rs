@@ -1087,18 +1087,7 @@ fn finite_walls_reach_box_is_safe() {
         ],
         seams: vec![],
     };
-    let motions3 = [
-        Motion::Fixed,
-        Motion::Oscillate {
-            amplitude: DVec3::new(0.3, 0.0, 0.2),
-            frequency: 2.0,
-            phase: 0.1,
-        },
-        Motion::Rotate {
-            center: DVec3::new(1.0, 1.0, 0.0),
-            omega: DVec3::new(0.0, 0.3, 1.0),
-        },
-    ];
+    let motions3 = motions3();
     let mut turned_down = 0;
     for motion in motions3 {
         let w = Wall::new("triangle", triangle.clone(), motion).unwrap();
@@ -1287,18 +1276,7 @@ fn cylinder_quick_test_marks_exactly_the_touching_grains() {
             omega: 3.0,
         },
     ];
-    let motions3 = [
-        Motion::Fixed,
-        Motion::Oscillate {
-            amplitude: DVec3::new(0.3, 0.0, 0.2),
-            frequency: 2.0,
-            phase: 0.1,
-        },
-        Motion::Rotate {
-            center: DVec3::new(1.0, 1.0, 0.0),
-            omega: DVec3::new(0.0, 0.3, 1.0),
-        },
-    ];
+    let motions3 = motions3();
     for inside in [true, false] {
         for motion in &motions2 {
             let shape = Shape::Cylinder {
@@ -1344,4 +1322,20 @@ fn marks_match<D: Dim>(w: &Wall<D>, grains: &[(D::V, f64)], t: f64) -> usize {
         touching += exact as usize;
     }
     touching
+}
+
+/// A fixed, a shaken and a turning motion in 3D, for the quick tests.
+fn motions3() -> [Motion<D3>; 3] {
+    [
+        Motion::Fixed,
+        Motion::Oscillate {
+            amplitude: DVec3::new(0.3, 0.0, 0.2),
+            frequency: 2.0,
+            phase: 0.1,
+        },
+        Motion::Rotate {
+            center: DVec3::new(1.0, 1.0, 0.0),
+            omega: DVec3::new(0.0, 0.3, 1.0),
+        },
+    ]
 }
