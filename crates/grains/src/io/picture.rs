@@ -408,12 +408,13 @@ pub fn draw_arrows(img: &mut Image, from: &[[f64; 2]], to: &[[f64; 2]], colour: 
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::io::atomic::tests::scratch_dir;
     use crate::io::frame::tests::sample_2d;
 
-    fn at(img: &Image, w: [f64; 2]) -> [u8; 3] {
+    /// The pixel under world point `w`.
+    pub(crate) fn at(img: &Image, w: [f64; 2]) -> [u8; 3] {
         let p = img.view.to_pixel(w);
         img.pixel(p[0] as u32, p[1] as u32)
     }

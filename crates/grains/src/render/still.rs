@@ -470,11 +470,7 @@ impl Layer {
 mod tests {
     use super::*;
     use crate::io::frame::tests::sample_2d;
-
-    fn at(img: &Image, w: [f64; 2]) -> [u8; 3] {
-        let p = img.view.to_pixel(w);
-        img.pixel(p[0] as u32, p[1] as u32)
-    }
+    use crate::io::picture::tests::at;
 
     #[test]
     fn grains_walls_and_band_land_in_place() {
