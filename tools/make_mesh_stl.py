@@ -56,7 +56,9 @@ def cone(r_out=3.0, r_top=12.0, half_angle_deg=30.0, sectors=96, rings=24):
         ra = r_out + (r_top - r_out) * k / rings
         rb = r_out + (r_top - r_out) * (k + 1) / rings
         for s in range(sectors):
-            t0, t1 = 2 * math.pi * s / sectors, 2 * math.pi * (s + 1) / sectors
+            # The last sector ends on the first one's vertices exactly (not
+            # at 2π, whose sine is -2.4e-16), so the cone is closed.
+            t0, t1 = 2 * math.pi * s / sectors, 2 * math.pi * ((s + 1) % sectors) / sectors
             p = lambda r, t, z: (r * math.cos(t), r * math.sin(t), z)
             tris += quad(p(ra, t0, z0), p(ra, t1, z0), p(rb, t1, z1), p(rb, t0, z1))
     return tris

@@ -27,7 +27,7 @@ mod motion;
 mod round;
 mod shape;
 
-pub use mesh::{Mesh, MeshPlacement, MeshScratch};
+pub use mesh::{Mesh, MeshPlacement, MeshScratch, CREASE_DEG};
 pub use motion::Motion;
 use motion::Pose;
 pub use shape::Shape;

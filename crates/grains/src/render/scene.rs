@@ -4,7 +4,7 @@
 //! motions and removal times (walls removed by a run event carry the time
 //! it happened, as the file is written again at the end of the run).
 
-use super::wires::{wires_at, Wire};
+use super::wires::{outline_wires_at, wires_at, MeshOutline, Wire};
 use crate::boundary::Wall;
 use crate::dim::{Dim, D2, D3};
 use crate::error::{Error, Result};
@@ -16,11 +16,12 @@ use std::path::Path;
 /// The file name under a run directory.
 pub const SCENE_FILE: &str = "scene.json";
 
-/// The walls of either dimension.
+/// The walls of either dimension: the analytic ones, and the mesh walls
+/// by their outlines.
 #[derive(Clone, Debug)]
 enum Walls {
-    Two(Vec<Wall<D2>>),
-    Three(Vec<Wall<D3>>),
+    Two(Vec<Wall<D2>>, Vec<MeshOutline<D2>>),
+    Three(Vec<Wall<D3>>, Vec<MeshOutline<D3>>),
 }
 
 /// The box and walls of a run.
@@ -43,23 +44,32 @@ struct SceneFile {
     box_hi: [f64; 3],
     periodic: [bool; 3],
     walls: Value,
+    /// Mesh walls' outlines (absent in files written before meshes were
+    /// drawn, and in scenes without meshes).
+    #[serde(default, skip_serializing_if = "Value::is_null")]
+    meshes: Value,
 }
 
 impl Scene {
     /// The scene of `frame`'s box with `walls`.
     pub fn new<D: Dim>(walls: &[Wall<D>], frame: &Frame) -> Self {
         // D is D2 or D3 (the only dimensions): a downcast picks the variant.
-        // Mesh walls come from their STL file and are not drawn (yet):
-        // scene.json leaves them out.
+        // Mesh walls are carried by their outlines, not their triangles.
+        let meshes: Vec<MeshOutline<D>> = walls.iter().filter_map(MeshOutline::of).collect();
         let drawn: Vec<Wall<D>> = walls
             .iter()
             .filter(|w| !matches!(w.shape, crate::boundary::Shape::Mesh(_)))
             .cloned()
             .collect();
-        let any: Box<dyn std::any::Any> = Box::new(drawn);
-        let walls = match any.downcast::<Vec<Wall<D2>>>() {
-            Ok(w) => Walls::Two(*w),
-            Err(any) => Walls::Three(*any.downcast().expect("walls are 2D or 3D")),
+        let any: Box<dyn std::any::Any> = Box::new((drawn, meshes));
+        let walls = match any.downcast::<(Vec<Wall<D2>>, Vec<MeshOutline<D2>>)>() {
+            Ok(w) => Walls::Two(w.0, w.1),
+            Err(any) => {
+                let w = any
+                    .downcast::<(Vec<Wall<D3>>, Vec<MeshOutline<D3>>)>()
+                    .expect("walls are 2D or 3D");
+                Walls::Three(w.0, w.1)
+            }
         };
         Scene {
             dim: D::D,
@@ -79,9 +89,9 @@ impl Scene {
             box_hi: frame.box_hi,
             periodic: frame.periodic,
             walls: if frame.dim == 3 {
-                Walls::Three(Vec::new())
+                Walls::Three(Vec::new(), Vec::new())
             } else {
-                Walls::Two(Vec::new())
+                Walls::Two(Vec::new(), Vec::new())
             },
         }
     }
@@ -89,9 +99,16 @@ impl Scene {
     /// The walls present at time `t`, cut to the box.
     pub fn wires(&self, t: f64) -> Vec<Wire> {
         match &self.walls {
-            Walls::Two(w) => wires_at(w, t, self.box_lo, self.box_hi),
-            Walls::Three(w) => wires_at(w, t, self.box_lo, self.box_hi),
+            Walls::Two(w, m) => [
+                wires_at(w, t, self.box_lo, self.box_hi),
+                outline_wires_at(m, t),
+            ],
+            Walls::Three(w, m) => [
+                wires_at(w, t, self.box_lo, self.box_hi),
+                outline_wires_at(m, t),
+            ],
         }
+        .concat()
     }
 
     /// Gives a frame read back from VTK (which has no box) this scene's
@@ -105,17 +122,22 @@ impl Scene {
 
     /// Writes `dir/scene.json` atomically.
     pub fn write(&self, dir: &Path) -> Result<()> {
-        let walls = match &self.walls {
-            Walls::Two(w) => serde_json::to_value(w),
-            Walls::Three(w) => serde_json::to_value(w),
-        }
-        .expect("walls always serialize");
+        let (walls, meshes) = match &self.walls {
+            Walls::Two(w, m) => (serde_json::to_value(w), serde_json::to_value(m)),
+            Walls::Three(w, m) => (serde_json::to_value(w), serde_json::to_value(m)),
+        };
+        let walls = walls.expect("walls always serialize");
+        let meshes = match meshes.expect("outlines always serialize") {
+            Value::Array(m) if m.is_empty() => Value::Null,
+            m => m,
+        };
         let file = SceneFile {
             dimension: self.dim,
             box_lo: self.box_lo,
             box_hi: self.box_hi,
             periodic: self.periodic,
             walls,
+            meshes,
         };
         let text = serde_json::to_string_pretty(&file).expect("scene always serializes");
         write_atomic(&dir.join(SCENE_FILE), text.as_bytes())
@@ -131,9 +153,19 @@ impl Scene {
         };
         let bad = |e: serde_json::Error| Error::input(format!("{}: {e}", path.display()));
         let file: SceneFile = serde_json::from_str(&text).map_err(bad)?;
+        let meshes = match file.meshes {
+            Value::Null => Value::Array(Vec::new()),
+            m => m,
+        };
         let walls = match file.dimension {
-            2 => Walls::Two(serde_json::from_value(file.walls).map_err(bad)?),
-            3 => Walls::Three(serde_json::from_value(file.walls).map_err(bad)?),
+            2 => Walls::Two(
+                serde_json::from_value(file.walls).map_err(bad)?,
+                serde_json::from_value(meshes).map_err(bad)?,
+            ),
+            3 => Walls::Three(
+                serde_json::from_value(file.walls).map_err(bad)?,
+                serde_json::from_value(meshes).map_err(bad)?,
+            ),
             d => {
                 return Err(Error::input(format!(
                     "{}: dimension = {d}; allowed: 2, 3",
@@ -157,7 +189,7 @@ mod tests {
     use crate::boundary::{Motion, Shape};
     use crate::io::atomic::tests::scratch_dir;
     use crate::io::frame::tests::sample_2d;
-    use glam::DVec2;
+    use glam::{DVec2, DVec3};
 
     #[test]
     fn scene_round_trips_and_bad_files_are_named() {
@@ -192,5 +224,61 @@ mod tests {
         std::fs::write(dir.join(SCENE_FILE), "{\"dimension\": 4}").unwrap();
         let err = Scene::read(&dir).unwrap_err().to_string();
         assert!(err.contains("scene.json"), "{err}");
+    }
+
+    #[test]
+    fn a_mesh_wall_is_drawn_by_its_outline_turning_with_it() {
+        use crate::boundary::{Mesh, MeshPlacement};
+        // One unit square of two triangles in z = 0, turning about z at
+        // π/2 per second about the origin.
+        let tris = [
+            [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.]],
+            [[0., 0., 0.], [1., 1., 0.], [0., 1., 0.]],
+        ];
+        let mesh = Mesh::new("square.stl", &tris, &MeshPlacement::default()).unwrap();
+        let blade = Wall::<D3>::new(
+            "blade",
+            Shape::Mesh(std::sync::Arc::new(mesh)),
+            Motion::Rotate {
+                center: DVec3::ZERO,
+                omega: DVec3::new(0.0, 0.0, std::f64::consts::FRAC_PI_2),
+            },
+        )
+        .unwrap()
+        .with_remove_at(2.0)
+        .unwrap();
+        let dir = scratch_dir("scene-mesh");
+        let frame = Frame {
+            dim: 3,
+            box_lo: [-2.0; 3],
+            box_hi: [2.0; 3],
+            ..sample_2d()
+        };
+        Scene::new(&[blade], &frame).write(&dir).unwrap();
+        let back = Scene::read(&dir).unwrap().unwrap();
+        // The outline is the square's border (its diagonal is flat), one
+        // closed loop; at t = 1 it has turned a quarter: x ∈ [−1, 0].
+        let wires = back.wires(1.0);
+        assert_eq!(wires.len(), 1, "{wires:?}");
+        let Wire::Line { points } = &wires[0] else {
+            panic!("{wires:?}")
+        };
+        assert_eq!(points.len(), 5);
+        assert_eq!(points.first(), points.last());
+        for p in points {
+            assert!(p[0] > -1.0 - 1e-12 && p[0] < 1e-12, "{p:?}");
+            assert!(p[1] > -1e-12 && p[1] < 1.0 + 1e-12, "{p:?}");
+        }
+        let perimeter: f64 = points
+            .windows(2)
+            .map(|w| {
+                (0..3)
+                    .map(|k| (w[1][k] - w[0][k]).powi(2))
+                    .sum::<f64>()
+                    .sqrt()
+            })
+            .sum();
+        assert!((perimeter - 4.0).abs() < 1e-12);
+        assert!(back.wires(2.0).is_empty());
     }
 }

@@ -6,9 +6,9 @@
 //! the wall's motion at time `t` ([`crate::boundary::Motion::place`]), so a
 //! modulated plate shows its curved surface and a moving wall its place.
 
-use crate::boundary::{Shape, Wall};
+use crate::boundary::{Motion, Shape, Wall, CREASE_DEG};
 use crate::dim::Dim;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One drawable piece of a wall.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -89,6 +89,58 @@ pub fn wires_at<D: Dim>(walls: &[Wall<D>], t: f64, lo: [f64; 3], hi: [f64; 3]) -
         }
     }
     out
+}
+
+/// A mesh wall as drawn: its outline ([`crate::boundary::Mesh::outline`],
+/// reference frame) with the wall's motion and removal time. Its triangles
+/// stay in their STL file; this is what `scene.json` carries of it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(bound(
+    serialize = "D::V: Serialize, D::A: Serialize",
+    deserialize = "D::V: Deserialize<'de>, D::A: Deserialize<'de>"
+))]
+pub struct MeshOutline<D: Dim> {
+    pub name: String,
+    pub motion: Motion<D>,
+    pub remove_at: Option<f64>,
+    pub lines: Vec<Vec<[f64; 3]>>,
+}
+
+impl<D: Dim> MeshOutline<D> {
+    /// The outline of `wall`, when it is a mesh wall.
+    pub fn of(wall: &Wall<D>) -> Option<Self> {
+        let Shape::Mesh(mesh) = &wall.shape else {
+            return None;
+        };
+        let lines = mesh.outline(CREASE_DEG);
+        Some(Self {
+            name: wall.name.clone(),
+            motion: wall.motion.clone(),
+            remove_at: wall.remove_at,
+            lines: lines
+                .into_iter()
+                .map(|l| l.into_iter().map(|v| v.to_array()).collect())
+                .collect(),
+        })
+    }
+}
+
+/// The outlines of the mesh walls present at time `t`, carried by their
+/// motions.
+pub fn outline_wires_at<D: Dim>(meshes: &[MeshOutline<D>], t: f64) -> Vec<Wire> {
+    let present = |m: &&MeshOutline<D>| m.remove_at.is_none_or(|tr| t < tr);
+    meshes
+        .iter()
+        .filter(present)
+        .flat_map(|m| {
+            m.lines.iter().map(move |l| Wire::Line {
+                points: l
+                    .iter()
+                    .map(|&q| D::to_xyz(m.motion.place(D::from_xyz(q), t)))
+                    .collect(),
+            })
+        })
+        .collect()
 }
 
 fn add(p: [f64; 3], d: [f64; 3], s: f64) -> [f64; 3] {

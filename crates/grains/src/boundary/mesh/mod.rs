@@ -20,7 +20,10 @@
 
 mod closest;
 mod grid;
+mod outline;
 mod placed;
+
+pub use outline::CREASE_DEG;
 
 use super::geom::Touch;
 use closest::{closest_on_triangle, Region};
