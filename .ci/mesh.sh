@@ -12,7 +12,7 @@ for f in "$root"/scenarios/meshes/*.stl; do
   cmp "$f" "$work/$(basename "$f")"
 done
 grains="${CARGO_TARGET_DIR:-$root/target}/release/grains"
-for s in mesh-hopper-3d mesh-silo-3d mesh-mixer-3d; do
+for s in mesh-hopper-3d mesh-silo-3d mesh-mixer-3d mesh-funnel-2d; do
   "$grains" check "$root/scenarios/$s.toml" >/dev/null
 done
 echo "mesh: STL files reproduced, mesh scenarios check"

@@ -46,8 +46,9 @@ pub enum Shape<D: Dim> {
     },
     /// Fixed circle (2D) or sphere (3D) of diameter d1: overlap r + d1/2 − |p − c|.
     Obstacle { center: D::V, diameter: f64 },
-    /// A triangle mesh (3D only), read from a file by the scenario builder;
-    /// two-sided, pushing with several contacts where it bends
+    /// A triangle mesh (3D), or in 2D a polyline's ribbon across the plane
+    /// ([`super::mesh`]'s `ribbon`), read from a file by the scenario
+    /// builder; two-sided, pushing with several contacts where it bends
     /// ([`super::mesh`]). Not written or read by serde (it comes from its
     /// file).
     #[serde(skip)]
@@ -146,9 +147,6 @@ impl<D: Dim> Shape<D> {
             Shape::Obstacle { center, diameter } => {
                 finite::<D>(*center, "obstacle center")?;
                 positive(*diameter, "obstacle diameter")
-            }
-            Shape::Mesh(_) if D::D != 3 => {
-                Err(format!("meshes are 3D walls; in {} use segments", D::NAME))
             }
             Shape::Mesh(_) => Ok(()),
         }

@@ -9,6 +9,7 @@ pub mod frame;
 pub mod lammps_data;
 pub mod lammps_dump;
 pub mod picture;
+pub mod polyline;
 pub mod stl;
 pub mod thermo;
 pub mod vtk;

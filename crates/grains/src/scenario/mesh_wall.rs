@@ -1,22 +1,30 @@
-//! A `shape = { type = "mesh", ... }` wall: its STL file read and placed.
+//! A `shape = { type = "mesh", ... }` wall: its STL file (3D) or polyline
+//! file (2D) read and placed.
 
 use super::schema::ShapeSpec;
 use super::Loaded;
 use crate::boundary::{Mesh, MeshPlacement, Shape};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
+use crate::io::polyline::read_polylines;
 use crate::io::stl::read_stl;
 use std::sync::Arc;
 
-/// Three numbers from the key `key` (a mesh is 3D whatever the scenario;
-/// a 2D scenario is refused by the shape's own check).
-fn triple(key: &str, v: &[f64]) -> Result<[f64; 3]> {
-    let out: [f64; 3] = v
-        .try_into()
-        .map_err(|_| Error::input(format!("{key} has {} components; it needs 3", v.len())))?;
-    if let Some(x) = out.iter().find(|x| !x.is_finite()) {
+/// `n` finite numbers from the key `key`, widened to three with zeros in
+/// front (`lead`) or behind: a 2D mesh lies in z = 0 and turns about z.
+fn numbers(key: &str, v: &[f64], n: usize, lead: bool) -> Result<[f64; 3]> {
+    if v.len() != n {
+        return Err(Error::input(format!(
+            "{key} has {} components; it needs {n}",
+            v.len()
+        )));
+    }
+    if let Some(x) = v.iter().find(|x| !x.is_finite()) {
         return Err(Error::input(format!("{key} contains {x}: must be finite")));
     }
+    let mut out = [0.0; 3];
+    let at = if lead { 3 - n } else { 0 };
+    out[at..at + n].copy_from_slice(v);
     Ok(out)
 }
 
@@ -34,30 +42,31 @@ pub(super) fn shape<D: Dim>(key: &str, spec: &ShapeSpec, loaded: &Loaded) -> Res
     else {
         return Err(Error::input(format!("{key}: not a mesh")));
     };
-    if D::D != 3 {
-        return Err(Error::input(format!(
-            "{key}: meshes are 3D walls; in {} use segments",
-            D::NAME
-        )));
-    }
+    // In 2D: a point has two components and the turn is one angle (z).
+    let (n, turns) = if D::D == 3 { (3, 3) } else { (2, 1) };
     let place = MeshPlacement {
         scale: *scale,
         rotate_deg: match rotate_deg {
-            Some(r) => triple(&format!("{key}.shape.rotate_deg"), r)?,
+            Some(r) => numbers(&format!("{key}.shape.rotate_deg"), r, turns, true)?,
             None => [0.0; 3],
         },
         translate: match translate {
-            Some(t) => triple(&format!("{key}.shape.translate"), t)?,
+            Some(t) => numbers(&format!("{key}.shape.translate"), t, n, false)?,
             None => [0.0; 3],
         },
     };
     let path = loaded.path(file);
-    let triangles = read_stl(&path).map_err(|e| Error::input(format!("{key}: {e}")))?;
     let name = path.display().to_string();
-    let mut mesh = Mesh::new(&name, &triangles, &place)
-        .map_err(|e| Error::input(format!("{key}: mesh file {name}: {e}")))?;
+    let mesh = if D::D == 3 {
+        let triangles = read_stl(&path).map_err(|e| Error::input(format!("{key}: {e}")))?;
+        Mesh::new(&name, &triangles, &place)
+    } else {
+        let lines = read_polylines(&path).map_err(|e| Error::input(format!("{key}: {e}")))?;
+        Mesh::from_polylines(&name, &lines, &place)
+    };
+    let mut mesh = mesh.map_err(|e| Error::input(format!("{key}: mesh file {name}: {e}")))?;
     if let Some(p) = load_point {
-        let p = triple(&format!("{key}.shape.load_point"), p)?;
+        let p = numbers(&format!("{key}.shape.load_point"), p, n, false)?;
         mesh = mesh
             .with_load_point(glam::DVec3::from_array(p))
             .map_err(|e| Error::input(format!("{key}: {e}")))?;

@@ -22,6 +22,7 @@ mod closest;
 mod grid;
 mod outline;
 mod placed;
+mod ribbon;
 
 pub use outline::CREASE_DEG;
 
