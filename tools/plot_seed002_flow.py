@@ -76,7 +76,7 @@ def main():
     u, v = np.where(bed, u, 0.0), np.where(bed, v, 0.0)
     speed = np.hypot(u, v).max()
     q = ax.quiver(x, y, u, v, angles="xy", scale_units="xy", scale=speed / (0.9 * dx), width=0.006)
-    ax.quiverkey(q, 0.85, -0.16, speed, f"{speed:.1f} mm/s", labelpos="E")
+    ax.quiverkey(q, 0.72, -0.16, speed, f"{speed:.1f} mm/s", labelpos="E")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("height (mm)")
     ax.set_title(f"{title}: mean of {len(files)} runs", fontsize=9, loc="left")

@@ -7,6 +7,7 @@
 #   tools/seed002_ensembles.sh                  # every setting, seeds 1-20
 #   tools/seed002_ensembles.sh w-unit-gs0 m-unit   # some settings
 #   SEEDS=1,2,3 BIN=target/release/grains OUT=/tmp/e tools/seed002_ensembles.sh
+#   SEEDS=1,2 STEPS=2000 tools/seed002_ensembles.sh m-today   # a smoke test (CI)
 #
 # The readings (docs/scenario-reference.md section 13):
 #   today: gamma = "20 g" -> 200 s^-1 (80 g -> 800), gamma_s = 400 s^-1, dt = t_c/50;
@@ -24,6 +25,7 @@ bin=${BIN:-$root/target/release/grains}
 out=${OUT:-$root/runs/seed002-ensembles}
 seeds=${SEEDS:-$(seq -s, 1 20)}
 quiet=(--set output.frames=false --set output.movie=false --set output.picture=false)
+[ -n "${STEPS:-}" ] && quiet+=(--steps "$STEPS")
 fig2=$root/scenarios/seed-convection-modulated.toml
 fig3=$root/scenarios/seed-convection-walls.toml
 
@@ -35,6 +37,9 @@ lattice=(--set particles.placement=lattice)
 flat=(--set walls.0.motion.surface=flat)
 curved=(--set walls.0.motion.surface=curved)
 elastic=(--set 'contact.elastic_walls=["left","right"]')
+# The shipped Fig. 3 scenario has elastic side walls since the second
+# pass; the damped settings say so explicitly.
+damped=(--set 'contact.elastic_walls=[]')
 setting() {
   case "$1" in
     # Fig. 2, today's reading (gamma 200, gamma_s 400, t_c/50), curved plate.
@@ -57,21 +62,25 @@ setting() {
     m-unit-flat-soft) echo "$fig2" "${flat[@]}" "${unit2[@]}" --set contact.kn=1e7 ;;
     # Fig. 3 (B = 0: the plate is flat in every reading); the unit reading
     # at the seed's time step.
-    w-today-gs0) echo "$fig3" ;;
-    w-today-gs400) echo "$fig3" --set contact.gamma_t=400 ;;
+    w-today-gs0) echo "$fig3" "${damped[@]}" ;;
+    w-today-gs400) echo "$fig3" "${damped[@]}" --set contact.gamma_t=400 ;;
     w-today-elastic-gs0) echo "$fig3" "${elastic[@]}" ;;
-    w-unit-gs0) echo "$fig3" "${unit3[@]}" ;;
-    w-unit-gs400) echo "$fig3" "${unit3[@]}" --set contact.gamma_t=400 ;;
-    w-unit-lattice-gs0) echo "$fig3" "${unit3[@]}" "${lattice[@]}" ;;
+    w-today-elastic-gs400) echo "$fig3" "${elastic[@]}" --set contact.gamma_t=400 ;;
+    w-today-elastic-lattice-gs0) echo "$fig3" "${elastic[@]}" "${lattice[@]}" ;;
+    w-today-elastic-soft-gs0) echo "$fig3" "${elastic[@]}" --set contact.kn=1e7 ;;
+    w-unit-gs0) echo "$fig3" "${damped[@]}" "${unit3[@]}" ;;
+    w-unit-gs400) echo "$fig3" "${damped[@]}" "${unit3[@]}" --set contact.gamma_t=400 ;;
+    w-unit-lattice-gs0) echo "$fig3" "${damped[@]}" "${unit3[@]}" "${lattice[@]}" ;;
     w-unit-elastic-gs0) echo "$fig3" "${unit3[@]}" "${elastic[@]}" ;;
-    w-unit-soft-gs0) echo "$fig3" "${unit3[@]}" --set contact.kn=1e7 ;;
+    w-unit-soft-gs0) echo "$fig3" "${damped[@]}" "${unit3[@]}" --set contact.kn=1e7 ;;
     *) echo "unknown setting $1" >&2; return 2 ;;
   esac
 }
 all=(m-today m-today-g10 m-today-gs0 m-today-flat m-today-flat-g10 m-today-flat-gs0
   m-today-lattice m-unit m-unit-seeddt m-unit-g10 m-unit-gs0 m-unit-flat m-unit-flat-g10
   m-unit-flat-gs0 m-unit-flat-lattice m-unit-flat-soft
-  w-today-gs0 w-today-gs400 w-today-elastic-gs0 w-unit-gs0 w-unit-gs400
+  w-today-gs0 w-today-gs400 w-today-elastic-gs0 w-today-elastic-gs400
+  w-today-elastic-lattice-gs0 w-today-elastic-soft-gs0 w-unit-gs0 w-unit-gs400
   w-unit-lattice-gs0 w-unit-elastic-gs0 w-unit-soft-gs0)
 [ $# -gt 0 ] && all=("$@")
 mkdir -p "$out"

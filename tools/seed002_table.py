@@ -4,8 +4,10 @@
 Reads DIR/<setting>/sweep.csv as written by tools/seed002_ensembles.sh and
 prints one markdown row per setting: runs (finished / started), the mean
 convection strength (centre minus edge mean vertical velocity) with its
-standard error, and how often each claim's sign shows, as k/n with a 95 %
-Wilson interval. Standard library only.
+standard error, how often each claim's sign shows, as k/n with a 95 %
+Wilson interval, heap_height, and how far the median grain travelled over
+the measured cycles (from each run's displacement.csv). Standard library
+only.
 
     python3 tools/seed002_table.py runs/seed002-ensembles [SETTING ...]
 """
@@ -48,11 +50,26 @@ def freq(k, n):
     return f"{k}/{n} [{lo:.2f}, {hi:.2f}]"
 
 
-def row(name, rows, ok):
+def travel(run_dir):
+    """Median over the grains of the distance each moved over the measured
+    cycles (mm), from the run's displacement.csv (unwrapped positions)."""
+    path = run_dir / "displacement.csv"
+    if not path.exists():
+        return None
+    with open(path, newline="") as f:
+        d = [
+            math.hypot(float(r["x1"]) - float(r["x0"]), float(r["y1"]) - float(r["y0"]))
+            for r in csv.DictReader(f)
+        ]
+    return 1e3 * statistics.median(d) if d else None
+
+
+def row(name, rows, ok, sweep):
     c = [float(r["convection_center_vz"]) for r in ok]
     e = [float(r["convection_edge_vz"]) for r in ok]
     s = [float(r["convection_strength"]) for r in ok]
-    h = [float(r["heap_height"]) * 1e3 for r in ok]
+    # heap_height is left out of summary.json when it is not a number.
+    h = [float(r["heap_height"]) * 1e3 for r in ok if r.get("heap_height") not in (None, "")]
     n = len(ok)
     sm, sse = mean_se(s)
     cm, cse = mean_se(c)
@@ -62,11 +79,14 @@ def row(name, rows, ok):
     up_walls = sum(1 for a, b in zip(c, e) if b > a)
     drag = sum(1 for a, b in zip(c, e) if b < 0 and b < a)
     heap = sum(1 for x in h if x > 0)
+    nh = len(h)
+    moved = [t for t in (travel(sweep / f"seed={r['seed']}") for r in ok) if t is not None]
+    tm, tse = mean_se(moved)
     return (
         f"| {name} | {n}/{len(rows)} | {1e3 * sm:+.1f} ± {1e3 * sse:.1f} "
         f"| {1e3 * cm:+.1f} ± {1e3 * cse:.1f} | {1e3 * em:+.1f} ± {1e3 * ese:.1f} "
         f"| {freq(up_centre, n)} | {freq(up_walls, n)} | {freq(drag, n)} "
-        f"| {hm:+.2f} ± {hse:.2f} | {freq(heap, n)} |"
+        f"| {hm:+.2f} ± {hse:.2f} | {freq(heap, nh)} | {tm:.1f} ± {tse:.1f} |"
     )
 
 
@@ -76,16 +96,17 @@ def main():
     print(
         "| setting | runs | strength (mm/s) | centre v_z (mm/s) | edge v_z (mm/s) "
         "| up in centre, down at edges | edge above centre (up at walls) "
-        "| down at edges, below centre | heap_height (mm) | heap > 0 |"
+        "| down at edges, below centre | heap_height (mm) | heap > 0 "
+        "| median travel (mm) |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name in names:
         path = root / name / "sweep.csv"
         if not path.exists():
-            print(f"| {name} | (not run) |||||||||")
+            print(f"| {name} | (not run) ||||||||||")
             continue
         rows, ok = load(path)
-        print(row(name, rows, ok))
+        print(row(name, rows, ok, root / name))
 
 
 if __name__ == "__main__":

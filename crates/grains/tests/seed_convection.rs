@@ -153,11 +153,12 @@ fn rise_at_walls(runs: &[(f64, f64)]) -> Vec<f64> {
 }
 
 /// Fig. 3 with and without shear friction, seeds 1-8 each (10 + 20 cycles
-/// at 20 Hz). 20 seeds gave an edge velocity of −6.7 ± 0.6 mm/s at
-/// γ_s = 400 s⁻¹ and +2.5 ± 0.8 at γ_s = 0 (spreads 2.7 and 3.6 mm/s):
-/// the drag at the walls is told from the frictionless runs at t ≈ 5.8
-/// on eight seeds each; the test asks t > 4, and that the wall columns
-/// sink on the γ_s = 400 ensemble's mean at t > 4 too.
+/// at 20 Hz, the shipped elastic side walls). 20 seeds gave an edge
+/// velocity of −4.5 ± 0.5 mm/s at γ_s = 400 s⁻¹ and +7.6 ± 0.6 at γ_s = 0
+/// (spreads 2.2 and 2.7 mm/s): the drag at the walls is told from the
+/// frictionless runs at t ≈ 7.8 on seeds 1-8 (measured); the test asks
+/// t > 4, and that the wall columns sink on the γ_s = 400 ensemble's mean
+/// by more than three standard errors (measured 4.7).
 #[test]
 fn side_walls_with_shear_friction_drag_the_grains_down() {
     let w = "seed-convection-walls";
@@ -173,21 +174,23 @@ fn side_walls_with_shear_friction_drag_the_grains_down() {
         "edge v_z {e400:?} (gamma_s 400) vs {e0:?} (0): t = {t}"
     );
     let (m, se) = mean_se(&e400);
-    assert!(m < -4.0 * se, "edge v_z {m} +- {se} at gamma_s = 400");
+    assert!(m < -3.0 * se, "edge v_z {m} +- {se} at gamma_s = 400");
     // The rolls turn: with friction the centre rises relative to the
-    // walls, without it not.
+    // walls, without it the walls rise relative to the centre.
     let t_rolls = welch(&rise_at_walls(&free), &rise_at_walls(&drag));
     assert!(t_rolls > 4.0, "edge - centre: t = {t_rolls}");
 }
 
-/// Fig. 3 without shear friction, today's reading (γ = 800 s⁻¹): 20 seeds
-/// gave edge − centre = +3.1 ± 1.1 mm/s (13 of 20 up at the walls), a
-/// rise 2.8 standard errors from zero; the test asks the 20-seed mean to
-/// exceed two standard errors (one-sided, 2.3 %). About 40 s of CPU.
+/// Fig. 3 without shear friction: the grains rise at the walls. With the
+/// shipped elastic side walls 20 of 20 seeds did, edge − centre
+/// = +11.5 ± 1.0 mm/s (spread 4.5); seeds 1-8 give +10.3 ± 1.6, 6.6
+/// standard errors; the test asks four (one-sided, 3e-5). With damped
+/// side walls (`contact.elastic_walls=[]`, the first pass) the rise is
+/// +3.1 ± 1.1 mm/s over 20 seeds, 13 of 20 runs: too weak for a test.
 #[test]
-#[ignore = "20 runs of 30 cycles (40 s of CPU); cargo test --profile opt-test -p grains --test seed_convection -- --ignored side_walls_without"]
 fn side_walls_without_shear_friction_lift_the_grains() {
-    let free = ensemble("seed-convection-walls", "gs0", &["contact.gamma_t=0"], 20);
+    let free = ensemble("seed-convection-walls", "gs0", &["contact.gamma_t=0"], 8);
+    assert_eq!(free.len(), 8, "a run stopped");
     let (m, se) = mean_se(&rise_at_walls(&free));
-    assert!(m > 2.0 * se, "edge - centre {m} +- {se} m/s at gamma_s = 0");
+    assert!(m > 4.0 * se, "edge - centre {m} +- {se} m/s at gamma_s = 0");
 }
