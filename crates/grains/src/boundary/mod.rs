@@ -28,8 +28,8 @@ mod round;
 mod shape;
 
 pub use mesh::{Mesh, MeshPlacement, MeshScratch, CREASE_DEG};
-pub use motion::Motion;
 use motion::Pose;
+pub use motion::{Motion, PlateSurface};
 pub use shape::Shape;
 
 use crate::dim::Dim;
@@ -64,6 +64,15 @@ pub struct Wall<D: Dim> {
     /// Seconds: the wall disappears at this time (e.g. the side wall taken
     /// away in an angle-of-repose run). `None`: it stays.
     pub remove_at: Option<f64>,
+    /// How the plate meets a grain under a modulated vibration. Left out
+    /// of the serialized form when it is the default, as `elastic` is, so
+    /// that files written from walls read as they did before the option.
+    #[serde(default, skip_serializing_if = "PlateSurface::is_curved")]
+    surface: PlateSurface,
+    /// Whether contacts with this wall have no normal damping (γ_n = 0)
+    /// whatever the grains' law (their shear friction stays).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    elastic: bool,
 }
 
 impl<D: Dim> Wall<D> {
@@ -96,7 +105,28 @@ impl<D: Dim> Wall<D> {
             shape,
             motion,
             remove_at: None,
+            surface: PlateSurface::default(),
+            elastic: false,
         })
+    }
+
+    /// The same wall with the plate reading `surface` (it matters only
+    /// under a modulated vibration; any other wall is unchanged by it).
+    pub fn with_surface(mut self, surface: PlateSurface) -> Self {
+        self.surface = surface;
+        self
+    }
+
+    /// The same wall, elastic (`true`: its contacts have γ_n = 0) or
+    /// damped like the grains' contacts (`false`, the default).
+    pub fn with_elastic(mut self, elastic: bool) -> Self {
+        self.elastic = elastic;
+        self
+    }
+
+    /// Whether contacts with this wall have no normal damping.
+    pub fn is_elastic(&self) -> bool {
+        self.elastic
     }
 
     /// The same wall, removed at time `t` (seconds).
@@ -383,6 +413,12 @@ impl<D: Dim> PlacedWall<'_, D> {
         }
     }
 
+    /// Whether contacts with this wall have no normal damping
+    /// ([`Wall::with_elastic`]).
+    pub fn is_elastic(&self) -> bool {
+        self.wall.elastic
+    }
+
     /// [`Wall::contact`] at the time the wall was placed at.
     pub fn contact(&self, p: D::V, r: f64) -> Option<WallContact<D>> {
         if !self.active {
@@ -396,7 +432,7 @@ impl<D: Dim> PlacedWall<'_, D> {
                 }
             }
             let slope = wall.motion.modulation_slope(D::get(p, 0), t)?;
-            return wall.modulated_contact(p, r, t, slope);
+            return wall.modulated_contact(p, r, t, wall.surface.tilt(slope));
         };
         let local = pose.invert(to3::<D>(p));
         // A plane's or a cylinder's quick test is its exact test: not run

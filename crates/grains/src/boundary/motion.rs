@@ -57,6 +57,40 @@ pub enum Motion<D: Dim> {
     Translate { velocity: D::V },
 }
 
+/// How a plate under a modulated vibration (B ≠ 0) meets a grain.
+///
+/// Both readings lift the plate to z0 = A(x) sin(2π f t + phase) under the
+/// grain's x and move it there at A(x) ω cos(2π f t + phase) along the
+/// vibration's direction; they differ in the contact normal.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PlateSurface {
+    /// The curve z0(x, t) itself: the normal leans by the local slope
+    /// ∂z0/∂x (up to 13° in seed 002 Fig. 2), so the plate also pushes
+    /// sideways.
+    #[default]
+    Curved,
+    /// Seed 002's 1992 reading: under each grain a flat plate at height
+    /// z0(x, t), its normal the plate's rest normal (vertical), so the plate
+    /// pushes only up whatever the modulation.
+    Flat,
+}
+
+impl PlateSurface {
+    /// Whether this is the default reading (for serde's skip).
+    pub(crate) fn is_curved(&self) -> bool {
+        *self == PlateSurface::Curved
+    }
+
+    /// The slope a grain's contact sees, given the curve's slope ∂z0/∂x.
+    pub(crate) fn tilt(self, slope: f64) -> f64 {
+        match self {
+            PlateSurface::Curved => slope,
+            PlateSurface::Flat => 0.0,
+        }
+    }
+}
+
 /// A rigid placement: x ↦ center + rot (x − center) + shift, in 3D form.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Pose {

@@ -118,6 +118,12 @@ fn wall_contacts<D: Dim>(
     let mut kept = ChunkSprings::default();
     let range = first..first + force.len();
     let law = input.law;
+    // An elastic wall (`Wall::with_elastic`) meets grains with their law
+    // less its normal damping.
+    let elastic = ContactLaw {
+        gamma_n: 0.0,
+        ..law.clone()
+    };
     let mut springs = springs_in.cursor(range.clone());
     // Mesh walls: several contacts per wall, springs per patch, and the
     // load they take (nothing allocated when there is no mesh).
@@ -160,12 +166,13 @@ fn wall_contacts<D: Dim>(
             mass: mi,
         };
         for (w, wall) in input.walls.iter().enumerate() {
+            let wall_law = if wall.is_elastic() { &elastic } else { law };
             if meshes && wall.mesh().is_some() {
                 wall.mesh_contacts(pos[k], ri, &mut mesh.scratch, &mut mesh.found);
                 for &(patch, contact) in &mesh.found {
                     let key = (i as u32, w as u32, patch);
                     let mut spring = mesh.springs.get_key(key);
-                    let (f, t) = push(input, &grain, &contact, &mut spring);
+                    let (f, t) = push(input, wall_law, &grain, &contact, &mut spring);
                     mesh.kept.keep_key(key, spring);
                     force[k] += f;
                     if law.rotation {
@@ -181,7 +188,7 @@ fn wall_contacts<D: Dim>(
                 continue;
             };
             let mut spring = springs.get(i, w);
-            let (f, t) = push(input, &grain, &contact, &mut spring);
+            let (f, t) = push(input, wall_law, &grain, &contact, &mut spring);
             kept.keep(i, w, spring);
             force[k] += f;
             if law.rotation {
@@ -220,11 +227,11 @@ struct MeshPass<'a, D: Dim> {
 #[inline(always)]
 fn push<D: Dim>(
     input: &FieldInput<D>,
+    law: &ContactLaw,
     g: &Grain<D>,
     contact: &WallContact<D>,
     spring: &mut D::V,
 ) -> (D::V, D::A) {
-    let law = input.law;
     let mut v_rel = g.vel - contact.velocity;
     if law.rotation {
         v_rel -= D::ang_cross(g.omega * g.radius, contact.normal);

@@ -313,6 +313,9 @@ fn wall<D: Dim>(k: usize, w: &WallSpec, dom: &Domain<D>, loaded: &Loaded) -> Res
     let motion = motion::<D>(&key, &w.motion, dom)?;
     let mut wall = Wall::new(w.name.clone(), shape, motion)
         .map_err(|e| Error::input(format!("{key}: {e}")))?;
+    if let MotionSpec::Vibrate { surface, .. } = &w.motion {
+        wall = wall.with_surface(*surface);
+    }
     if let Some(t) = w.remove_at {
         wall = wall
             .with_remove_at(t)
@@ -332,6 +335,7 @@ pub fn motion<D: Dim>(key: &str, spec: &MotionSpec, dom: &Domain<D>) -> Result<M
             wavelength,
             phase,
             direction,
+            surface: _,
         } => Motion::Vibrate {
             direction: match direction {
                 Some(d) => vector::<D>(&format!("{key}.motion.direction"), d)?,
@@ -389,6 +393,7 @@ fn build_md_inner<D: Dim>(loaded: &Loaded) -> Result<(Md<D>, Resolved)> {
         .enumerate()
         .map(|(k, w)| wall::<D>(k, w, &dom, loaded))
         .collect::<Result<Vec<_>>>()?;
+    let walls = super::resolve::elastic_walls(&s.contact.elastic_walls, walls)?;
     let dmax = records.iter().map(|g| 2.0 * g.radius).fold(0.0, f64::max);
     if !(s.run.skin.is_finite() && s.run.skin > 0.0) {
         return Err(Error::input(format!(

@@ -3,8 +3,10 @@
 //! the output interval, all checked for range.
 
 use super::schema::{ContactPreset, ContactSpec, MotionSpec, Scenario, TimeStep};
+use crate::boundary::Wall;
 use crate::contact::binary::BinaryContact;
 use crate::contact::{ContactLaw, MassScaling};
+use crate::dim::Dim;
 use crate::error::{Error, Result};
 
 /// Everything `grains check` prints and the runner needs.
@@ -294,6 +296,26 @@ pub fn resolve(s: &Scenario, lightest_mass: f64) -> Result<Resolved> {
         measure_steps: steps(measure).max(1),
         output_every: steps(every).max(1),
     })
+}
+
+/// Marks the walls named in `contact.elastic_walls` elastic
+/// ([`Wall::with_elastic`]); a name that is no wall's is an error listing
+/// the walls there are.
+pub fn elastic_walls<D: Dim>(names: &[String], walls: Vec<Wall<D>>) -> Result<Vec<Wall<D>>> {
+    if let Some(bad) = names.iter().find(|n| !walls.iter().any(|w| &w.name == *n)) {
+        let known: Vec<_> = walls.iter().map(|w| format!("\"{}\"", w.name)).collect();
+        return Err(Error::input(format!(
+            "contact.elastic_walls: no wall is named \"{bad}\"; the walls are [{}]",
+            known.join(", ")
+        )));
+    }
+    Ok(walls
+        .into_iter()
+        .map(|w| {
+            let elastic = names.contains(&w.name);
+            w.with_elastic(elastic)
+        })
+        .collect())
 }
 
 #[cfg(test)]

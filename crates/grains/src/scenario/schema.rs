@@ -4,6 +4,7 @@
 //! default. `docs/scenario-reference.md` documents each field; keep the two in
 //! step. Vectors are arrays with one entry per axis of the chosen dimension.
 
+use crate::boundary::PlateSurface;
 use crate::contact::MassScaling;
 use crate::integrate::Integrator;
 use crate::particles::MassModel;
@@ -203,6 +204,10 @@ pub struct ContactSpec {
     pub mu: Option<f64>,
     pub scaling: Option<MassScaling>,
     pub rotation: Option<bool>,
+    /// Names of walls whose contacts have no normal damping (γ_n = 0, the
+    /// grains' γ_t kept): elastic side walls beside a dissipative bulk.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub elastic_walls: Vec<String>,
 }
 
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
@@ -298,6 +303,11 @@ pub enum MotionSpec {
         phase: f64,
         #[serde(default)]
         direction: Option<Vec<f64>>,
+        /// How a modulated plate meets a grain: "curved" (the curve z0(x, t),
+        /// normal tilted by its slope) or "flat" (seed 002's 1992 reading:
+        /// lifted to z0 under each grain, normal vertical).
+        #[serde(default, skip_serializing_if = "PlateSurface::is_curved")]
+        surface: PlateSurface,
     },
     /// Conveyor-belt ellipse: displacement = amplitude · sin(2π f t + phase).
     Oscillate {
