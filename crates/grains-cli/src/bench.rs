@@ -8,7 +8,8 @@
 //! `gas2d` and `gas3d` time the DSMC engine on the elastic hard-sphere gas
 //! that mirrors SPARTA's `bench/sparta/in.hs3d` (10 particles per cell, cell
 //! = λ/2, ω τ = 0.30, Maxwellian start; see `grains::dsmc::workload`): 30
-//! untimed warm-up steps, then the timed ones.
+//! untimed warm-up steps, then the timed ones. The set-up (placement in
+//! cell order) is timed apart and reported line by line on stderr.
 
 use clap::Args;
 use grains::comm::Comm;
@@ -330,7 +331,12 @@ fn gas<D: grains::dsmc::GasDim>(args: &BenchArgs) -> Result<()> {
     let steps = args.steps.unwrap_or(300);
     let bytes = grains::scenario::memory::dsmc_bytes_per_particle(D::D);
     grains::scenario::memory::check("--particles", n, bytes)?;
-    let mut gas = grains::dsmc::workload::hard_sphere_gas::<D>(n, 12345);
+    // The set-up of a large gas takes seconds: one line per pass.
+    let setup_start = Instant::now();
+    let mut gas = grains::dsmc::workload::hard_sphere_gas_reporting::<D>(n, 12345, &mut |line| {
+        eprintln!("grains: {line}")
+    });
+    let setup = setup_start.elapsed().as_secs_f64();
     gas.run(30);
     let before = gas.totals;
     let cpu0 = cpu_seconds();
@@ -355,12 +361,13 @@ fn gas<D: grains::dsmc::GasDim>(args: &BenchArgs) -> Result<()> {
                 "candidates_per_particle_step": candidates,
                 "cells": gas.grid.cells(),
                 "cpu_seconds": cpu, "cpu_ns_per_particle_step": 1e9 * cpu / updates,
+                "setup_seconds": setup,
                 "bytes_per_particle": rss as f64 / particles as f64,
             })
         );
     } else {
         println!(
-            "{}: {particles} particles, {} cells, {steps} steps, {threads} thread(s): {wall:.3} s, {ns:.1} ns per particle-step (CPU {:.1} ns), {collisions:.4} collisions and {candidates:.4} candidates per particle-step, peak RSS {:.1} MiB ({:.1} B per particle)",
+            "{}: {particles} particles, {} cells, {steps} steps, {threads} thread(s): {wall:.3} s, {ns:.1} ns per particle-step (CPU {:.1} ns), {collisions:.4} collisions and {candidates:.4} candidates per particle-step, peak RSS {:.1} MiB ({:.1} B per particle), set-up {setup:.2} s",
             args.workload,
             gas.grid.cells(),
             1e9 * cpu / updates,
