@@ -232,8 +232,12 @@ impl<D: Dim> GasDraw<D> {
     }
 }
 
-/// Particles per block of the parallel placement.
-const GAS_BLOCK: usize = 1 << 14;
+/// Particles per block of the parallel placement: each block knows where
+/// its draws start and keeps its own counts per bucket.
+const GAS_BLOCK: usize = 1 << 16;
+/// Most particles a bucket of the parallel placement should hold: its
+/// records (4 MB in 2D) are sorted by cell within a thread's caches.
+const GAS_BUCKET: usize = 1 << 17;
 
 /// A gas placed in cell order and what the set-up measured.
 pub struct PlacedGas<D: Dim> {
@@ -245,20 +249,38 @@ pub struct PlacedGas<D: Dim> {
 
 /// `count` particles of `draw`, the same as [`GasDraw::serial`] stably
 /// sorted by their cell of `grid` (what the engine's first gather does),
-/// built in parallel without a second copy of the records.
+/// built in parallel with no second copy of the records and no random
+/// permutation of them (a cache and TLB miss per record at 10⁸).
 ///
-/// Passes: (1) serial, the draw at which every block of [`GAS_BLOCK`]
-/// particles starts, running only the rejection tests of the velocities
-/// (a few ns a particle); (2) parallel, each particle's cell; (3) a stable
-/// counting sort of the cells, its histogram parallel over one range of
-/// particles per thread; (4) parallel, each block draws its particles and
-/// writes them to their sorted places; (5) serial, Σ|v|² in the stream's
-/// order. `report` gets one line per pass, with its time.
+/// Cells are grouped into buckets (contiguous ranges of cells, at most
+/// about [`GAS_BUCKET`] particles each). Passes: (1) serial, the draw at
+/// which every block of [`GAS_BLOCK`] particles starts, running only the
+/// rejection tests of the velocities (a few ns a particle); (2) parallel,
+/// each block counts its particles per bucket; (3) parallel, each block
+/// draws its particles and appends them to its own run in each bucket
+/// (blocks in order, so a bucket holds its particles in the stream's
+/// order), keeping each |v|² in the stream's order; (4) parallel, each
+/// bucket is sorted by cell, stably, within its own range; (5) serial,
+/// Σ|v|² in the stream's order. `report` gets one line per pass, with its
+/// time.
 pub fn gas_in_cell_order<D: Dim>(
     draw: &GasDraw<D>,
     count: usize,
     grid: &CellGrid,
     report: &mut dyn FnMut(&str),
+) -> Result<PlacedGas<D>> {
+    place_gas(draw, count, grid, report, GAS_BLOCK, GAS_BUCKET)
+}
+
+/// [`gas_in_cell_order`] with `block` particles per block and buckets of
+/// about `bucket` particles (small ones in the tests).
+fn place_gas<D: Dim>(
+    draw: &GasDraw<D>,
+    count: usize,
+    grid: &CellGrid,
+    report: &mut dyn FnMut(&str),
+    block: usize,
+    bucket: usize,
 ) -> Result<PlacedGas<D>> {
     if count >= u32::MAX as usize {
         return Err(Error::input(format!(
@@ -268,82 +290,122 @@ pub fn gas_in_cell_order<D: Dim>(
     }
     let origin = Origin::for_purpose(draw.seed, draw.purpose);
     let clock = Instant::now();
-    let lap = |what: String, report: &mut dyn FnMut(&str), t: &mut f64| {
-        let now = clock.elapsed().as_secs_f64();
-        report(&format!("{what} ({:.1} s)", now - *t));
-        *t = now;
-    };
     let mut t = 0.0;
+    let mut lap = |what: String| {
+        let now = clock.elapsed().as_secs_f64();
+        report(&format!("set-up: {what} ({:.1} s)", now - t));
+        t = now;
+    };
 
     // (1) Where each block starts in the stream.
-    let blocks = count.div_ceil(GAS_BLOCK);
-    let mut starts = Vec::with_capacity(blocks);
+    let mut starts = Vec::with_capacity(count.div_ceil(block));
     let mut drawn = 0u64;
     for k in 0..count {
-        if k % GAS_BLOCK == 0 {
+        if k % block == 0 {
             starts.push(drawn);
         }
         // The position's draws are passed over without being made.
         let mut rng = origin.at(drawn + D::D as u64);
         drawn += D::D as u64 + draw.skip_velocity(&mut rng);
     }
-    lap(
-        format!("set-up: {count} particles, {drawn} random draws"),
-        report,
-        &mut t,
-    );
+    lap(format!("{count} particles, {drawn} random draws"));
 
-    // (2) The cell of every particle.
-    let mut slot = vec![0u32; count];
-    slot.par_chunks_mut(GAS_BLOCK)
-        .zip(starts.par_iter())
-        .for_each(|(keys, &s)| {
+    // (2) Each block's count per bucket.
+    let cells = grid.cells();
+    let buckets = count.div_ceil(bucket).clamp(1, cells);
+    let per_bucket = cells.div_ceil(buckets);
+    let buckets = cells.div_ceil(per_bucket);
+    let bucket_of = |x: D::V| grid.cell_of::<D>(x) as usize / per_bucket;
+    let block_len = |b: usize| block.min(count - b * block);
+    let mut runs: Vec<Vec<u32>> = starts
+        .par_iter()
+        .enumerate()
+        .map(|(b, &s)| {
+            let mut n = vec![0u32; buckets];
             let mut rng = origin.at(s);
-            for k in keys.iter_mut() {
-                *k = grid.cell_of::<D>(draw.position(&mut rng));
+            for _ in 0..block_len(b) {
+                n[bucket_of(draw.position(&mut rng))] += 1;
                 draw.skip_velocity(&mut rng);
             }
-        });
-    lap(
-        format!("set-up: cells of {count} particles"),
-        report,
-        &mut t,
-    );
+            n
+        })
+        .collect();
+    // Each block's first place in each bucket: buckets in order, blocks in
+    // order within a bucket.
+    let mut edges = Vec::with_capacity(buckets + 1);
+    let mut next = 0u32;
+    for k in 0..buckets {
+        edges.push(next as usize);
+        for run in runs.iter_mut() {
+            let n = run[k];
+            run[k] = next;
+            next += n;
+        }
+    }
+    edges.push(next as usize);
+    lap(format!("{buckets} buckets of cells"));
 
-    // (3) Stable counting sort: `slot` becomes each particle's place.
-    counting_places(&mut slot, grid.cells());
-    lap(
-        format!("set-up: sorted into {} cells", grid.cells()),
-        report,
-        &mut t,
-    );
-
-    // (4) Each block draws its particles into their places.
+    // (3) Each block draws its particles into its runs.
     let mut particles: Vec<Particle<D>> = Vec::with_capacity(count);
+    let mut speed2 = vec![0.0f64; count];
     let out = SharedOut(particles.as_mut_ptr());
-    slot.par_chunks(GAS_BLOCK)
+    speed2
+        .par_chunks_mut(block)
         .zip(starts.par_iter())
-        .for_each(|(places, &s)| {
+        .zip(runs.par_iter_mut())
+        .for_each(|((s2, &s), next)| {
             let out = &out;
             let mut rng = origin.at(s);
-            for &at in places {
+            for v2 in s2.iter_mut() {
                 let q = draw.draw(&mut rng);
-                // SAFETY: `slot` is a permutation of 0..count (a counting
-                // sort's places), so every place is written once, by one
-                // block, within the allocation of `count` records.
-                unsafe { out.0.add(at as usize).write(q) };
+                *v2 = D::norm2(q.v);
+                let at = &mut next[bucket_of(q.x)];
+                // SAFETY: the runs of all blocks in all buckets tile
+                // 0..count (the counts of pass 2, the same positions), so
+                // every place is written once, by one block.
+                unsafe { out.0.add(*at as usize).write(q) };
+                *at += 1;
             }
         });
+    drop(runs);
     // SAFETY: all `count` records were written above.
     unsafe { particles.set_len(count) };
-    lap(format!("set-up: drew {count} particles"), report, &mut t);
+    lap(format!("drew {count} particles"));
+
+    // (4) Each bucket sorted by cell, stably.
+    let mut slices = Vec::with_capacity(buckets);
+    let mut rest = particles.as_mut_slice();
+    for k in 0..buckets {
+        let (head, tail) = rest.split_at_mut(edges[k + 1] - edges[k]);
+        slices.push((k, head));
+        rest = tail;
+    }
+    slices.into_par_iter().for_each_init(
+        || (Vec::new(), Vec::new()),
+        |(scratch, first), (k, slice)| {
+            let lo = k * per_bucket;
+            first.clear();
+            first.resize(per_bucket + 1, 0usize);
+            scratch.clear();
+            scratch.extend_from_slice(slice);
+            for q in scratch.iter() {
+                first[grid.cell_of::<D>(q.x) as usize - lo + 1] += 1;
+            }
+            for c in 1..first.len() {
+                first[c] += first[c - 1];
+            }
+            for q in scratch.iter() {
+                let f = &mut first[grid.cell_of::<D>(q.x) as usize - lo];
+                slice[*f] = *q;
+                *f += 1;
+            }
+        },
+    );
+    lap(format!("sorted into {cells} cells"));
 
     // (5) Σ|v|² in the stream's order, the bits of a serial sum.
-    let speed_sum = slot
-        .iter()
-        .map(|&at| D::norm2(particles[at as usize].v))
-        .sum::<f64>();
-    lap("set-up: mean square speed".to_string(), report, &mut t);
+    let speed_sum = speed2.iter().copied().sum::<f64>();
+    lap("mean square speed".to_string());
     Ok(PlacedGas {
         particles,
         speed_sum,
@@ -355,45 +417,6 @@ struct SharedOut<T>(*mut T);
 // SAFETY: the blocks write disjoint records (see `gas_in_cell_order`).
 unsafe impl<T> Send for SharedOut<T> {}
 unsafe impl<T> Sync for SharedOut<T> {}
-
-/// Replaces each cell index in `key` (below `cells`) by the particle's
-/// place in a stable sort by cell. The histogram and the placing run on one
-/// contiguous range of particles per thread, each with its own counts, so
-/// the result is that of the serial sort on any number of threads.
-fn counting_places(key: &mut [u32], cells: usize) {
-    let parts = rayon::current_num_threads()
-        .min(key.len().div_ceil(GAS_BLOCK))
-        .max(1);
-    let len = key.len().div_ceil(parts).max(1);
-    let mut counts: Vec<Vec<u32>> = key
-        .par_chunks(len)
-        .map(|ks| {
-            let mut c = vec![0u32; cells];
-            for &k in ks {
-                c[k as usize] += 1;
-            }
-            c
-        })
-        .collect();
-    // Each part's first place in each cell: cells in order, parts in order.
-    let mut next = 0u32;
-    for c in 0..cells {
-        for part in counts.iter_mut() {
-            let n = part[c];
-            part[c] = next;
-            next += n;
-        }
-    }
-    key.par_chunks_mut(len)
-        .zip(counts.par_iter_mut())
-        .for_each(|(ks, first)| {
-            for k in ks.iter_mut() {
-                let f = &mut first[*k as usize];
-                *k = *f;
-                *f += 1;
-            }
-        });
-}
 
 #[cfg(test)]
 mod tests {
@@ -433,9 +456,9 @@ mod tests {
     }
 
     /// The parallel placement is the serial draw stably sorted by cell,
-    /// with the serial sum of |v|², on any number of threads; blocks that
-    /// start inside a rejection loop's draws are where it could go wrong,
-    /// so the count spans several blocks.
+    /// with the serial sum of |v|², on any number of threads; small blocks
+    /// and buckets (21 blocks, 14 buckets) exercise the seams
+    /// where it could go wrong.
     fn placement_matches_serial<D: Dim>(velocity: GasVelocity) {
         let mut hi = D::zero();
         for a in 0..D::D {
@@ -449,7 +472,7 @@ mod tests {
             velocity,
         };
         let grid = CellGrid::new(D::D, [0.0; 3], D::to_xyz(hi), 0.25);
-        let count = 3 * GAS_BLOCK + 123;
+        let count = 20_123;
         let serial = draw.serial(count);
         let mut want = serial.clone();
         want.sort_by_key(|q| grid.cell_of::<D>(q.x)); // stable
@@ -461,7 +484,7 @@ mod tests {
                 .unwrap();
             let mut lines = 0;
             let got = pool
-                .install(|| gas_in_cell_order(&draw, count, &grid, &mut |_| lines += 1))
+                .install(|| place_gas(&draw, count, &grid, &mut |_| lines += 1, 1000, 1500))
                 .unwrap();
             let bits = |p: &[Particle<D>]| -> Vec<[u64; 6]> {
                 p.iter()
