@@ -7,6 +7,7 @@
 #   bench/memory_footprint.sh                     # 10^6 grains, 10^7 particles
 #   N_MD=10000000 N_GAS=100000000 bench/memory_footprint.sh
 #   GRAINS=target/release/grains bench/memory_footprint.sh
+#   CHECK=1 bench/memory_footprint.sh             # exit 1 unless every ratio is in 0.8–1.2
 #
 # Each line: workload, count, peak RSS per grain or particle (from
 # /usr/bin/time -v, the whole process), the estimate, and their ratio.
@@ -35,11 +36,19 @@ kb = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", open(timing).
 n = doc["particles"]
 per = kb * 1024 / n
 est = doc["estimate_bytes_per_particle"]
-print(f"{name:14s} {n:>11d}  peak {per:7.1f} B  estimate {est:5d} B  estimate/peak {est / per:5.2f}")
+ratio = est / per
+print(f"{name:14s} {n:>11d}  peak {per:7.1f} B  estimate {est:5d} B  estimate/peak {ratio:5.2f}")
+open(out + ".ratio", "w").write(f"{ratio}\n")
 PY
+  if [ -n "${CHECK:-}" ] && ! python3 -c "import sys; r = float(open('$work/out.json.ratio').read()); sys.exit(0 if 0.8 <= r <= 1.2 else 1)"; then
+    echo "$name: the estimate is not within 20% of the measured peak" >&2
+    failed=1
+  fi
 }
+failed=0
 
 measure "bed3d verlet" bed3d --particles "$n_md" --integrator verlet
 measure "bed3d gear5" bed3d --particles "$n_md" --integrator gear5
 measure "gas2d" gas2d --particles "$n_gas"
 measure "gas3d" gas3d --particles "$n_gas"
+exit $failed
