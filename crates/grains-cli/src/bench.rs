@@ -8,7 +8,8 @@
 //! `gas2d` and `gas3d` time the DSMC engine on the elastic hard-sphere gas
 //! that mirrors SPARTA's `bench/sparta/in.hs3d` (10 particles per cell, cell
 //! = λ/2, ω τ = 0.30, Maxwellian start; see `grains::dsmc::workload`): 30
-//! untimed warm-up steps, then the timed ones.
+//! untimed warm-up steps (`--warmup`), then the timed ones. The set-up (placement in
+//! cell order) is timed apart and reported line by line on stderr.
 
 use clap::Args;
 use grains::comm::Comm;
@@ -28,6 +29,10 @@ pub struct BenchArgs {
     /// Steps to time [default: chute 1000, vib2d 10000, bed3d 1000, gas 300].
     #[arg(long)]
     steps: Option<u64>,
+    /// Untimed steps of the gas workloads before the timed ones [default:
+    /// 30, as SPARTA's input].
+    #[arg(long)]
+    warmup: Option<u64>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -182,6 +187,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
             ))),
         };
     }
+    if args.warmup.is_some() {
+        return Err(Error::input(
+            "--warmup applies to the gas workloads only (gas2d, gas3d)",
+        ));
+    }
     let (loaded, default_steps) = md_workload(&args)?;
     let steps = args.steps.unwrap_or(default_steps);
     let (particles, integrator, narrow, (wall, cpu, timing)) =
@@ -197,6 +207,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             (md.particles.n_mobile(), md.settings.integrator, narrow, w)
         };
     let threads = rayon::current_num_threads();
+    let dims = loaded.scenario.dimension.axes();
     let updates = steps as f64 * particles.max(1) as f64;
     let ns = 1e9 * wall / updates;
     let phases = timing.to_json(wall, 1e9 / updates);
@@ -208,6 +219,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 "workload": args.workload, "particles": particles, "steps": steps, "threads": threads,
                 "integrator": integrator.name(), "wall_seconds": wall, "ns_per_particle_step": ns,
                 "cpu_seconds": cpu, "peak_rss_bytes": rss, "phase_ns_per_particle_step": phases,
+                "estimate_bytes_per_particle": grains::scenario::memory::md_bytes_per_grain(dims, integrator),
                 "steps_on_one_thread": narrow,
             })
         );
@@ -330,8 +342,13 @@ fn gas<D: grains::dsmc::GasDim>(args: &BenchArgs) -> Result<()> {
     let steps = args.steps.unwrap_or(300);
     let bytes = grains::scenario::memory::dsmc_bytes_per_particle(D::D);
     grains::scenario::memory::check("--particles", n, bytes)?;
-    let mut gas = grains::dsmc::workload::hard_sphere_gas::<D>(n, 12345);
-    gas.run(30);
+    // The set-up of a large gas takes seconds: one line per pass.
+    let setup_start = Instant::now();
+    let mut gas = grains::dsmc::workload::hard_sphere_gas_reporting::<D>(n, 12345, &mut |line| {
+        eprintln!("grains: {line}")
+    });
+    let setup = setup_start.elapsed().as_secs_f64();
+    gas.run(args.warmup.unwrap_or(30));
     let before = gas.totals;
     let cpu0 = cpu_seconds();
     let start = Instant::now();
@@ -355,12 +372,13 @@ fn gas<D: grains::dsmc::GasDim>(args: &BenchArgs) -> Result<()> {
                 "candidates_per_particle_step": candidates,
                 "cells": gas.grid.cells(),
                 "cpu_seconds": cpu, "cpu_ns_per_particle_step": 1e9 * cpu / updates,
+                "setup_seconds": setup, "estimate_bytes_per_particle": bytes,
                 "bytes_per_particle": rss as f64 / particles as f64,
             })
         );
     } else {
         println!(
-            "{}: {particles} particles, {} cells, {steps} steps, {threads} thread(s): {wall:.3} s, {ns:.1} ns per particle-step (CPU {:.1} ns), {collisions:.4} collisions and {candidates:.4} candidates per particle-step, peak RSS {:.1} MiB ({:.1} B per particle)",
+            "{}: {particles} particles, {} cells, {steps} steps, {threads} thread(s): {wall:.3} s, {ns:.1} ns per particle-step (CPU {:.1} ns), {collisions:.4} collisions and {candidates:.4} candidates per particle-step, peak RSS {:.1} MiB ({:.1} B per particle), set-up {setup:.2} s",
             args.workload,
             gas.grid.cells(),
             1e9 * cpu / updates,

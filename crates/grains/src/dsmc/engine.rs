@@ -107,16 +107,25 @@ impl<D: GasDim> Dsmc<D> {
         walls: Vec<PlaneWall<D>>,
         settings: DsmcSettings,
     ) -> Self {
-        let lo = D::to_xyz(domain.lo);
-        let hi = D::to_xyz(domain.hi);
-        let grid = CellGrid::new(D::D, lo, hi, settings.cell);
+        let speed_sum = store.p.iter().map(|q| D::norm2(q.v)).sum::<f64>();
+        Self::with_speed_sum(store, domain, gravity, walls, settings, speed_sum)
+    }
+
+    /// [`Self::new`] given Σ|v|² over the particles (summed in the order
+    /// they were drawn, when the store is already in cell order:
+    /// `crate::scenario::placement::gas_in_cell_order`).
+    pub fn with_speed_sum(
+        store: Store<D>,
+        domain: Domain<D>,
+        gravity: D::V,
+        walls: Vec<PlaneWall<D>>,
+        settings: DsmcSettings,
+        speed_sum: f64,
+    ) -> Self {
+        let grid = CellGrid::for_domain(&domain, settings.cell);
         let ncell = grid.cells();
         let n = store.len();
-        let v2 = if n > 0 {
-            store.p.iter().map(|q| D::norm2(q.v)).sum::<f64>() / n as f64
-        } else {
-            0.0
-        };
+        let v2 = if n > 0 { speed_sum / n as f64 } else { 0.0 };
         // Relative speeds of a Maxwellian exceed 3√2 v_rms with probability
         // below 1e-5; any larger one met raises the cell's bound.
         let vmax0 = (3.0 * (2.0 * v2).sqrt()).max(settings.vmax_floor);

@@ -1,11 +1,20 @@
 //! Counter-seeded random streams: one small generator per (seed, step, cell),
 //! so that the draws a cell makes do not depend on which thread runs it.
 //!
-//! The generator is SplitMix64 (Steele, Lea & Flood 2014): one 64-bit add and
-//! a mixing function per draw. Its state is derived by mixing the three
-//! counters, so neighbouring cells and steps get unrelated streams.
+//! The generator is SplitMix64 (Steele, Lea & Flood 2014), the one of
+//! `rand_xoshiro`: one 64-bit add and a mixing function per draw. Its state
+//! is derived by mixing the three counters with the same finalizer, so
+//! neighbouring cells and steps get unrelated streams. Because the state
+//! only advances by a constant, draw k of a stream can be reached directly
+//! ([`Origin::at`]): the set-up places particles in parallel
+//! with the draws a serial loop would make.
 
-/// The SplitMix64 finalizer: a bijective mix of 64 bits.
+use rand::{RngCore, SeedableRng};
+use rand_xoshiro::SplitMix64;
+
+/// The SplitMix64 finalizer: a bijective mix of 64 bits. It hashes the
+/// counters into a stream's starting state (the generator itself applies
+/// the same function to its state at every draw).
 #[inline(always)]
 pub fn mix64(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -13,6 +22,7 @@ pub fn mix64(mut z: u64) -> u64 {
     z ^ (z >> 31)
 }
 
+/// SplitMix64's state increment (the golden ratio in 64 bits).
 const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
 
 /// The streams of one (seed, step): the two counters mixed once per step,
@@ -34,16 +44,20 @@ impl StepStreams {
     /// The stream of one cell.
     #[inline(always)]
     pub fn cell(&self, cell: u64) -> Stream {
-        Stream {
-            state: mix64(self.base ^ cell.wrapping_mul(0xD6E8_FEB8_6659_FD93)),
-        }
+        Stream::from_state(self.base_state(cell))
+    }
+
+    /// The starting state of a cell's stream.
+    #[inline(always)]
+    fn base_state(&self, cell: u64) -> u64 {
+        mix64(self.base ^ cell.wrapping_mul(0xD6E8_FEB8_6659_FD93))
     }
 }
 
 /// A SplitMix64 stream.
 #[derive(Clone, Debug)]
 pub struct Stream {
-    state: u64,
+    core: SplitMix64,
 }
 
 impl Stream {
@@ -53,15 +67,22 @@ impl Stream {
         StepStreams::new(seed, step).cell(cell)
     }
 
+    /// The stream whose first draw mixes `state` + the increment.
+    #[inline(always)]
+    fn from_state(state: u64) -> Self {
+        Self {
+            core: SplitMix64::seed_from_u64(state),
+        }
+    }
+
     /// A stream for a named purpose (initial positions, velocities).
     pub fn for_purpose(seed: u64, purpose: u64) -> Self {
-        Self::new(seed, u64::MAX - purpose, u64::MAX)
+        Origin::for_purpose(seed, purpose).at(0)
     }
 
     #[inline(always)]
     pub fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(GOLDEN);
-        mix64(self.state)
+        self.core.next_u64()
     }
 
     /// Uniform in [0, 1) with 53 random bits.
@@ -99,20 +120,105 @@ impl Stream {
 
     /// Two independent standard normal deviates (Marsaglia's polar method).
     pub fn normal_pair(&mut self) -> (f64, f64) {
+        let (x, y, s) = self.polar_point();
+        let f = (-2.0 * s.ln() / s).sqrt();
+        (x * f, y * f)
+    }
+
+    /// The draws of [`Self::normal_pair`] without its logarithm and square
+    /// root; returns how many it took (two per try).
+    #[inline]
+    pub fn skip_normal_pair(&mut self) -> u64 {
+        let mut draws = 0;
+        loop {
+            let (x, y) = (self.symmetric(), self.symmetric());
+            draws += 2;
+            if polar_accepts(x * x + y * y) {
+                return draws;
+            }
+        }
+    }
+
+    /// A point uniform in the unit disk but its centre, with its squared
+    /// radius: the polar method's rejection loop.
+    #[inline]
+    fn polar_point(&mut self) -> (f64, f64, f64) {
         loop {
             let (x, y) = (self.symmetric(), self.symmetric());
             let s = x * x + y * y;
-            if s > 0.0 && s < 1.0 {
-                let f = (-2.0 * s.ln() / s).sqrt();
-                return (x * f, y * f);
+            if polar_accepts(s) {
+                return (x, y, s);
             }
         }
+    }
+}
+
+/// Whether the polar method keeps a point of squared radius `s`.
+#[inline(always)]
+fn polar_accepts(s: f64) -> bool {
+    s > 0.0 && s < 1.0
+}
+
+/// The start of a purpose stream, from which any of its draws is reached
+/// directly (the state of SplitMix64 advances by a constant per draw).
+#[derive(Clone, Copy, Debug)]
+pub struct Origin {
+    state: u64,
+}
+
+impl Origin {
+    /// The origin of [`Stream::for_purpose`]`(seed, purpose)`.
+    pub fn for_purpose(seed: u64, purpose: u64) -> Self {
+        Self {
+            state: StepStreams::new(seed, u64::MAX - purpose).base_state(u64::MAX),
+        }
+    }
+
+    /// The stream after `draws` draws: what it gives next is its draw
+    /// number `draws` (from 0).
+    #[inline]
+    pub fn at(self, draws: u64) -> Stream {
+        Stream::from_state(self.state.wrapping_add(draws.wrapping_mul(GOLDEN)))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    const PINNED: u64 = 0x50F4_302E_494B_F0C8;
+
+    /// The library core gives the draws of SplitMix64 written out
+    /// (state += increment, then the finalizer), which the streams were
+    /// before it: the same bits in every run.
+    #[test]
+    fn library_core_is_splitmix64_and_jumps_ahead() {
+        let start = mix64(0x1234_5678 ^ 99u64.wrapping_mul(0xD6E8_FEB8_6659_FD93));
+        let mut r = Stream::from_state(start);
+        for k in 1..=1000u64 {
+            assert_eq!(
+                r.next_u64(),
+                mix64(start.wrapping_add(k.wrapping_mul(GOLDEN)))
+            );
+        }
+        let mut serial = Stream::for_purpose(5, 10);
+        let origin = Origin::for_purpose(5, 10);
+        for k in 0..300u64 {
+            let want = serial.next_u64();
+            assert_eq!(origin.at(k).next_u64(), want, "draw {k}");
+        }
+        // Skipping a normal pair takes the draws drawing it takes.
+        let (mut a, mut b) = (origin.at(7), origin.at(7));
+        for _ in 0..1000 {
+            a.normal_pair();
+            let used = b.skip_normal_pair();
+            assert!(used >= 2 && used % 2 == 0);
+            assert_eq!(a.next_u64(), b.next_u64());
+        }
+        // A pinned value: a change of the stream derivation changes every
+        // DSMC run's bits.
+        assert_eq!(Stream::new(1, 2, 3).next_u64(), PINNED);
+    }
 
     #[test]
     fn uniform_moments_and_below_range() {

@@ -59,6 +59,11 @@ impl CellGrid {
         }
     }
 
+    /// The grid of a domain (the engine's, [`super::engine::Dsmc::grid`]).
+    pub fn for_domain<D: Dim>(domain: &crate::domain::Domain<D>, cell: f64) -> Self {
+        Self::new(D::D, D::to_xyz(domain.lo), D::to_xyz(domain.hi), cell)
+    }
+
     pub fn cells(&self) -> usize {
         self.n.iter().map(|&k| k as usize).product()
     }

@@ -10,8 +10,10 @@ use super::collide::GasDim;
 use super::dense::DenseGas;
 use super::engine::{collision_frequency, maxwellian, Dsmc, DsmcSettings};
 use super::rng::Stream;
+use super::sort::CellGrid;
 use super::store::{Particle, Store};
 use crate::domain::Domain;
+use crate::scenario::placement::{gas_in_cell_order, GasDraw, GasVelocity};
 
 /// Particles per cell of the workload.
 pub const PER_CELL: f64 = 10.0;
@@ -21,6 +23,16 @@ pub const OMEGA_DT: f64 = 0.30;
 /// The hard-sphere benchmark gas with about `n` particles (rounded to fill
 /// whole cells) and elastic collisions.
 pub fn hard_sphere_gas<D: GasDim>(n: usize, seed: u64) -> Dsmc<D> {
+    hard_sphere_gas_reporting(n, seed, &mut |_| {})
+}
+
+/// [`hard_sphere_gas`], telling `report` how its set-up goes (one line per
+/// pass of [`gas_in_cell_order`]).
+pub fn hard_sphere_gas_reporting<D: GasDim>(
+    n: usize,
+    seed: u64,
+    report: &mut dyn FnMut(&str),
+) -> Dsmc<D> {
     let cells = (n as f64 / PER_CELL).max(1.0);
     // Cells per axis: 3D like SPARTA's 50 × 50 × 40 (x = y ≥ z), 2D square.
     let mut nc = [1usize; 3];
@@ -51,34 +63,36 @@ pub fn hard_sphere_gas<D: GasDim>(n: usize, seed: u64) -> Dsmc<D> {
         D::set(&mut hi, a, k as f64);
     }
     let domain = Domain::new(D::zero(), hi, [true; 3]);
-    let mut rng = Stream::for_purpose(seed, 1);
-    let mut p = Vec::with_capacity(count);
-    for _ in 0..count {
-        let mut x = D::zero();
-        for (a, &k) in nc.iter().enumerate().take(D::D) {
-            D::set(&mut x, a, rng.uniform() * k as f64);
-        }
-        p.push(Particle {
-            x,
-            v: maxwellian::<D>(&mut rng, 1.0),
-        });
-    }
-    let store = Store::new(p, diameter, 1.0);
-    Dsmc::new(
+    let settings = DsmcSettings {
+        dt,
+        restitution: 1.0,
+        wall_restitution: 1.0,
+        dense: DenseGas::None,
+        rcp: 0.64,
+        seed,
+        cell: 1.0,
+        vmax_floor: 0.0,
+    };
+    // Uniform in the box (x = 0 + u k, the same bits as u k), Maxwellian
+    // with √(T/m) = 1.
+    let draw = GasDraw::<D> {
+        seed,
+        purpose: 1,
+        lo: D::zero(),
+        hi,
+        velocity: GasVelocity::Maxwellian { thermal_speed: 1.0 },
+    };
+    let grid = CellGrid::for_domain(&domain, settings.cell);
+    let placed = gas_in_cell_order(&draw, count, &grid, report)
+        .expect("the workload's count is far below the limit");
+    let store = Store::new(placed.particles, diameter, 1.0);
+    Dsmc::with_speed_sum(
         store,
         domain,
         D::zero(),
         Vec::new(),
-        DsmcSettings {
-            dt,
-            restitution: 1.0,
-            wall_restitution: 1.0,
-            dense: DenseGas::None,
-            rcp: 0.64,
-            seed,
-            cell: 1.0,
-            vmax_floor: 0.0,
-        },
+        settings,
+        placed.speed_sum,
     )
 }
 

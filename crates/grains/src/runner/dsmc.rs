@@ -11,13 +11,13 @@ use crate::dim::{Dim, D2, D3};
 use crate::domain::Domain;
 use crate::dsmc::collide::{GasDim, Tally};
 use crate::dsmc::diagnostics::Validity;
-use crate::dsmc::engine::{haff_time, maxwellian, Dsmc, DsmcSettings, PlaneWall};
-use crate::dsmc::rng::Stream;
+use crate::dsmc::engine::{haff_time, Dsmc, DsmcSettings, PlaneWall};
 use crate::dsmc::spec::DsmcSpec;
-use crate::dsmc::store::{particle_volume, Particle, Store};
+use crate::dsmc::store::{particle_volume, Store};
 use crate::error::{Error, Result};
 use crate::io::{Frame, ThermoWriter, VtkSeries};
 use crate::scenario::build::vector;
+use crate::scenario::placement::{gas_in_cell_order, GasDraw, GasVelocity};
 use crate::scenario::resolve::cycle_frequency;
 use crate::scenario::schema::OutputSpec;
 use crate::scenario::schema::{Dimension, MotionSpec, Placement, ShapeSpec, TimeStep};
@@ -52,6 +52,15 @@ pub(super) fn spec(loaded: &Loaded) -> DsmcSpec {
 
 /// Builds the engine of a DSMC scenario.
 pub fn build<D: GasDim>(loaded: &Loaded) -> Result<(Dsmc<D>, Plan)> {
+    build_reporting(loaded, &mut |_| {})
+}
+
+/// [`build`], telling `report` how the set-up goes (one line per pass of
+/// [`gas_in_cell_order`]).
+pub fn build_reporting<D: GasDim>(
+    loaded: &Loaded,
+    report: &mut dyn FnMut(&str),
+) -> Result<(Dsmc<D>, Plan)> {
     let s = &loaded.scenario;
     let ds = spec(loaded);
     let ps = &s.particles;
@@ -93,27 +102,21 @@ pub fn build<D: GasDim>(loaded: &Loaded) -> Result<(Dsmc<D>, Plan)> {
         None => (lo, hi),
     };
     let mass = ps.mass_model.mass(ps.density, ps.d0);
-    let mut rng = Stream::for_purpose(s.seed, 10);
-    let p: Vec<Particle<D>> = (0..ps.count)
-        .map(|_| {
-            let mut x = D::zero();
-            for a in 0..D::D {
-                let (l, h) = (D::get(rlo, a), D::get(rhi, a));
-                D::set(&mut x, a, l + rng.uniform() * (h - l));
+    let draw = GasDraw::<D> {
+        seed: s.seed,
+        purpose: 10,
+        lo: rlo,
+        hi: rhi,
+        velocity: if ds.thermal_speed > 0.0 {
+            GasVelocity::Maxwellian {
+                thermal_speed: ds.thermal_speed,
             }
-            let v = if ds.thermal_speed > 0.0 {
-                maxwellian::<D>(&mut rng, ds.thermal_speed)
-            } else {
-                let mut v = D::zero();
-                for a in 0..D::D {
-                    D::set(&mut v, a, rng.symmetric() * ps.random_velocity);
-                }
-                v
-            };
-            Particle { x, v }
-        })
-        .collect();
-    let store = Store::new(p, ps.d0, mass);
+        } else {
+            GasVelocity::Uniform {
+                amplitude: ps.random_velocity,
+            }
+        },
+    };
     let gravity = match &s.gravity {
         Some(g) => vector::<D>("gravity", g)?,
         None => D::zero(),
@@ -179,7 +182,12 @@ pub fn build<D: GasDim>(loaded: &Loaded) -> Result<(Dsmc<D>, Plan)> {
         }
         None => (ds.particles_per_cell / n).powf(1.0 / D::D as f64),
     };
-    let v2 = store.p.iter().map(|q| D::norm2(q.v)).sum::<f64>() / ps.count as f64;
+    // Drawn in parallel, straight into the engine's cell order.
+    let grid = crate::dsmc::sort::CellGrid::for_domain(&domain, cell);
+    let placed = gas_in_cell_order(&draw, ps.count, &grid, report)?;
+    let speed_sum = placed.speed_sum;
+    let store = Store::new(placed.particles, ps.d0, mass);
+    let v2 = speed_sum / ps.count as f64;
     let t0 = mass * v2 / D::D as f64;
     let nu = n * particle_volume(D::D, ps.d0);
     let settings_probe = |dt: f64| DsmcSettings {
@@ -214,7 +222,7 @@ pub fn build<D: GasDim>(loaded: &Loaded) -> Result<(Dsmc<D>, Plan)> {
             0.1 / omega
         }
     };
-    let sim = Dsmc::new(store, domain, gravity, walls, settings_probe(dt));
+    let sim = Dsmc::with_speed_sum(store, domain, gravity, walls, settings_probe(dt), speed_sum);
     let f = cycle_frequency(s);
     let span = |sec: Option<f64>, cyc: Option<f64>| -> f64 {
         match (sec, cyc, f) {
