@@ -179,6 +179,21 @@ const ADD_TWO: &str = "placement = \"none\"\nadd = [ { position = [0.005, 0.005]
 
 const BAD_CASES: &[BadCase] = &[
     BadCase {
+        name: "nan_d0",
+        edits: &[("d0 = 1.0e-3", "d0 = nan")],
+        needles: &["particles.d0", "NaN", "must be a positive diameter"],
+    },
+    BadCase {
+        name: "nan_gravity",
+        edits: &[("gravity = [0.0, -9.81]", "gravity = [0.0, nan]")],
+        needles: &["gravity", "NaN", "must be finite"],
+    },
+    BadCase {
+        name: "inf_dt",
+        edits: &[("duration = 0.01", "duration = 0.01\ndt = inf")],
+        needles: &["run.dt", "inf", "must be a positive number"],
+    },
+    BadCase {
         name: "unknown_top_level_key",
         edits: &[("name = \"small\"", "name = \"small\"\nbogus = 1")],
         needles: &["unknown field `bogus`", "expected one of", "`gravity`"],
@@ -512,14 +527,7 @@ fn no_bad_input_makes_run_panic() {
         .collect();
     // More odd values on top of the cases above.
     for (name, from, to) in [
-        ("nan_d0", "d0 = 1.0e-3", "d0 = nan"),
-        ("inf_dt", "duration = 0.01", "duration = 0.01\ndt = inf"),
         ("nan_duration", "duration = 0.01", "duration = nan"),
-        (
-            "nan_gravity",
-            "gravity = [0.0, -9.81]",
-            "gravity = [0.0, nan]",
-        ),
         ("zero_normal", "normal = [0.0, 1.0]", "normal = [0.0, 0.0]"),
         ("empty_domain", "hi = [0.01, 0.02]", "hi = [0.0, 0.02]"),
         ("negative_count", "count = 30", "count = -3"),

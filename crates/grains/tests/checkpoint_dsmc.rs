@@ -230,5 +230,16 @@ fn md_checkpoint_of_dsmc_kind_is_refused() {
     let payload = grains::checkpoint::read(&ck(&dir, 5)).unwrap();
     let tag = grains::checkpoint::dsmc::TAG;
     assert!(payload.windows(tag.len()).any(|w| w == tag));
+    // Restoring that state into an MD engine is refused by name, in both
+    // dimensions, before any byte of it is read as MD state.
+    let (found, _) = find(&ck(&dir, 5)).unwrap();
+    for e in [
+        found.restore_md::<grains::D2>().err(),
+        found.restore_md::<grains::D3>().err(),
+    ] {
+        let e = e.expect("a DSMC checkpoint restored as MD").to_string();
+        assert!(e.contains("holds a DSMC engine state"), "{e}");
+        assert!(e.contains(&ck(&dir, 5).display().to_string()), "{e}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -73,16 +73,40 @@ fn momentum_is_conserved_to_round_off_with_reduced_scaling() {
     }
 }
 
+/// Kinetic energy lost and momentum change over `steps` steps.
+fn run_gas(md: &mut Md<D2>, steps: u64) -> (f64, f64) {
+    let (p0, ke0) = (md.particles.momentum(), md.particles.kinetic_energy());
+    md.run(steps).unwrap();
+    let lost = 1.0 - md.particles.kinetic_energy() / ke0;
+    ((md.particles.momentum() - p0).length(), lost)
+}
+
 #[test]
 fn seed_scaling_conserves_momentum_for_equal_masses_only() {
     // With every coefficient times m_i, unequal grains feel unequal forces:
     // documented, and checked here so the convention cannot change silently.
     let law = hooke(1.0e4, 30.0, MassScaling::Seed);
     let (g, dom) = gas::<D2>(100, 12.0, 2);
+    let mut md = engine(
+        g,
+        dom.clone(),
+        MdSettings::<D2>::new(1e-4, law.clone(), 0.2),
+    );
+    let (dp, lost) = run_gas(&mut md, 3000);
+    assert!(lost > 0.05, "unequal: no collisions? lost {lost}");
+    assert!(dp > 1e-6, "unequal masses kept momentum: {dp}");
+    // The same gas with every grain given the mass of diameter 1 (sizes
+    // kept): equal masses, equal and opposite forces, momentum kept to
+    // round-off (Σ m|v| ≈ 30).
+    let (mut g, _) = gas::<D2>(100, 12.0, 2);
+    let m = grains::MassModel::Sphere.mass(1.0, 1.0);
+    for r in &mut g {
+        r.mass = m;
+    }
     let mut md = engine(g, dom, MdSettings::<D2>::new(1e-4, law, 0.2));
-    let p0 = md.particles.momentum();
-    md.run(3000).unwrap();
-    assert!((md.particles.momentum() - p0).length() > 1e-6);
+    let (dp, lost) = run_gas(&mut md, 3000);
+    assert!(lost > 0.05, "equal: no collisions? lost {lost}");
+    assert!(dp < 1e-12, "equal masses: momentum changed by {dp}");
 }
 
 fn total_energy<D: Dim>(md: &Md<D>) -> f64 {
@@ -111,11 +135,28 @@ fn energy_is_conserved_without_dissipation() {
         s.integrator = integrator;
         let mut md = engine(g, dom, s);
         let e0 = total_energy(&md);
+        // Start velocities by grain id (the engine sorts its grains).
+        let mut v0 = vec![DVec2::ZERO; md.particles.len()];
+        for (i, &id) in md.particles.id.iter().enumerate() {
+            v0[id as usize] = md.particles.vel[i];
+        }
         let mut worst: f64 = 0.0;
         for _ in 0..50 {
             md.run(100).unwrap();
             worst = worst.max(((total_energy(&md) - e0) / e0).abs());
         }
+        // Collisions happened: in a periodic box without walls or gravity
+        // only contacts change velocities; most grains have met another.
+        let changed = (0..md.particles.len())
+            .filter(|&i| {
+                let id = md.particles.id[i] as usize;
+                (md.particles.vel[i] - v0[id]).length() > 1e-3
+            })
+            .count();
+        assert!(
+            changed > md.particles.len() / 2,
+            "{integrator:?}: only {changed} grains collided"
+        );
         // Contact time ≈ π√(m/2k) ≈ 1.4e-2 s = 140 steps: both schemes keep
         // the energy within 1e-3 (Verlet's error oscillates with each
         // collision and does not drift; Gear's is smaller still).
@@ -169,12 +210,8 @@ fn two_dimensional_gas_keeps_momentum_too() {
     law.rotation = true;
     let (g, dom) = gas::<D2>(150, 15.0, 4);
     let mut md = engine(g, dom, MdSettings::<D2>::new(1e-4, law, 0.2));
-    let p0 = md.particles.momentum();
-    md.run(3000).unwrap();
-    assert!(
-        (md.particles.momentum() - p0).length() < 1e-11,
-        "{p0} -> {}",
-        md.particles.momentum()
-    );
+    let (dp, lost) = run_gas(&mut md, 3000);
+    assert!(dp < 1e-11, "momentum changed by {dp}");
+    assert!(lost > 0.05, "no collisions? lost {lost}");
     let _ = DVec2::ZERO;
 }
