@@ -32,8 +32,10 @@ pub const MAGIC: &[u8; 8] = b"GRAINSCK";
 /// Version of the layout; a file of another version is refused. Version 2
 /// added the measurement section; version 3 dropped the DSMC index sort
 /// (the DSMC store itself is kept in cell order) and added the convection
-/// column profile; version 4 added the surface height per column.
-pub const VERSION: u32 = 4;
+/// column profile; version 4 added the surface height per column; version
+/// 5 moved a DSMC run's measurement state from the engine field into the
+/// measurement section, as an MD run keeps it.
+pub const VERSION: u32 = 5;
 /// Checkpoints kept in a run directory (older ones are deleted).
 pub const KEEP: usize = 2;
 const HEADER: usize = 8 + 4 + 8 + 4;

@@ -13,10 +13,13 @@
 //! accumulators (a flag, and when set their length-prefixed bytes: absent
 //! in a checkpoint taken before the measurement began).
 
+use super::engine::Engine;
+use super::md_run::{run_loop, Start};
 use super::output::{OutputState, Outputs};
-use super::{prepare, run_loop, Measurements, Progress, RunOptions};
+use super::run_loop::Saved;
+use super::{prepare, Measurements, Progress, RunOptions};
+use crate::checkpoint;
 use crate::checkpoint::codec::{Dec, Enc};
-use crate::checkpoint::{self, engine};
 use crate::dim::{Dim, D2, D3};
 use crate::error::{Error, Result};
 use crate::md::Md;
@@ -24,7 +27,6 @@ use crate::scenario::schema::{Dimension, Scenario};
 use crate::scenario::{build_md, Loaded, Resolved};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::Ordering;
 
 /// A checkpoint interval: simulated seconds or a number of steps.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -115,12 +117,13 @@ fn blocker(scenario: &Scenario) -> Option<String> {
     ))
 }
 
-/// Writes the checkpoints of one run.
-pub(super) struct Checkpointer {
+/// Writes the checkpoints of one run, MD or DSMC: the run loop calls it
+/// when a hook asks for one ([`super::run_loop::Control`]).
+pub(crate) struct Checkpointer {
     dir: PathBuf,
     interval: Option<u64>,
+    /// Why this scenario cannot be checkpointed, if it cannot.
     blocked: Option<String>,
-    stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
     scenario: String,
     origin: String,
     base_dir: String,
@@ -128,22 +131,27 @@ pub(super) struct Checkpointer {
 }
 
 impl Checkpointer {
-    pub(super) fn new<D: Dim>(
+    /// The checkpoints of a run of `loaded` with time step `dt` and
+    /// (relaxation, measured) steps `plan`; refuses `--checkpoint-every`
+    /// for a scenario whose state a checkpoint does not carry.
+    pub(crate) fn new(
         loaded: &Loaded,
         opts: &RunOptions,
-        md: &Md<D>,
+        dt: f64,
         plan: (u64, u64),
     ) -> Result<Self> {
-        let blocked = blocker(&loaded.scenario);
+        let blocked = match loaded.scenario.method {
+            crate::dsmc::Method::Dsmc => None,
+            _ => blocker(&loaded.scenario),
+        };
         if let (Some(_), Some(why)) = (opts.checkpoint_every, &blocked) {
             return Err(Error::input(format!("--checkpoint-every: {why}")));
         }
         let scenario = scenario_text(&loaded.scenario)?;
         Ok(Self {
             dir: opts.out_dir.clone(),
-            interval: opts.checkpoint_every.map(|e| e.steps(md.settings.dt)),
+            interval: opts.checkpoint_every.map(|e| e.steps(dt)),
             blocked,
-            stop: opts.stop.clone(),
             scenario,
             origin: loaded.origin.clone(),
             base_dir: loaded.base_dir.to_string_lossy().into_owned(),
@@ -151,79 +159,75 @@ impl Checkpointer {
         })
     }
 
-    /// A fresh run's checkpoint at step 0 (so a run killed early resumes).
-    pub(super) fn at_start<D: Dim>(&mut self, md: &Md<D>, out: &Outputs) -> Result<()> {
-        if self.interval.is_some() && md.step == 0 {
-            self.write(md, out, None)?;
+    /// Checkpoints into `dir` at `interval` of a run with no scenario text
+    /// (for the run loop's tests).
+    #[cfg(test)]
+    pub(crate) fn in_dir(dir: &Path, interval: Option<u64>) -> Self {
+        Self {
+            dir: dir.to_path_buf(),
+            interval,
+            blocked: None,
+            scenario: String::new(),
+            origin: String::new(),
+            base_dir: String::new(),
+            plan: (0, 0),
         }
-        Ok(())
     }
 
-    /// After each step: a checkpoint at the interval; when a stop was asked
-    /// for, a checkpoint and the summary of the interruption. `meas`: the
-    /// measurement accumulators once the measurement has begun.
-    pub(super) fn after_step<D: Dim>(
-        &mut self,
-        md: &Md<D>,
-        out: &Outputs,
-        meas: Option<&Measurements>,
-    ) -> Result<Option<Value>> {
-        if self.stop.as_ref().is_some_and(|s| s.load(Ordering::SeqCst)) {
-            let dir = self.dir.display().to_string();
-            if let Some(why) = &self.blocked {
-                return Ok(Some(json!({
-                    "interrupted": true,
-                    "step": md.step,
-                    "time": md.time,
-                    "checkpoint": Value::Null,
-                    "message": format!("stopped at step {} without a checkpoint: {why}", md.step),
-                })));
-            }
-            let path = self.write(md, out, meas)?;
-            return Ok(Some(json!({
-                "interrupted": true,
-                "step": md.step,
-                "time": md.time,
-                "checkpoint": path.display().to_string(),
-                "message": format!(
-                    "stopped at step {} (t = {:.6e} s); checkpoint {}; continue with: grains resume {dir}",
-                    md.step, md.time, path.display()
-                ),
-            })));
-        }
-        if self.due(md.step) {
-            self.write(md, out, meas)?;
-        }
-        Ok(None)
+    /// The interval in steps, when the run takes checkpoints.
+    pub(crate) fn interval(&self) -> Option<u64> {
+        self.interval
     }
 
     /// Whether the interval asks for a checkpoint at `step`.
-    pub(super) fn due(&self, step: u64) -> bool {
+    pub(crate) fn due(&self, step: u64) -> bool {
         self.interval.is_some_and(|n| step.is_multiple_of(n))
     }
 
-    pub(super) fn write<D: Dim>(
-        &self,
-        md: &Md<D>,
-        out: &Outputs,
-        meas: Option<&Measurements>,
-    ) -> Result<PathBuf> {
+    /// The summary of a run stopped by a signal at the step `engine` stands
+    /// at, with a checkpoint there unless the scenario cannot take one.
+    pub(crate) fn interrupt(&self, engine: &dyn Engine, saved: &Saved) -> Result<Value> {
+        let (step, time) = (engine.step_count(), engine.sim_time());
+        if let Some(why) = &self.blocked {
+            return Ok(json!({
+                "interrupted": true,
+                "step": step,
+                "time": time,
+                "checkpoint": Value::Null,
+                "message": format!("stopped at step {step} without a checkpoint: {why}"),
+            }));
+        }
+        let path = self.write(engine, saved)?;
+        Ok(json!({
+            "interrupted": true,
+            "step": step,
+            "time": time,
+            "checkpoint": path.display().to_string(),
+            "message": format!(
+                "stopped at step {step} (t = {time:.6e} s); checkpoint {}; continue with: grains resume {}",
+                path.display(), self.dir.display()
+            ),
+        }))
+    }
+
+    /// Writes the checkpoint of `engine` with the hooks' `saved` parts.
+    pub(crate) fn write(&self, engine: &dyn Engine, saved: &Saved) -> Result<PathBuf> {
         let run = RunHeader {
             scenario: &self.scenario,
             origin: &self.origin,
             base_dir: &self.base_dir,
-            dim: D::D,
+            dim: engine.dim(),
             plan: self.plan,
             interval: self.interval,
         };
-        let measurements = meas.map(Measurements::save);
+        let outputs = saved.outputs.clone().unwrap_or_default();
         write_payload(
             &self.dir,
             &run,
-            &out.state()?,
-            md.step,
-            &engine::encode(md)?,
-            measurements.as_deref(),
+            &outputs,
+            engine.step_count(),
+            &engine.export()?,
+            saved.measurements.as_deref(),
         )
     }
 }
@@ -365,7 +369,7 @@ pub struct Found {
     interval: u64,
     pub(super) outputs: OutputState,
     pub(super) engine: Vec<u8>,
-    measurements: Option<Vec<u8>>,
+    pub(super) measurements: Option<Vec<u8>>,
 }
 
 /// Decodes a checkpoint payload (from `path`, for messages).
@@ -529,10 +533,7 @@ fn resume_on_pool(
     let opts = resume_options(&found, opts);
     prepare_resume(&opts)?;
     if found.loaded.scenario.method == crate::dsmc::Method::Dsmc {
-        let f = &found;
-        return super::dsmc::resume(
-            &f.loaded, &f.path, f.step, f.plan, &f.outputs, &f.engine, steps, &opts, progress,
-        );
+        return super::dsmc::resume(&found, steps, &opts, progress);
     }
     match found.dim {
         2 => resume_dim::<D2>(found, steps, &opts, progress),
@@ -566,16 +567,8 @@ impl Found {
     /// [`Found::restore_md`] with the scenario's resolved run parameters
     /// from the same build.
     pub(super) fn restore_built<D: Dim>(&self) -> Result<(Md<D>, Resolved)> {
-        if checkpoint::dsmc::is_dsmc(&self.engine) {
-            return Err(Error::input(format!(
-                "checkpoint {}: holds a DSMC engine state, but its scenario is an MD run \
-                 (method = \"dsmc\" is not set); the file cannot be resumed as MD",
-                self.path.display()
-            )));
-        }
         let (mut md, resolved) = build_md::<D>(&self.loaded)?;
-        engine::restore(&mut md, &self.engine)
-            .map_err(|e| Error::input(format!("{}: {e}", self.path.display())))?;
+        md.import(&self.engine, &self.path.display().to_string())?;
         if md.step != self.step {
             return Err(Error::input(format!(
                 "checkpoint {}: header step {} but engine step {}",
@@ -630,16 +623,14 @@ fn resume_dim<D: Dim>(
     let r = found.restore::<D>(steps)?;
     let loaded = &found.loaded;
     let outputs = Outputs::resume(&opts.out_dir, &loaded.scenario.output, &found.outputs)?;
-    run_loop(
-        loaded,
-        opts,
-        r.md,
-        &r.resolved,
+    let start = Start {
+        md: r.md,
+        resolved: r.resolved,
         outputs,
-        r.plan,
-        r.measurements,
-        progress,
-    )
+        plan: r.plan,
+        restored: r.measurements,
+    };
+    run_loop(loaded, opts, start, progress)
 }
 
 #[cfg(test)]

@@ -3,11 +3,13 @@
 //! and the measurements that go with them (angle of repose, marginal angle,
 //! flow rate, dynamic angle of a drum, space–time density).
 //!
-//! The runner calls [`expand`] before building the engine, then
-//! [`FlowRun::after_step`] after every step at which [`FlowRun::acts_at`]
-//! (relaxation included), [`FlowRun::sample`] at every sample and
+//! The runner calls [`expand`] before building the engine; the run loop's
+//! [`FlowHook`] calls [`FlowRun::after_step`] after every step at which
+//! [`FlowRun::next_act`] says it acts (relaxation included) and
+//! [`FlowRun::sample`] at every sample; the runner calls
 //! [`FlowRun::finish`] at the end.
 
+use super::run_loop::{Control, Every, Hook};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::io::write_atomic;
@@ -268,20 +270,25 @@ impl<D: Dim> FlowRun<D> {
         })
     }
 
-    /// Whether [`FlowRun::after_step`] after engine step `step` may read or
-    /// change the grains or the gravity; at every other step it does
-    /// nothing, so the serial runner advances over those steps without
-    /// calling it. A sink (recycling, parking) is checked after every step,
-    /// a tilt turns gravity after every step; the stage changes only at a
-    /// look, so the answer for later steps holds until the next call.
-    pub fn acts_at(&self, step: u64) -> bool {
-        let Some(e) = &self.events else {
-            return self.hopper.is_some();
+    /// The first step after `now`, at most `horizon`, after which
+    /// [`FlowRun::after_step`] may read or change the grains or the
+    /// gravity; at every other step it does nothing, so the run loop
+    /// advances over those steps without calling it. A sink (recycling,
+    /// parking) is checked after every step, a tilt turns gravity after
+    /// every step; the stage changes only at a look, so the answer holds
+    /// until the next call.
+    pub fn next_act(&self, now: u64, horizon: u64) -> u64 {
+        let every_step = self.hopper.is_some()
+            || self
+                .events
+                .as_ref()
+                .is_some_and(|e| e.sink.is_some() || matches!(self.stage, Stage::Tilting { .. }));
+        let next = match (every_step, &self.events) {
+            (true, _) => now + 1,
+            (false, Some(_)) => (now / LOOK_EVERY + 1) * LOOK_EVERY,
+            (false, None) => horizon,
         };
-        self.hopper.is_some()
-            || e.sink.is_some()
-            || matches!(self.stage, Stage::Tilting { .. })
-            || step.is_multiple_of(LOOK_EVERY)
+        next.min(horizon)
     }
 
     /// Kinetic energy per mobile grain in units of m g d0.
@@ -498,6 +505,34 @@ impl<D: Dim> FlowRun<D> {
             h.finish(dir, md.time, summary)?;
         }
         Ok(())
+    }
+}
+
+/// The flow events as a hook of the run loop: after the stretches that end
+/// where they act, and (in the measured phase) the flow measurements at
+/// every sample.
+pub(super) struct FlowHook<'a, D: Dim> {
+    flow: &'a mut FlowRun<D>,
+    sample: Option<Every>,
+}
+
+impl<'a, D: Dim> FlowHook<'a, D> {
+    pub(super) fn new(flow: &'a mut FlowRun<D>, sample: Option<Every>) -> Self {
+        Self { flow, sample }
+    }
+}
+
+impl<D: Dim> Hook<Md<D>> for FlowHook<'_, D> {
+    fn next(&self, now: u64, horizon: u64) -> u64 {
+        let h = self.sample.map_or(horizon, |s| s.next(now, horizon));
+        self.flow.next_act(now, h)
+    }
+    fn act(&mut self, md: &mut Md<D>, now: u64) -> Result<Control> {
+        self.flow.after_step(md);
+        if self.sample.is_some_and(|s| s.due(now)) {
+            self.flow.sample(md);
+        }
+        Ok(Control::Go)
     }
 }
 

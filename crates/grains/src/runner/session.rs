@@ -14,6 +14,7 @@ mod dsmc_engine;
 mod md_engine;
 
 use super::checkpointing::{self, payload, scenario_text, RunHeader};
+use super::engine::Engine;
 use super::output::OutputState;
 use crate::dim::{D2, D3};
 use crate::error::{Error, Result};
@@ -55,16 +56,14 @@ impl Column {
     }
 }
 
-/// What a session needs of an engine, MD or DSMC, in 2D or 3D. Arrays are
-/// flat (`dim` numbers per grain for vectors) and in ascending id order.
-trait Engine: Send + Sync {
-    fn dim(&self) -> usize;
+/// What a session holds: an engine, MD or DSMC, in 2D or 3D (driven
+/// through the run loop's [`Engine`] contract), and what a script reads of
+/// it. Arrays are flat (`dim` numbers per grain for vectors) and in
+/// ascending id order.
+trait Held: Send + Sync {
+    fn engine(&self) -> &dyn Engine;
+    fn engine_mut(&mut self) -> &mut dyn Engine;
     fn len(&self) -> usize;
-    fn step(&self) -> u64;
-    fn time(&self) -> f64;
-    fn dt(&self) -> f64;
-    /// `n` steps, the same bits as `grains run` takes them.
-    fn advance(&mut self, n: u64) -> Result<()>;
     fn thermo_columns(&self) -> &'static [&'static str];
     fn thermo_row(&self) -> Vec<f64>;
     /// After a thermo row (the DSMC validity window).
@@ -81,14 +80,17 @@ trait Engine: Send + Sync {
     fn contacts(&self) -> Result<Contacts>;
     /// The summary.json scalars of the state now.
     fn summary(&self, loaded: &Loaded, stepped: u64, wall_seconds: f64) -> Map<String, Value>;
-    /// The engine field of a checkpoint payload.
-    fn checkpoint(&self) -> Result<Vec<u8>>;
+    /// The measurement section of a checkpoint (DSMC's validity window and
+    /// tallies), if the engine keeps one.
+    fn measurements(&self) -> Option<Vec<u8>> {
+        None
+    }
 }
 
 /// A scenario's engine, its thermo table, and its run plan.
 pub struct Session {
     loaded: Loaded,
-    engine: Box<dyn Engine>,
+    engine: Box<dyn Held>,
     /// The scenario's (relaxation, measured) steps.
     plan: (u64, u64),
     output_every: u64,
@@ -117,7 +119,7 @@ impl Session {
         Ok(Self::around(loaded.clone(), engine, plan, every))
     }
 
-    fn around(loaded: Loaded, engine: Box<dyn Engine>, plan: (u64, u64), every: u64) -> Self {
+    fn around(loaded: Loaded, engine: Box<dyn Held>, plan: (u64, u64), every: u64) -> Self {
         let mut me = Self {
             loaded,
             engine,
@@ -155,7 +157,7 @@ impl Session {
         &self.loaded
     }
     pub fn dim(&self) -> usize {
-        self.engine.dim()
+        self.engine.engine().dim()
     }
     /// Number of grains (particles, for DSMC).
     pub fn len(&self) -> usize {
@@ -165,13 +167,13 @@ impl Session {
         self.len() == 0
     }
     pub fn step(&self) -> u64 {
-        self.engine.step()
+        self.engine.engine().step_count()
     }
     pub fn time(&self) -> f64 {
-        self.engine.time()
+        self.engine.engine().sim_time()
     }
     pub fn dt(&self) -> f64 {
-        self.engine.dt()
+        self.engine.engine().time_step()
     }
     /// Whether the engine is DSMC.
     pub fn is_dsmc(&self) -> bool {
@@ -207,18 +209,19 @@ impl Session {
             } else {
                 1
             };
-            let step = self.engine.step();
+            let step = self.step();
             let to_row = self.output_every - step % self.output_every;
             let n = fit.min(to_row).min(steps - done).max(1);
             let t0 = Instant::now();
-            let r = self.engine.advance(n);
+            let engine = self.engine.engine_mut();
+            let r = crate::parallel::on_pool(|| engine.advance(n));
             let secs = t0.elapsed().as_secs_f64();
             self.wall_seconds += secs;
             self.stepped += n;
             self.step_seconds = secs / n as f64;
             r?;
             done += n;
-            if self.engine.step().is_multiple_of(self.output_every) || done == steps {
+            if self.step().is_multiple_of(self.output_every) || done == steps {
                 self.record(true);
             }
         }
@@ -234,7 +237,7 @@ impl Session {
     /// engine's output hook runs too (not at a session's first row, where
     /// the build or the checkpoint left it as the runner does).
     fn record(&mut self, sampled: bool) {
-        let step = self.engine.step();
+        let step = self.step();
         if self.last_row != Some(step) {
             self.last_row = Some(step);
             self.rows.push(self.engine.thermo_row());
@@ -345,18 +348,18 @@ impl Session {
             interval: None,
         };
         // No output files belong to a session.
-        let outputs = OutputState {
-            thermo_len: 0,
-            dump_len: None,
-            frames: Vec::new(),
-            last_step: None,
-        };
+        let outputs = OutputState::default();
+        let engine = self.engine.engine().export().map_err(|e| match e {
+            Error::Input(m) => Error::input(format!("save_checkpoint: {m}")),
+            other => other,
+        })?;
+        let measurements = self.engine.measurements();
         let bytes = payload(
             &run,
             &outputs,
             self.step(),
-            &self.engine.checkpoint()?,
-            None,
+            &engine,
+            measurements.as_deref(),
         );
         crate::io::write_atomic(path, &crate::checkpoint::seal(&bytes))?;
         Ok(path.to_path_buf())
