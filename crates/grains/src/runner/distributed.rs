@@ -20,7 +20,7 @@
 //! without a checkpoint.
 
 use super::checkpointing::{self, Found};
-use super::dsmc::{build, gas_outputs, gas_summary, head, spec, Measure};
+use super::dsmc::{build, gas_outputs, gas_summary, head, spec};
 use super::engine::gas_frame as frame;
 use super::output::Pieces;
 use super::{prepare, Progress, RunOptions};
@@ -30,6 +30,7 @@ use crate::dsmc::collide::GasDim;
 use crate::dsmc::decomp::Decomposed;
 use crate::dsmc::Method;
 use crate::error::{Error, Result};
+use crate::measure::gas::GasMeasurement as Measure;
 use crate::scenario::schema::Dimension;
 use crate::scenario::Loaded;
 use serde_json::{json, Value};

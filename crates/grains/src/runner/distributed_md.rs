@@ -52,7 +52,7 @@ pub fn run<D: Dim>(
     if root {
         prepare(&opts.out_dir)?;
     }
-    let loaded = &*flow::expand(loaded)?;
+    let loaded = &*crate::scenario::hopper::expand(loaded)?;
     let (full, resolved) = build_md::<D>(loaded)?;
     let mirror = match root {
         true => Some(build_md::<D>(loaded)?.0),

@@ -23,7 +23,7 @@ pub(super) fn run_dim<D: Dim>(
     progress: &mut dyn Progress,
 ) -> Result<Value> {
     prepare(&opts.out_dir)?;
-    let loaded = &*super::flow::expand(loaded)?;
+    let loaded = &*crate::scenario::hopper::expand(loaded)?;
     let (md, resolved) = build_md::<D>(loaded)?;
     let outputs = Outputs::create(&opts.out_dir, &loaded.scenario.output)?;
     let plan = match opts.steps {

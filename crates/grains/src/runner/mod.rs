@@ -70,7 +70,7 @@ pub fn check(loaded: &Loaded) -> Result<Value> {
         return dsmc::check(loaded);
     }
     fn go<D: Dim>(loaded: &Loaded) -> Result<Value> {
-        let loaded = &*flow::expand(loaded)?;
+        let loaded = &*crate::scenario::hopper::expand(loaded)?;
         let (md, r) = build_md::<D>(loaded)?;
         flow::FlowRun::begin(loaded, &md)?;
         Ok(resolved_json(loaded, &md, &r))
