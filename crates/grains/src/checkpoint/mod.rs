@@ -15,16 +15,22 @@
 //! `checkpoint-<step>.grck` that sort by step; the newest [`KEEP`] are kept.
 //! See `docs/checkpoints.md`.
 
-pub mod codec;
 pub mod dsmc;
 pub mod engine;
 pub mod state;
 
+/// The byte codec, at its old path (it lives at [`crate::codec`]).
+pub use crate::codec;
 pub use state::{ListState, MdState};
+
+/// CRC-32 (IEEE 802.3, reflected, polynomial 0xEDB88320, as zip and PNG
+/// use): the seal of a checkpoint file.
+pub fn crc32(bytes: &[u8]) -> u32 {
+    crc32fast::hash(bytes)
+}
 
 use crate::error::{Error, Result};
 use crate::io::write_durable;
-use codec::crc32;
 use std::path::{Path, PathBuf};
 
 /// First bytes of every checkpoint file.

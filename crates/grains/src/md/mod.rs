@@ -22,11 +22,13 @@ mod field_forces;
 mod pair_forces;
 mod pair_hash;
 pub mod phase_times;
+pub mod state;
+
+pub use state::MdState;
 mod wall_loads;
 mod wall_springs;
 
 use crate::boundary::Wall;
-use crate::checkpoint::MdState;
 use crate::contact::binary::BinaryContact;
 use crate::contact::ContactLaw;
 use crate::dim::Dim;

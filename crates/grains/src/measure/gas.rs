@@ -1,7 +1,7 @@
 //! What a DSMC run measures: density and temperature profiles versus
 //! height, the origin its thermo rows count from, the validity window.
 
-use crate::checkpoint::codec::{Dec, DecResult, Enc};
+use crate::codec::{Dec, DecResult, Enc};
 use crate::dsmc::collide::{GasDim, Tally};
 use crate::dsmc::diagnostics::Validity;
 use crate::dsmc::engine::Dsmc;

@@ -22,8 +22,8 @@
 use super::checkpointing::{self, Found};
 use super::dsmc::{build, gas_outputs, gas_summary, head, spec};
 use super::engine::gas_frame as frame;
+use super::options::{prepare, Progress, RunOptions};
 use super::output::Pieces;
-use super::{prepare, Progress, RunOptions};
 use crate::comm::Comm;
 use crate::dim::{D2, D3};
 use crate::dsmc::collide::GasDim;

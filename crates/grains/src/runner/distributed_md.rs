@@ -26,10 +26,15 @@
 //! gather the grains only at the steps where they read them: rank 0 says
 //! which (one summed flag per step).
 
-use super::checkpointing::{self, Checkpointer, Found};
+use super::checkpointer::Checkpointer;
+use super::checkpointing;
+use super::flow;
+use super::found::Found;
+use super::md_run::md_summary;
+use super::measurements::Measurements;
+use super::options::{prepare, Progress, RunOptions};
 use super::output::Outputs;
 use super::run_loop::Saved;
-use super::{flow, md_summary, prepare, Measurements, Progress, RunOptions};
 use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
 use crate::error::Result;

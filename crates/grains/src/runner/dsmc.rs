@@ -1,12 +1,13 @@
 //! Runs a `method = "dsmc"` scenario: build, relax, measure, write
 //! thermo.csv, frames, profiles.csv and summary.json.
 
-use super::checkpointing::{resume_plan, Checkpointer, Found};
+use super::checkpointer::Checkpointer;
 use super::engine::{gas_frame, Engine};
+use super::found::{resume_plan, Found};
+use super::options::{prepare, Progress, RunOptions};
 use super::output::Outputs;
 use super::run_loop::{run_to, Control, Every, Hook, Interval, Report, Saved, StopFlag};
-use super::{prepare, Progress, RunOptions};
-use crate::checkpoint::codec::Dec;
+use crate::codec::Dec;
 use crate::dim::{D2, D3};
 use crate::dsmc::collide::GasDim;
 use crate::dsmc::engine::{haff_time, Dsmc};

@@ -2,17 +2,19 @@
 //! checkpoints), then the measurement (also the measurements and the
 //! outputs), then the final files and summary.json.
 
-use super::checkpointing::Checkpointer;
+use super::checkpointer::Checkpointer;
 use super::flow::{FlowHook, FlowRun};
 use super::measurements::{MeasureHook, Measurements};
+use super::options::{prepare, Progress, RunOptions};
 use super::output::Outputs;
 use super::run_loop::{run_to, Control, Every, Hook, Interval, Report, Saved, StopFlag};
 use super::wall_table::WallTable;
-use super::{md_summary, prepare, threads_json, Progress, RunOptions};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::md::Md;
+use crate::measure::granular_temperature;
 use crate::scenario::{build_md, Loaded, Resolved};
+use serde_json::Map;
 use serde_json::{json, Value};
 use std::time::Instant;
 
@@ -203,4 +205,51 @@ pub(super) fn run_loop<D: Dim>(
     let summary = Value::Object(summary);
     outputs.write_summary(&summary)?;
     Ok(summary)
+}
+
+/// The summary scalars every MD run reports: what ran, how long it took
+/// (`stepped` steps of this process's timing) and the final energies.
+pub(crate) fn md_summary<D: Dim>(
+    loaded: &Loaded,
+    md: &Md<D>,
+    resolved: &Resolved,
+    steps: u64,
+    stepped: u64,
+    wall_seconds: f64,
+) -> Map<String, Value> {
+    let updates = (stepped.max(1) as f64) * md.particles.n_mobile().max(1) as f64;
+    let mut summary = Map::new();
+    summary.insert("scenario".into(), json!(loaded.scenario.name));
+    summary.insert("dimension".into(), json!(D::NAME));
+    summary.insert("particles".into(), json!(md.particles.n_owned()));
+    summary.insert("steps".into(), json!(steps));
+    summary.insert("time".into(), json!(md.time));
+    summary.insert("dt".into(), json!(resolved.dt));
+    summary.insert("contact_time".into(), json!(resolved.contact_time));
+    summary.insert("wall_seconds".into(), json!(wall_seconds));
+    summary.insert(
+        "ns_per_particle_step".into(),
+        json!(1e9 * wall_seconds / updates),
+    );
+    summary.insert(
+        "kinetic_energy".into(),
+        json!(md.particles.kinetic_energy()),
+    );
+    summary.insert(
+        "rotational_energy".into(),
+        json!(md.particles.rotational_energy()),
+    );
+    summary.insert(
+        "granular_temperature".into(),
+        json!(granular_temperature(&md.particles)),
+    );
+    summary
+}
+
+/// How the governor ran an engine's steps: the pool's size, the steps run
+/// on all of it and on one thread (they depend on the machine's load, never
+/// on the result).
+pub(crate) fn threads_json<D: Dim>(md: &Md<D>) -> Value {
+    let (wide, narrow) = md.governor.steps_wide_narrow();
+    json!({ "pool": rayon::current_num_threads(), "steps_on_pool": wide, "steps_on_one": narrow })
 }

@@ -2,7 +2,7 @@
 //! between steps, and the hook that runs them in the measured phase.
 
 use super::run_loop::{Control, Every, Hook, Saved};
-use crate::checkpoint::codec::{Dec, DecResult, Enc};
+use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::io::Frame;

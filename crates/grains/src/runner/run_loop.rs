@@ -11,10 +11,10 @@
 //! engine runs its fused pass ([`Engine::advance`]), the same bits as
 //! single steps.
 
-use super::checkpointing::Checkpointer;
+use super::checkpointer::Checkpointer;
+pub(crate) use super::checkpointer::Saved;
 use super::engine::Engine;
-use super::output::OutputState;
-use super::Progress;
+use super::options::Progress;
 use crate::error::Result;
 use serde_json::Value;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -32,14 +32,6 @@ pub(crate) enum Control {
     Save,
     /// Stop the run here (with a checkpoint when the run can take one).
     Stop,
-}
-
-/// The hooks' parts of a checkpoint: where the output files stand, and the
-/// measurement accumulators once the measurement has begun.
-#[derive(Default)]
-pub(crate) struct Saved {
-    pub outputs: Option<OutputState>,
-    pub measurements: Option<Vec<u8>>,
 }
 
 /// Something that acts between the engine's steps.

@@ -2,15 +2,15 @@
 //! identity: their ids are their places in the store (1..=n), which the
 //! engine reorders by cell every few steps, as in the runner's frames.
 
-use super::{Column, Contacts, Held};
+use super::held::{Column, Contacts, Held};
 use crate::dsmc::collide::GasDim;
 use crate::dsmc::engine::Dsmc;
 use crate::error::{Error, Result};
 use crate::measure::gas::GasMeasurement as Measure;
-use crate::runner::checkpointing::Found;
 use crate::runner::dsmc::THERMO_COLUMNS;
 use crate::runner::dsmc::{build as build_dsmc, describe, gas_summary, spec, Plan};
 use crate::runner::engine::Engine;
+use crate::runner::found::Found;
 use crate::scenario::Loaded;
 use serde_json::{json, Map, Value};
 

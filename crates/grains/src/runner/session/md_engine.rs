@@ -1,13 +1,13 @@
 //! The MD engine of a [`super::Session`].
 
-use super::{Column, Contacts, Held};
+use super::held::{Column, Contacts, Held};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::md::Md;
 use crate::measure::granular_temperature;
-use crate::runner::checkpointing::Found;
 use crate::runner::engine::Engine;
-use crate::runner::md_summary;
+use crate::runner::found::Found;
+use crate::runner::md_run::{md_summary, threads_json};
 use crate::runner::output::THERMO_COLUMNS;
 use crate::scenario::{build_md, Loaded, Resolved};
 use rayon::prelude::*;
@@ -204,7 +204,7 @@ impl<D: Dim> Held for MdEngine<D> {
         let mut s = md_summary(loaded, md, &self.resolved, md.step, stepped, wall_seconds);
         s.insert("neighbor_builds".into(), json!(md.neighbor_builds()));
         s.insert("phase_seconds".into(), md.timing.to_json(wall_seconds, 1.0));
-        s.insert("threads".into(), crate::runner::threads_json(md));
+        s.insert("threads".into(), threads_json(md));
         s
     }
 }
