@@ -6,6 +6,7 @@
 
 pub mod boundary;
 pub mod checkpoint;
+pub mod codec;
 pub mod comm;
 pub mod contact;
 pub mod dim;

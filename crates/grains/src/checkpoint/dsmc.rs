@@ -10,7 +10,7 @@
 //! the seed (fingerprinted) and the step (saved) bring them back. The cell
 //! keys are a function of the positions and are recomputed on restore.
 
-use super::codec::{Dec, DecResult, Enc};
+use crate::codec::{Dec, DecResult, Enc};
 use crate::dsmc::collide::{CellState, GasDim, Tally};
 use crate::dsmc::engine::Dsmc;
 use crate::dsmc::store::Particle;

@@ -2,8 +2,8 @@
 //! the state depends on (checked on restore, so a checkpoint never starts a
 //! different scenario silently), then the [`MdState`].
 
-use super::codec::{Dec, Enc};
 use super::state::{decode_md, encode_md};
+use crate::codec::{Dec, Enc};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::md::Md;

@@ -15,16 +15,22 @@
 //! `checkpoint-<step>.grck` that sort by step; the newest [`KEEP`] are kept.
 //! See `docs/checkpoints.md`.
 
-pub mod codec;
 pub mod dsmc;
 pub mod engine;
 pub mod state;
 
+/// The byte codec, at its old path (it lives at [`crate::codec`]).
+pub use crate::codec;
 pub use state::{ListState, MdState};
+
+/// CRC-32 (IEEE 802.3, reflected, polynomial 0xEDB88320, as zip and PNG
+/// use): the seal of a checkpoint file.
+pub fn crc32(bytes: &[u8]) -> u32 {
+    crc32fast::hash(bytes)
+}
 
 use crate::error::{Error, Result};
 use crate::io::write_durable;
-use codec::crc32;
 use std::path::{Path, PathBuf};
 
 /// First bytes of every checkpoint file.
@@ -32,8 +38,10 @@ pub const MAGIC: &[u8; 8] = b"GRAINSCK";
 /// Version of the layout; a file of another version is refused. Version 2
 /// added the measurement section; version 3 dropped the DSMC index sort
 /// (the DSMC store itself is kept in cell order) and added the convection
-/// column profile; version 4 added the surface height per column.
-pub const VERSION: u32 = 4;
+/// column profile; version 4 added the surface height per column; version
+/// 5 moved a DSMC run's measurement state from the engine field into the
+/// measurement section, as an MD run keeps it.
+pub const VERSION: u32 = 5;
 /// Checkpoints kept in a run directory (older ones are deleted).
 pub const KEEP: usize = 2;
 const HEADER: usize = 8 + 4 + 8 + 4;

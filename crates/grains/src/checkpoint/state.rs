@@ -1,46 +1,11 @@
-//! The engine state a checkpoint carries, and its binary encoding.
+//! The binary encoding of the MD engine's state ([`MdState`], beside
+//! `Md`) and of its neighbour list's ([`ListState`], beside the list).
 
-use super::codec::{Dec, DecResult, Enc};
+use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
+pub use crate::md::state::MdState;
+pub use crate::neighbors::ListState;
 use crate::particles::{ParticleRecord, Particles};
-
-/// Everything a neighbour list carries from one step to the next (its cell
-/// grid is scratch). Restoring it brings back the exact pair order, image
-/// codes and skin reference positions, so forces are summed in the same
-/// order as in an uninterrupted run.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ListState<D: Dim> {
-    pub pairs: Vec<[u32; 2]>,
-    pub image: Vec<u8>,
-    /// The 27 image shifts of the last build.
-    pub shifts: Vec<D::V>,
-    pub ref_pos: Vec<D::V>,
-    pub builds: u64,
-    pub built: bool,
-}
-
-/// The complete dynamic state of an [`crate::md::Md`]: with the same scenario
-/// (settings, walls, domain) it continues bit for bit like the run it came
-/// from. Walls need no state of their own: their motion, phase and removal
-/// are functions of `time`.
-#[derive(Clone, Debug)]
-pub struct MdState<D: Dim> {
-    pub time: f64,
-    pub step: u64,
-    /// Owned particles in store order, forces and Gear history included.
-    pub particles: Particles<D>,
-    pub list: ListState<D>,
-    /// Tangential springs aligned with `list.pairs`.
-    pub springs: Vec<D::V>,
-    /// Grain–wall springs, `walls.max(1)` per grain in store order.
-    pub wall_springs: Vec<D::V>,
-    pub rebuilds_since_sort: u32,
-    /// Statistics of the last force evaluation (reported in thermo rows).
-    pub contacts: u64,
-    pub max_overlap: f64,
-    pub max_overlap_fraction: f64,
-    pub worst_pair: (u64, Option<u64>),
-}
 
 /// Largest number of Gear derivative arrays a file may declare.
 const MAX_GEAR: usize = 8;

@@ -7,7 +7,7 @@
 
 use super::collide::GasDim;
 use super::engine::Dsmc;
-use crate::checkpoint::codec::{Dec, DecResult, Enc};
+use crate::codec::{Dec, DecResult, Enc};
 use serde_json::{json, Value};
 
 #[derive(Clone, Copy, Debug, Default)]

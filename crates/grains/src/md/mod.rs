@@ -15,22 +15,20 @@
 //! Measurements and output are not part of the step: the caller runs them
 //! between steps (see the scenario runner).
 
-pub mod balance;
 pub mod contact_list;
 pub mod decomp;
 pub mod edit;
 mod field_forces;
-pub mod halo;
 mod pair_forces;
 mod pair_hash;
-pub mod parallel_spec;
 pub mod phase_times;
-pub mod subdomains;
+pub mod state;
+
+pub use state::MdState;
 mod wall_loads;
 mod wall_springs;
 
 use crate::boundary::Wall;
-use crate::checkpoint::MdState;
 use crate::contact::binary::BinaryContact;
 use crate::contact::ContactLaw;
 use crate::dim::Dim;

@@ -12,7 +12,7 @@
 //! fit in a column at a wall.
 
 use super::plot::{save_plot, Series, Titles, PALETTE};
-use crate::checkpoint::codec::{Dec, DecResult, Enc};
+use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::error::Result;

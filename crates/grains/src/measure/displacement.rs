@@ -4,7 +4,7 @@
 //! samples must be taken often enough that no grain moves half a box between
 //! two of them.
 
-use crate::checkpoint::codec::{Dec, DecResult, Enc};
+use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::md::Md;
 use std::collections::HashMap;

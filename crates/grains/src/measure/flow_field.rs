@@ -18,7 +18,7 @@
 //! batch means over √(batches − 1).
 
 use crate::boundary::Wall;
-use crate::checkpoint::codec::{Dec, DecResult, Enc};
+use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::io::{draw_arrows, viridis, write_atomic, Frame, Num};

@@ -6,6 +6,7 @@ pub mod convection;
 pub mod displacement;
 pub mod draw;
 pub mod flow_field;
+pub mod gas;
 pub mod phase;
 pub mod plot;
 pub mod profiles;

@@ -7,7 +7,7 @@
 use super::draw::{draw_walls, faint, hv3, in_box};
 use super::tracer::xyz;
 use crate::boundary::{Motion, Wall};
-use crate::checkpoint::codec::{Dec, DecResult, Enc};
+use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::picture::draw_arrows;

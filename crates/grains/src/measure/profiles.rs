@@ -5,7 +5,7 @@
 //! velocity of the mobile grains, averaged over the samples.
 
 use super::plot::{save_plot, Series, Titles, PALETTE};
-use crate::checkpoint::codec::{Dec, DecResult, Enc};
+use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::write_atomic;

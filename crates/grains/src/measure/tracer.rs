@@ -3,7 +3,7 @@
 //! to a small region in the solid-like state, exploring the box when fluid.
 
 use super::draw::{faint, hv3};
-use crate::checkpoint::codec::{Dec, DecResult, Enc};
+use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::{write_atomic, Frame};

@@ -4,7 +4,7 @@
 
 use super::draw::{draw_walls, faint, hv3, id_colour};
 use crate::boundary::Wall;
-use crate::checkpoint::codec::{Dec, DecResult, Enc};
+use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::{write_atomic, Frame};

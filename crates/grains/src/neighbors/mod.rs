@@ -9,4 +9,4 @@ mod spatial_sort;
 mod verlet_list;
 
 pub use spatial_sort::spatial_sort_order;
-pub use verlet_list::NeighborList;
+pub use verlet_list::{ListState, NeighborList};

@@ -11,12 +11,26 @@
 //! drift out of the box between builds.
 
 use super::cell_grid::{CellGrid, GridShape};
-use crate::checkpoint::ListState;
 use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
 use rayon::prelude::*;
 use std::ops::Range;
+
+/// Everything a neighbour list carries from one step to the next (its cell
+/// grid is scratch). Restoring it brings back the exact pair order, image
+/// codes and skin reference positions, so forces are summed in the same
+/// order as in an uninterrupted run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ListState<D: Dim> {
+    pub pairs: Vec<[u32; 2]>,
+    pub image: Vec<u8>,
+    /// The 27 image shifts of the last build.
+    pub shifts: Vec<D::V>,
+    pub ref_pos: Vec<D::V>,
+    pub builds: u64,
+    pub built: bool,
+}
 
 /// Particles per work unit of a parallel build. Fixed, not derived from the
 /// thread count, so the list comes out the same on any number of threads.

@@ -20,18 +20,20 @@
 //! without a checkpoint.
 
 use super::checkpointing::{self, Found};
-use super::dsmc::{build, describe, frame, gas_summary, spec, Measure, Outputs};
+use super::dsmc::{build, gas_outputs, gas_summary, head, spec};
+use super::engine::gas_frame as frame;
+use super::options::{prepare, Progress, RunOptions};
 use super::output::Pieces;
-use super::{prepare, Progress, RunOptions};
 use crate::comm::Comm;
 use crate::dim::{D2, D3};
 use crate::dsmc::collide::GasDim;
 use crate::dsmc::decomp::Decomposed;
 use crate::dsmc::Method;
 use crate::error::{Error, Result};
+use crate::measure::gas::GasMeasurement as Measure;
 use crate::scenario::schema::Dimension;
 use crate::scenario::Loaded;
-use serde_json::{json, Map, Value};
+use serde_json::{json, Value};
 use std::time::Instant;
 
 /// Runs `loaded` on the ranks of `comm` (all of them call this). Returns the
@@ -102,21 +104,18 @@ fn run_dim<D: GasDim>(
     } else {
         None
     };
-    let mut summary = match describe(loaded, &full, &plan) {
-        Value::Object(m) => m,
-        _ => Map::new(),
-    };
+    let mut summary = head(loaded, &full, &plan);
     let mut dec = Decomposed::new(full, comm).map_err(Error::input)?;
     let mut outputs = match root {
-        true => Some(Outputs::create(&opts.out_dir, &loaded.scenario.output)?),
+        true => Some(gas_outputs(&opts.out_dir, &loaded.scenario.output)?),
         false => None,
     };
     let (relax, measure) = match opts.steps {
         Some(n) => (0, n),
         None => (plan.relax_steps, plan.measure_steps),
     };
-    if let Some(f) = outputs.as_mut().and_then(|o| o.frames.as_mut()) {
-        f.set_ranks(comm.size());
+    if let Some(out) = outputs.as_mut() {
+        out.set_ranks(comm.size());
     }
     // Frames in pieces: each rank writes its own particles at an output
     // step, with their serial store positions as ids (as when gathered).
@@ -148,10 +147,7 @@ fn run_dim<D: GasDim>(
         let mut mm = Measure::new(sim, &ds);
         // Discard the relaxation's collisions from the validity window.
         mm.validity.sample(sim);
-        out.write_row(&mm.row(sim))?;
-        if let Some(f) = &mut out.frames {
-            f.write(&frame(sim))?;
-        }
+        out.record(&mm.origin.row(sim), &frame(sim), |_| None)?;
         m = Some(mm);
     }
     dec.reset_collisions();
@@ -174,10 +170,7 @@ fn run_dim<D: GasDim>(
             }
             if output {
                 let out = outputs.as_mut().expect("rank 0 writes");
-                out.write_row(&mm.row(sim))?;
-                if let Some(f) = &mut out.frames {
-                    f.write(&frame(sim))?;
-                }
+                out.record(&mm.origin.row(sim), &frame(sim), |_| None)?;
                 for w in mm.validity.sample(sim) {
                     eprintln!("warning: {w}");
                 }

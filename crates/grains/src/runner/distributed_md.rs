@@ -26,15 +26,20 @@
 //! gather the grains only at the steps where they read them: rank 0 says
 //! which (one summed flag per step).
 
-use super::checkpointing::{self, Checkpointer, Found};
+use super::checkpointer::Checkpointer;
+use super::checkpointing;
+use super::flow;
+use super::found::Found;
+use super::md_run::md_summary;
+use super::measurements::Measurements;
+use super::options::{prepare, Progress, RunOptions};
 use super::output::Outputs;
-use super::{flow, md_summary, prepare, Measurements, Progress, RunOptions};
+use super::run_loop::Saved;
 use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::md::decomp::{get_vec, index_by_id, put_vec, DecomposedMd};
 use crate::md::Md;
-use crate::measure::granular_temperature;
 use crate::scenario::{build_md, Loaded, Resolved};
 use serde_json::{json, Value};
 use std::collections::HashMap;
@@ -52,7 +57,7 @@ pub fn run<D: Dim>(
     if root {
         prepare(&opts.out_dir)?;
     }
-    let loaded = &*flow::expand(loaded)?;
+    let loaded = &*crate::scenario::hopper::expand(loaded)?;
     let (full, resolved) = build_md::<D>(loaded)?;
     let mirror = match root {
         true => Some(build_md::<D>(loaded)?.0),
@@ -142,7 +147,7 @@ fn drive<D: Dim>(
     // Every rank makes the checkpointer and the flow run, so a scenario
     // either refuses stops all; rank 0 keeps the flow run (as the serial
     // run, made from the engine before its first step).
-    let ckpt = Checkpointer::new(loaded, opts, &full, (relax, measure))?;
+    let ckpt = Checkpointer::new(loaded, opts, full.settings.dt, (relax, measure))?;
     let flow = flow::FlowRun::begin(loaded, &full)?;
     // Rank 0 begins the measurements after relaxing; a scenario they refuse
     // (phases without a vibrating wall) must stop every rank now.
@@ -182,7 +187,11 @@ fn drive<D: Dim>(
         }
         dec.gather_state(mirror.as_mut(), &index)?;
         if let (Some(m), Some(out)) = (mirror.as_ref(), outputs.as_ref()) {
-            ckpt.write(m, out, meas)?;
+            let saved = Saved {
+                outputs: Some(out.state()?),
+                measurements: meas.map(Measurements::save),
+            };
+            ckpt.write(m, &saved)?;
         }
         // The checkpoint wrapped the mirror's grains into the box; the
         // measurements follow the grains as the ranks hold them.
@@ -227,7 +236,7 @@ fn drive<D: Dim>(
             };
             if measure_done == 0 {
                 write_piece(&dec)?;
-                out.record(m, &m.frame(), granular_temperature(&m.particles))?;
+                out.record_md(m)?;
             }
             Some(measurements)
         }
@@ -282,7 +291,7 @@ fn drive<D: Dim>(
                 flow.sample(m);
             }
             if output {
-                out.record(m, &m.frame(), granular_temperature(&m.particles))?;
+                out.record_md(m)?;
             }
         }
         if k % 256 == 0 || k == measure {

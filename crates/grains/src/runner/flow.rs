@@ -1,152 +1,29 @@
 //! Flow scenarios: run events (settle, then remove a wall or tilt the box),
-//! the silo generated from `[hopper]` with recycling of discharged grains,
+//! recycling of the grains discharged by the silo of `[hopper]` (its walls
+//! are built by [`crate::scenario::hopper`]),
 //! and the measurements that go with them (angle of repose, marginal angle,
 //! flow rate, dynamic angle of a drum, space–time density).
 //!
-//! The runner calls [`expand`] before building the engine, then
-//! [`FlowRun::after_step`] after every step at which [`FlowRun::acts_at`]
-//! (relaxation included), [`FlowRun::sample`] at every sample and
+//! The runner calls [`expand`] (the silo's walls) before building the
+//! engine; the run loop's
+//! [`FlowHook`] calls [`FlowRun::after_step`] after every step at which
+//! [`FlowRun::next_act`] says it acts (relaxation included) and
+//! [`FlowRun::sample`] at every sample; the runner calls
 //! [`FlowRun::finish`] at the end.
 
+use super::run_loop::{Control, Every, Hook};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::io::write_atomic;
 use crate::md::Md;
 use crate::measure::{refit_below, surface, Spacetime, SurfaceFit};
-use crate::scenario::schema::{
-    Dimension, EventsSpec, HopperSpec, MotionSpec, ShapeSpec, SurfaceSpec, WallSpec,
-};
+use crate::scenario::schema::{EventsSpec, HopperSpec, SurfaceSpec};
 use crate::scenario::Loaded;
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde_json::{json, Map, Value};
-use std::borrow::Cow;
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// The scenario with the walls of `[hopper]` added (unchanged without one).
-pub fn expand(loaded: &Loaded) -> Result<Cow<'_, Loaded>> {
-    let Some(h) = &loaded.scenario.hopper else {
-        return Ok(Cow::Borrowed(loaded));
-    };
-    let mut out = loaded.clone();
-    out.scenario
-        .walls
-        .extend(hopper_walls(&loaded.scenario, h)?);
-    Ok(Cow::Owned(out))
-}
-
-fn wall(name: &str, shape: ShapeSpec) -> WallSpec {
-    WallSpec {
-        name: name.into(),
-        shape,
-        motion: MotionSpec::Fixed,
-        remove_at: None,
-    }
-}
-
-/// Side walls on the domain's faces and a floor at `h.floor` with a centred
-/// outlet: a slot of width D (2D) or a square hole of side D (3D).
-fn hopper_walls(s: &crate::scenario::Scenario, h: &HopperSpec) -> Result<Vec<WallSpec>> {
-    let (lo, hi) = (&s.domain.lo, &s.domain.hi);
-    let f = h.floor;
-    let d = h.outlet;
-    let width = hi[0] - lo[0];
-    if !(d.is_finite() && d > 0.0 && d < width) {
-        return Err(Error::input(format!(
-            "hopper.outlet = {d}: must be positive and narrower than the domain ({width} m)"
-        )));
-    }
-    if h.refill.len() != 2 || h.refill[0] >= h.refill[1] {
-        return Err(Error::input(
-            "hopper.refill must be [low, high] heights (m) with low < high",
-        ));
-    }
-    let xc = 0.5 * (lo[0] + hi[0]);
-    let (a, b) = (xc - 0.5 * d, xc + 0.5 * d);
-    let plane = |p: Vec<f64>, n: Vec<f64>| ShapeSpec::Plane {
-        point: p,
-        normal: n,
-    };
-    Ok(match s.dimension {
-        Dimension::Two => vec![
-            wall("silo-left", plane(vec![lo[0], f], vec![1.0, 0.0])),
-            wall("silo-right", plane(vec![hi[0], f], vec![-1.0, 0.0])),
-            wall(
-                "floor-left",
-                ShapeSpec::Segment {
-                    a: vec![lo[0], f],
-                    b: vec![a, f],
-                },
-            ),
-            wall(
-                "floor-right",
-                ShapeSpec::Segment {
-                    a: vec![b, f],
-                    b: vec![hi[0], f],
-                },
-            ),
-        ],
-        Dimension::Three => {
-            let yc = 0.5 * (lo[1] + hi[1]);
-            let (c, e) = (yc - 0.5 * d, yc + 0.5 * d);
-            if e - c >= hi[1] - lo[1] {
-                return Err(Error::input(format!(
-                    "hopper.outlet = {d}: must be narrower than the domain along y"
-                )));
-            }
-            // Four floor pieces around the orifice. Where two meet, the edge is
-            // a seam (no contact from either side: the neighbour's face carries
-            // the grain), so a grain on a seam is pushed once; only the
-            // orifice rim acts as an edge.
-            let poly = |v: &[[f64; 2]], seams: &[usize]| ShapeSpec::Polygon {
-                vertices: v.iter().map(|p| vec![p[0], p[1], f]).collect(),
-                seams: seams.to_vec(),
-            };
-            let (y0, y1, x0, x1) = (lo[1], hi[1], lo[0], hi[0]);
-            vec![
-                wall(
-                    "silo-left",
-                    plane(vec![lo[0], 0.0, 0.0], vec![1.0, 0.0, 0.0]),
-                ),
-                wall(
-                    "silo-right",
-                    plane(vec![hi[0], 0.0, 0.0], vec![-1.0, 0.0, 0.0]),
-                ),
-                wall(
-                    "silo-front",
-                    plane(vec![0.0, lo[1], 0.0], vec![0.0, 1.0, 0.0]),
-                ),
-                wall(
-                    "silo-back",
-                    plane(vec![0.0, hi[1], 0.0], vec![0.0, -1.0, 0.0]),
-                ),
-                wall(
-                    "floor-left",
-                    poly(
-                        &[[x0, y0], [a, y0], [a, c], [a, e], [a, y1], [x0, y1]],
-                        &[1, 3],
-                    ),
-                ),
-                wall(
-                    "floor-right",
-                    poly(
-                        &[[b, y0], [x1, y0], [x1, y1], [b, y1], [b, e], [b, c]],
-                        &[3, 5],
-                    ),
-                ),
-                wall(
-                    "floor-front",
-                    poly(&[[a, y0], [b, y0], [b, c], [a, c]], &[1, 3]),
-                ),
-                wall(
-                    "floor-back",
-                    poly(&[[a, e], [b, e], [b, y1], [a, y1]], &[1, 3]),
-                ),
-            ]
-        }
-    })
-}
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Stage {
@@ -268,20 +145,25 @@ impl<D: Dim> FlowRun<D> {
         })
     }
 
-    /// Whether [`FlowRun::after_step`] after engine step `step` may read or
-    /// change the grains or the gravity; at every other step it does
-    /// nothing, so the serial runner advances over those steps without
-    /// calling it. A sink (recycling, parking) is checked after every step,
-    /// a tilt turns gravity after every step; the stage changes only at a
-    /// look, so the answer for later steps holds until the next call.
-    pub fn acts_at(&self, step: u64) -> bool {
-        let Some(e) = &self.events else {
-            return self.hopper.is_some();
+    /// The first step after `now`, at most `horizon`, after which
+    /// [`FlowRun::after_step`] may read or change the grains or the
+    /// gravity; at every other step it does nothing, so the run loop
+    /// advances over those steps without calling it. A sink (recycling,
+    /// parking) is checked after every step, a tilt turns gravity after
+    /// every step; the stage changes only at a look, so the answer holds
+    /// until the next call.
+    pub fn next_act(&self, now: u64, horizon: u64) -> u64 {
+        let every_step = self.hopper.is_some()
+            || self
+                .events
+                .as_ref()
+                .is_some_and(|e| e.sink.is_some() || matches!(self.stage, Stage::Tilting { .. }));
+        let next = match (every_step, &self.events) {
+            (true, _) => now + 1,
+            (false, Some(_)) => (now / LOOK_EVERY + 1) * LOOK_EVERY,
+            (false, None) => horizon,
         };
-        self.hopper.is_some()
-            || e.sink.is_some()
-            || matches!(self.stage, Stage::Tilting { .. })
-            || step.is_multiple_of(LOOK_EVERY)
+        next.min(horizon)
     }
 
     /// Kinetic energy per mobile grain in units of m g d0.
@@ -498,6 +380,34 @@ impl<D: Dim> FlowRun<D> {
             h.finish(dir, md.time, summary)?;
         }
         Ok(())
+    }
+}
+
+/// The flow events as a hook of the run loop: after the stretches that end
+/// where they act, and (in the measured phase) the flow measurements at
+/// every sample.
+pub(super) struct FlowHook<'a, D: Dim> {
+    flow: &'a mut FlowRun<D>,
+    sample: Option<Every>,
+}
+
+impl<'a, D: Dim> FlowHook<'a, D> {
+    pub(super) fn new(flow: &'a mut FlowRun<D>, sample: Option<Every>) -> Self {
+        Self { flow, sample }
+    }
+}
+
+impl<D: Dim> Hook<Md<D>> for FlowHook<'_, D> {
+    fn next(&self, now: u64, horizon: u64) -> u64 {
+        let h = self.sample.map_or(horizon, |s| s.next(now, horizon));
+        self.flow.next_act(now, h)
+    }
+    fn act(&mut self, md: &mut Md<D>, now: u64) -> Result<Control> {
+        self.flow.after_step(md);
+        if self.sample.is_some_and(|s| s.due(now)) {
+            self.flow.sample(md);
+        }
+        Ok(Control::Go)
     }
 }
 

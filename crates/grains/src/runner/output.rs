@@ -8,7 +8,7 @@ use crate::error::Result;
 use crate::io::{draw_arrows, write_atomic, DumpWriter, Frame, Num, ThermoWriter, VtkSeries};
 use crate::md::Md;
 use crate::measure::draw::{draw_walls, faint, in_box};
-use crate::measure::DisplacementField;
+use crate::measure::{granular_temperature, DisplacementField};
 use crate::render::{Painter, Scene, StillOptions};
 use crate::scenario::schema::{FramesLayout, OutputSpec};
 use serde_json::Value;
@@ -27,7 +27,6 @@ pub const THERMO_COLUMNS: [&str; 7] = [
 ];
 
 /// thermo.csv: a fresh table, or one reopened for appending after a resume.
-/// thermo.csv: a fresh file, or one reopened for appending on resume.
 pub(super) enum Thermo {
     Fresh(ThermoWriter),
     Appended { path: PathBuf, file: std::fs::File },
@@ -57,7 +56,7 @@ impl Thermo {
 /// Where the output files stood when a checkpoint was taken: resuming cuts
 /// them back to this point, so rows and frames written after the checkpoint
 /// by the interrupted run are not duplicated.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct OutputState {
     pub thermo_len: u64,
     pub dump_len: Option<u64>,
@@ -144,6 +143,8 @@ pub(super) fn finish_gas(dir: &Path, spec: &OutputSpec, last: &Frame) -> Result<
     Ok(())
 }
 
+/// The files a run writes as it goes (thermo.csv, frames, the LAMMPS
+/// dump), MD or DSMC, and what it draws at the end.
 pub struct Outputs {
     dir: PathBuf,
     thermo: Thermo,
@@ -155,15 +156,23 @@ pub struct Outputs {
 }
 
 impl Outputs {
+    /// The files of an MD run.
     pub fn create(dir: &Path, spec: &OutputSpec) -> Result<Self> {
+        Self::with_columns(dir, spec, &THERMO_COLUMNS, spec.dump)
+    }
+
+    /// Fresh files with thermo columns `columns`; a dump when `dump`.
+    pub(super) fn with_columns(
+        dir: &Path,
+        spec: &OutputSpec,
+        columns: &[&str],
+        dump: bool,
+    ) -> Result<Self> {
         Ok(Self {
             dir: dir.to_path_buf(),
-            thermo: Thermo::Fresh(ThermoWriter::create(
-                &dir.join("thermo.csv"),
-                &THERMO_COLUMNS,
-            )?),
+            thermo: Thermo::Fresh(ThermoWriter::create(&dir.join("thermo.csv"), columns)?),
             frames: frame_series(dir, spec, None)?,
-            dump: if spec.dump {
+            dump: if dump {
                 Some(DumpWriter::create(&dir.join("dump.lammpstrj"))?)
             } else {
                 None
@@ -250,26 +259,42 @@ impl Outputs {
         })
     }
 
-    /// One output interval: a thermo row, a frame, a dump snapshot.
-    pub fn record<D: Dim>(&mut self, md: &Md<D>, frame: &Frame, temperature: f64) -> Result<()> {
-        if self.last_step == Some(md.step) {
-            return Ok(());
-        }
-        if self.last_step.is_none() && self.frames.is_some() {
-            // What a later `grains movie` or `grains view` needs besides the
-            // frames (written again at the end, with any walls removed).
-            Scene::new(&md.walls, frame).write(&self.dir)?;
-        }
-        self.last_step = Some(md.step);
-        self.thermo.write_row(&[
+    /// One output step of an MD run: its thermo row, frame and dump
+    /// snapshot.
+    pub fn record_md<D: Dim>(&mut self, md: &Md<D>) -> Result<()> {
+        let frame = md.frame();
+        let row = [
             md.step as f64,
             md.time,
             md.particles.kinetic_energy(),
             md.particles.rotational_energy(),
-            temperature,
+            granular_temperature(&md.particles),
             md.stats.contacts as f64,
             md.stats.max_overlap,
-        ])?;
+        ];
+        // What a later `grains movie` or `grains view` needs besides the
+        // frames (written again at the end, with any walls removed).
+        self.record(&row, &frame, |f| Some(Scene::new(&md.walls, f)))
+    }
+
+    /// One output step: a thermo row, a frame, a dump snapshot, once per
+    /// step; before the first frame, the `scene` of the run when it has one.
+    pub fn record(
+        &mut self,
+        row: &[f64],
+        frame: &Frame,
+        scene: impl FnOnce(&Frame) -> Option<Scene>,
+    ) -> Result<()> {
+        if self.last_step == Some(frame.step) {
+            return Ok(());
+        }
+        if self.last_step.is_none() && self.frames.is_some() {
+            if let Some(scene) = scene(frame) {
+                scene.write(&self.dir)?;
+            }
+        }
+        self.last_step = Some(frame.step);
+        self.thermo.write_row(row)?;
         if let Some(f) = &mut self.frames {
             f.write(frame)?;
         }

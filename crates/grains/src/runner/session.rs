@@ -11,84 +11,27 @@
 //! run here (see [`Session::new`]).
 
 mod dsmc_engine;
+mod held;
 mod md_engine;
 
-use super::checkpointing::{self, payload, scenario_text, RunHeader};
+use held::Held;
+pub use held::{Column, Contacts};
+
+use super::checkpointer::{payload, scenario_text, RunHeader};
+use super::found::find;
 use super::output::OutputState;
 use crate::dim::{D2, D3};
 use crate::error::{Error, Result};
 use crate::scenario::schema::Dimension;
 use crate::scenario::Loaded;
-use serde_json::{Map, Value};
+use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-
-/// Grain–grain contacts as flat arrays (vectors as `dim` numbers each).
-#[derive(Clone, Debug, Default)]
-pub struct Contacts {
-    pub ids: Vec<[u64; 2]>,
-    pub overlap: Vec<f64>,
-    pub normal: Vec<f64>,
-    pub force: Vec<f64>,
-}
-
-/// A per-grain array of floats.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Column {
-    Positions,
-    Velocities,
-    /// One number per grain in 2D (the spin about z), three in 3D.
-    AngularVelocities,
-    Diameters,
-    Masses,
-}
-
-impl Column {
-    /// Numbers per grain in dimension `dim`.
-    pub fn width(self, dim: usize) -> usize {
-        match self {
-            Column::Positions | Column::Velocities => dim,
-            Column::AngularVelocities if dim == 2 => 1,
-            Column::AngularVelocities => 3,
-            Column::Diameters | Column::Masses => 1,
-        }
-    }
-}
-
-/// What a session needs of an engine, MD or DSMC, in 2D or 3D. Arrays are
-/// flat (`dim` numbers per grain for vectors) and in ascending id order.
-trait Engine: Send + Sync {
-    fn dim(&self) -> usize;
-    fn len(&self) -> usize;
-    fn step(&self) -> u64;
-    fn time(&self) -> f64;
-    fn dt(&self) -> f64;
-    /// `n` steps, the same bits as `grains run` takes them.
-    fn advance(&mut self, n: u64) -> Result<()>;
-    fn thermo_columns(&self) -> &'static [&'static str];
-    fn thermo_row(&self) -> Vec<f64>;
-    /// After a thermo row (the DSMC validity window).
-    fn after_output(&mut self) {}
-    fn ids(&self) -> Vec<u64>;
-    /// Writes `col` of every grain into `out` (its length checked by the
-    /// caller: [`Column::width`] numbers per grain).
-    fn fill(&self, col: Column, out: &mut [f64]);
-    fn frozen(&self) -> Vec<bool>;
-    fn set_state(&mut self, pos: Option<&[f64]>, vel: Option<&[f64]>) -> Result<()>;
-    fn kinetic_energy(&self) -> f64;
-    fn rotational_energy(&self) -> f64;
-    fn granular_temperature(&self) -> f64;
-    fn contacts(&self) -> Result<Contacts>;
-    /// The summary.json scalars of the state now.
-    fn summary(&self, loaded: &Loaded, stepped: u64, wall_seconds: f64) -> Map<String, Value>;
-    /// The engine field of a checkpoint payload.
-    fn checkpoint(&self) -> Result<Vec<u8>>;
-}
 
 /// A scenario's engine, its thermo table, and its run plan.
 pub struct Session {
     loaded: Loaded,
-    engine: Box<dyn Engine>,
+    engine: Box<dyn Held>,
     /// The scenario's (relaxation, measured) steps.
     plan: (u64, u64),
     output_every: u64,
@@ -117,7 +60,7 @@ impl Session {
         Ok(Self::around(loaded.clone(), engine, plan, every))
     }
 
-    fn around(loaded: Loaded, engine: Box<dyn Engine>, plan: (u64, u64), every: u64) -> Self {
+    fn around(loaded: Loaded, engine: Box<dyn Held>, plan: (u64, u64), every: u64) -> Self {
         let mut me = Self {
             loaded,
             engine,
@@ -137,7 +80,7 @@ impl Session {
     /// [`Session::save_checkpoint`] or by `grains run --checkpoint-every`
     /// (or the newest valid one of a run directory).
     pub fn resume(path: &Path) -> Result<Self> {
-        let (found, _skipped) = checkpointing::find(path)?;
+        let (found, _skipped) = find(path)?;
         let loaded = found.loaded().clone();
         let s = &loaded.scenario;
         runner_only(&loaded)?;
@@ -155,7 +98,7 @@ impl Session {
         &self.loaded
     }
     pub fn dim(&self) -> usize {
-        self.engine.dim()
+        self.engine.engine().dim()
     }
     /// Number of grains (particles, for DSMC).
     pub fn len(&self) -> usize {
@@ -165,13 +108,13 @@ impl Session {
         self.len() == 0
     }
     pub fn step(&self) -> u64 {
-        self.engine.step()
+        self.engine.engine().step_count()
     }
     pub fn time(&self) -> f64 {
-        self.engine.time()
+        self.engine.engine().sim_time()
     }
     pub fn dt(&self) -> f64 {
-        self.engine.dt()
+        self.engine.engine().time_step()
     }
     /// Whether the engine is DSMC.
     pub fn is_dsmc(&self) -> bool {
@@ -207,18 +150,19 @@ impl Session {
             } else {
                 1
             };
-            let step = self.engine.step();
+            let step = self.step();
             let to_row = self.output_every - step % self.output_every;
             let n = fit.min(to_row).min(steps - done).max(1);
             let t0 = Instant::now();
-            let r = self.engine.advance(n);
+            let engine = self.engine.engine_mut();
+            let r = crate::parallel::on_pool(|| engine.advance(n));
             let secs = t0.elapsed().as_secs_f64();
             self.wall_seconds += secs;
             self.stepped += n;
             self.step_seconds = secs / n as f64;
             r?;
             done += n;
-            if self.engine.step().is_multiple_of(self.output_every) || done == steps {
+            if self.step().is_multiple_of(self.output_every) || done == steps {
                 self.record(true);
             }
         }
@@ -234,7 +178,7 @@ impl Session {
     /// engine's output hook runs too (not at a session's first row, where
     /// the build or the checkpoint left it as the runner does).
     fn record(&mut self, sampled: bool) {
-        let step = self.engine.step();
+        let step = self.step();
         if self.last_row != Some(step) {
             self.last_row = Some(step);
             self.rows.push(self.engine.thermo_row());
@@ -345,18 +289,18 @@ impl Session {
             interval: None,
         };
         // No output files belong to a session.
-        let outputs = OutputState {
-            thermo_len: 0,
-            dump_len: None,
-            frames: Vec::new(),
-            last_step: None,
-        };
+        let outputs = OutputState::default();
+        let engine = self.engine.engine().export().map_err(|e| match e {
+            Error::Input(m) => Error::input(format!("save_checkpoint: {m}")),
+            other => other,
+        })?;
+        let measurements = self.engine.measurements();
         let bytes = payload(
             &run,
             &outputs,
             self.step(),
-            &self.engine.checkpoint()?,
-            None,
+            &engine,
+            measurements.as_deref(),
         );
         crate::io::write_atomic(path, &crate::checkpoint::seal(&bytes))?;
         Ok(path.to_path_buf())

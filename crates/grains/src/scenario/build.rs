@@ -444,3 +444,55 @@ fn build_md_inner<D: Dim>(loaded: &Loaded) -> Result<(Md<D>, Resolved)> {
     })?;
     Ok((md, resolved))
 }
+
+/// The `[parallel]` keys, checked by name when a scenario is loaded
+/// ([`crate::md::decomp::parallel_spec`]).
+#[cfg(test)]
+mod parallel_keys {
+    use crate::scenario::load_str;
+    use std::path::PathBuf;
+
+    const BASE: &str = r#"name = "p"
+dimension = "3d"
+[domain]
+lo = [0.0, 0.0, 0.0]
+hi = [10.0, 10.0, 10.0]
+[particles]
+count = 1
+[contact]
+preset = "lammps-hooke-history"
+[run]
+dt = 1.0e-4
+duration = 0.01
+"#;
+
+    fn error(parallel: &str) -> String {
+        let text = format!("{BASE}[parallel]\n{parallel}\n");
+        match load_str(&text, "p.toml", PathBuf::from("."), &[]) {
+            Ok(_) => String::new(),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    #[test]
+    fn parallel_keys_are_checked_by_name() {
+        assert_eq!(error("rebalance = 0.2\ngrid = [1, 2, 2]"), "");
+        assert_eq!(error("grid = \"slabs\""), "");
+        let e = error("rebalance = -0.5");
+        assert!(
+            e.contains("p.toml") && e.contains("parallel.rebalance"),
+            "{e}"
+        );
+        let e = error("grid = \"cubes\"");
+        assert!(e.contains("\"auto\", \"slabs\""), "{e}");
+        let e = error("grid = [2, 2]");
+        assert!(
+            e.contains("p.toml") && e.contains("give 3 rank counts"),
+            "{e}"
+        );
+        let e = error("grid = [2, 0, 1]");
+        assert!(e.contains("≥ 1 per axis"), "{e}");
+        let e = error("rebalence = 0.1");
+        assert!(e.contains("unknown field"), "{e}");
+    }
+}

@@ -1,7 +1,9 @@
-//! Scenario files: the schema, presets, `--set` overrides, and the builder
-//! that turns a scenario into a ready MD engine.
+//! Scenario files: the schema, presets, `--set` overrides, and the
+//! builders that turn a scenario into a ready MD or DSMC engine.
 
 pub mod build;
+pub mod dsmc;
+pub mod hopper;
 pub mod memory;
 mod mesh_wall;
 pub mod overrides;
@@ -10,6 +12,7 @@ pub mod resolve;
 pub mod schema;
 
 pub use build::build_md;
+pub use dsmc::build_dsmc;
 pub use resolve::Resolved;
 pub use schema::Scenario;
 

@@ -47,7 +47,7 @@ pub struct Scenario {
     pub hopper: Option<HopperSpec>,
     /// How a distributed (MPI) MD run splits the box over its ranks.
     #[serde(default)]
-    pub parallel: crate::md::parallel_spec::ParallelSpec,
+    pub parallel: crate::md::decomp::parallel_spec::ParallelSpec,
 }
 
 fn default_seed() -> u64 {

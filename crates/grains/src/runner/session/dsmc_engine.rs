@@ -2,15 +2,15 @@
 //! identity: their ids are their places in the store (1..=n), which the
 //! engine reorders by cell every few steps, as in the runner's frames.
 
-use super::{Column, Contacts, Engine};
-use crate::checkpoint::codec::{Dec, Enc};
-use crate::checkpoint::dsmc as ckdsmc;
+use super::held::{Column, Contacts, Held};
 use crate::dsmc::collide::GasDim;
 use crate::dsmc::engine::Dsmc;
 use crate::error::{Error, Result};
-use crate::runner::checkpointing::Found;
+use crate::measure::gas::GasMeasurement as Measure;
 use crate::runner::dsmc::THERMO_COLUMNS;
-use crate::runner::dsmc::{build as build_dsmc, describe, gas_summary, spec, Measure, Plan};
+use crate::runner::dsmc::{build as build_dsmc, describe, gas_summary, spec, Plan};
+use crate::runner::engine::Engine;
+use crate::runner::found::Found;
 use crate::scenario::Loaded;
 use serde_json::{json, Map, Value};
 
@@ -23,7 +23,7 @@ struct DsmcEngine<D: GasDim> {
     head: Map<String, Value>,
 }
 
-type Built = (Box<dyn Engine>, (u64, u64), u64);
+type Built = (Box<dyn Held>, (u64, u64), u64);
 
 /// The engine `grains run` builds for a DSMC scenario, its (relaxation,
 /// measured) steps and its output interval; its measurement starts now,
@@ -52,51 +52,33 @@ fn head<D: GasDim>(loaded: &Loaded, sim: &Dsmc<D>, plan: &Plan) -> Map<String, V
 
 /// The engine of a DSMC checkpoint (with its measurement state) and its
 /// output interval.
-pub(super) fn restore<D: GasDim>(found: &Found) -> Result<(Box<dyn Engine>, u64)> {
+pub(super) fn restore<D: GasDim>(found: &Found) -> Result<(Box<dyn Held>, u64)> {
     let loaded = found.loaded();
-    let origin = found.path.display().to_string();
-    let (mut sim, plan) = build_dsmc::<D>(loaded)?;
-    let head = head(loaded, &sim, &plan);
-    let rest = ckdsmc::restore(&mut sim, &found.engine, &origin)?;
-    let ds = spec(loaded);
-    let mut d = Dec::new(rest);
-    let measure = match d.bool("measure state") {
-        Ok(true) => Measure::decode(&sim, &ds, &mut d),
-        Ok(false) => Ok(Measure::new(&sim, &ds)),
-        Err(e) => Err(e),
-    }
-    .map_err(|e| Error::input(format!("checkpoint {origin}: {e}")))?;
+    let r = crate::runner::dsmc::restore::<D>(found)?;
+    let (sim, plan, measure) = (r.sim, r.plan, r.measure);
+    let mut head = r.head;
+    head.remove("source");
+    let measure = measure.unwrap_or_else(|| Measure::new(&sim, &spec(loaded)));
     let every = plan.output_every;
     let engine = DsmcEngine { sim, measure, head };
     Ok((Box::new(engine), every))
 }
 
-impl<D: GasDim> Engine for DsmcEngine<D> {
-    fn dim(&self) -> usize {
-        D::D
+impl<D: GasDim> Held for DsmcEngine<D> {
+    fn engine(&self) -> &dyn Engine {
+        &self.sim
+    }
+    fn engine_mut(&mut self) -> &mut dyn Engine {
+        &mut self.sim
     }
     fn len(&self) -> usize {
         self.sim.store.len()
-    }
-    fn step(&self) -> u64 {
-        self.sim.step
-    }
-    fn time(&self) -> f64 {
-        self.sim.time
-    }
-    fn dt(&self) -> f64 {
-        self.sim.settings.dt
-    }
-    fn advance(&mut self, n: u64) -> Result<()> {
-        let sim = &mut self.sim;
-        crate::parallel::on_pool(|| sim.run(n));
-        Ok(())
     }
     fn thermo_columns(&self) -> &'static [&'static str] {
         &THERMO_COLUMNS
     }
     fn thermo_row(&self) -> Vec<f64> {
-        self.measure.row(&self.sim).to_vec()
+        self.measure.origin.row(&self.sim).to_vec()
     }
     fn after_output(&mut self) {
         // Warnings are kept in the summary's validity section.
@@ -190,12 +172,7 @@ impl<D: GasDim> Engine for DsmcEngine<D> {
         gas_summary(&mut s, sim, &self.measure);
         s
     }
-    fn checkpoint(&self) -> Result<Vec<u8>> {
-        let mut e = Enc {
-            buf: ckdsmc::encode(&self.sim),
-        };
-        e.bool(true);
-        self.measure.encode(&mut e);
-        Ok(e.buf)
+    fn measurements(&self) -> Option<Vec<u8>> {
+        Some(self.measure.to_bytes())
     }
 }

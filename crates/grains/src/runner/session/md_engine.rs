@@ -1,13 +1,13 @@
 //! The MD engine of a [`super::Session`].
 
-use super::{Column, Contacts, Engine};
-use crate::checkpoint::engine as ckengine;
+use super::held::{Column, Contacts, Held};
 use crate::dim::Dim;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::md::Md;
 use crate::measure::granular_temperature;
-use crate::runner::checkpointing::Found;
-use crate::runner::md_summary;
+use crate::runner::engine::Engine;
+use crate::runner::found::Found;
+use crate::runner::md_run::{md_summary, threads_json};
 use crate::runner::output::THERMO_COLUMNS;
 use crate::scenario::{build_md, Loaded, Resolved};
 use rayon::prelude::*;
@@ -23,7 +23,7 @@ struct MdEngine<D: Dim> {
     order: Mutex<Option<(u64, Arc<Vec<u32>>)>>,
 }
 
-type Built = (Box<dyn Engine>, (u64, u64), u64);
+type Built = (Box<dyn Held>, (u64, u64), u64);
 
 /// The engine `grains run` builds for an MD scenario, its (relaxation,
 /// measured) steps and its output interval.
@@ -45,7 +45,7 @@ fn wrap<D: Dim>(mut md: Md<D>, resolved: Resolved, plan: (u64, u64)) -> Built {
 }
 
 /// The engine of an MD checkpoint and its output interval.
-pub(super) fn restore<D: Dim>(found: &Found) -> Result<(Box<dyn Engine>, u64)> {
+pub(super) fn restore<D: Dim>(found: &Found) -> Result<(Box<dyn Held>, u64)> {
     let (md, resolved) = found.restore_built::<D>()?;
     let (engine, _, every) = wrap(md, resolved, found.plan);
     Ok((engine, every))
@@ -119,24 +119,15 @@ fn unflatten<D: Dim>(flat: &[f64]) -> Vec<D::V> {
         .collect()
 }
 
-impl<D: Dim> Engine for MdEngine<D> {
-    fn dim(&self) -> usize {
-        D::D
+impl<D: Dim> Held for MdEngine<D> {
+    fn engine(&self) -> &dyn Engine {
+        &self.md
+    }
+    fn engine_mut(&mut self) -> &mut dyn Engine {
+        &mut self.md
     }
     fn len(&self) -> usize {
         self.md.particles.n_owned()
-    }
-    fn step(&self) -> u64 {
-        self.md.step
-    }
-    fn time(&self) -> f64 {
-        self.md.time
-    }
-    fn dt(&self) -> f64 {
-        self.md.settings.dt
-    }
-    fn advance(&mut self, n: u64) -> Result<()> {
-        self.md.run(n)
     }
     fn thermo_columns(&self) -> &'static [&'static str] {
         &THERMO_COLUMNS
@@ -213,13 +204,7 @@ impl<D: Dim> Engine for MdEngine<D> {
         let mut s = md_summary(loaded, md, &self.resolved, md.step, stepped, wall_seconds);
         s.insert("neighbor_builds".into(), json!(md.neighbor_builds()));
         s.insert("phase_seconds".into(), md.timing.to_json(wall_seconds, 1.0));
-        s.insert("threads".into(), crate::runner::threads_json(md));
+        s.insert("threads".into(), threads_json(md));
         s
-    }
-    fn checkpoint(&self) -> Result<Vec<u8>> {
-        ckengine::encode(&self.md).map_err(|e| match e {
-            Error::Input(m) => Error::input(format!("save_checkpoint: {m}")),
-            other => other,
-        })
     }
 }

@@ -1,40 +1,13 @@
-//! A small little-endian binary encoding and CRC-32, written for
-//! checkpoints. Every read checks the bytes left before it allocates, so a
-//! damaged or hostile file ends in an error, never a panic or a huge
-//! allocation.
+//! The one little-endian byte codec of the house: checkpoints (through
+//! each engine's and measurement's own packing) and the messages between
+//! ranks (`comm::codec`). Every read checks the bytes left before
+//! it allocates, so a damaged or hostile file ends in an error, never a
+//! panic or a huge allocation.
 
 use crate::dim::Dim;
 
-/// CRC-32 (IEEE 802.3, reflected, polynomial 0xEDB88320), as zip and PNG use.
-pub fn crc32(bytes: &[u8]) -> u32 {
-    const TABLE: [u32; 256] = {
-        let mut t = [0u32; 256];
-        let mut i = 0;
-        while i < 256 {
-            let mut c = i as u32;
-            let mut k = 0;
-            while k < 8 {
-                c = if c & 1 != 0 {
-                    0xEDB8_8320 ^ (c >> 1)
-                } else {
-                    c >> 1
-                };
-                k += 1;
-            }
-            t[i] = c;
-            i += 1;
-        }
-        t
-    };
-    let mut c = !0u32;
-    for &b in bytes {
-        c = TABLE[((c ^ b as u32) & 0xff) as usize] ^ (c >> 8);
-    }
-    !c
-}
-
 /// Appends values to a byte buffer.
-#[derive(Default)]
+#[derive(Clone, Debug, Default)]
 pub struct Enc {
     pub buf: Vec<u8>,
 }
@@ -60,8 +33,12 @@ impl Enc {
         self.u64(n as u64);
     }
     pub fn str(&mut self, s: &str) {
-        self.len(s.len());
-        self.buf.extend_from_slice(s.as_bytes());
+        self.bytes(s.as_bytes());
+    }
+    /// A length-prefixed byte string.
+    pub fn bytes(&mut self, b: &[u8]) {
+        self.len(b.len());
+        self.buf.extend_from_slice(b);
     }
     pub fn vec<D: Dim>(&mut self, v: D::V) {
         for a in 0..D::D {
@@ -88,6 +65,7 @@ impl Enc {
 }
 
 /// Reads values back; errors say what was being read and where.
+#[derive(Clone, Debug)]
 pub struct Dec<'a> {
     data: &'a [u8],
     pos: usize,
@@ -150,6 +128,11 @@ impl<'a> Dec<'a> {
         }
         Ok(n as usize)
     }
+    /// A length-prefixed byte string.
+    pub fn bytes(&mut self, what: &str) -> DecResult<&'a [u8]> {
+        let n = self.len(1, what)?;
+        self.take(n, what)
+    }
     pub fn str(&mut self, what: &str) -> DecResult<String> {
         let n = self.len(1, what)?;
         let b = self.take(n, what)?;
@@ -185,9 +168,17 @@ mod tests {
     use super::*;
 
     #[test]
-    fn crc_of_check_string() {
-        assert_eq!(crc32(b"123456789"), 0xCBF4_3926);
-        assert_eq!(crc32(b""), 0);
+    fn bytes_and_text_read_back() {
+        let mut e = Enc::default();
+        e.bytes(b"abc");
+        e.str("grains");
+        e.f64(-0.0);
+        let mut d = Dec::new(&e.buf);
+        assert_eq!(d.bytes("b").unwrap(), b"abc");
+        assert_eq!(d.str("s").unwrap(), "grains");
+        assert_eq!(d.f64("x").unwrap().to_bits(), (-0.0f64).to_bits());
+        assert_eq!(d.remaining(), 0);
+        assert!(d.u8("past the end").unwrap_err().contains("ends early"));
     }
 
     #[test]

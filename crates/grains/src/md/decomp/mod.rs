@@ -1,9 +1,9 @@
 //! MD over the ranks of a [`Comm`]: a grid of boxes cut by grain count
-//! ([`super::subdomains`]), ghost
+//! ([`subdomains`]), ghost
 //! shells refreshed every step, migration at neighbour rebuilds.
 //!
 //! Each rank runs an [`Md`] on its own grains followed by ghost copies of
-//! its neighbours' grains within reach (see [`super::halo`]). A pair of an
+//! its neighbours' grains within reach (see [`halo`]). A pair of an
 //! owned grain and a ghost is evaluated on both ranks that hold it, and
 //! each keeps only its own grain's force ("newton off" across ranks), so no
 //! force is sent back. Pairs of two ghosts are dropped from the list. The
@@ -20,7 +20,7 @@
 //!    than skin/2 (one all-reduce): wrap, migrate the grains
 //!    that left the box; when the owned counts are out of balance (max/mean
 //!    − 1 above `[parallel] rebalance`), cut the boxes again by count
-//!    ([`super::balance`]) and migrate again; sort, send new ghost shells,
+//!    ([`balance`]) and migrate again; sort, send new ghost shells,
 //!    rebuild the list;
 //! 4. forces: pairs (owned and ghosts), walls and gravity (owned only, walls
 //!    evaluated at the same time on every rank);
@@ -31,10 +31,11 @@
 //! with the serial run to rounding: forces on a grain are summed in another
 //! order (the list order differs), never a different physics.
 
-use super::balance::imbalance;
-use super::halo::{get_record, put_record, Halo};
-use super::parallel_spec::ParallelSpec;
-use super::subdomains::Subdomains;
+pub mod balance;
+pub mod halo;
+pub mod parallel_spec;
+pub mod subdomains;
+
 use super::{Md, MdStats};
 use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
@@ -42,8 +43,12 @@ use crate::domain::Domain;
 use crate::error::{Error, Result};
 use crate::neighbors::{spatial_sort_order, NeighborList};
 use crate::particles::Particles;
+use balance::imbalance;
+use halo::{get_record, put_record, Halo};
+use parallel_spec::ParallelSpec;
 use std::collections::{HashMap, HashSet};
 use std::time::Instant;
+use subdomains::Subdomains;
 
 /// Pair springs keyed by (smaller id, larger id), oriented as the smaller id's.
 type PairSprings<D> = HashMap<(u64, u64), <D as Dim>::V, super::pair_hash::PairHash>;

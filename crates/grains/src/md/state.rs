@@ -1,0 +1,30 @@
+//! The complete dynamic state of an MD engine, as a checkpoint carries it
+//! ([`super::Md::export_state`], [`super::Md::import_state`]; encoded by
+//! `checkpoint::state`).
+
+use crate::dim::Dim;
+use crate::neighbors::ListState;
+use crate::particles::Particles;
+
+/// The complete dynamic state of an [`super::Md`]: with the same scenario
+/// (settings, walls, domain) it continues bit for bit like the run it came
+/// from. Walls need no state of their own: their motion, phase and removal
+/// are functions of `time`.
+#[derive(Clone, Debug)]
+pub struct MdState<D: Dim> {
+    pub time: f64,
+    pub step: u64,
+    /// Owned particles in store order, forces and Gear history included.
+    pub particles: Particles<D>,
+    pub list: ListState<D>,
+    /// Tangential springs aligned with `list.pairs`.
+    pub springs: Vec<D::V>,
+    /// Grain–wall springs, `walls.max(1)` per grain in store order.
+    pub wall_springs: Vec<D::V>,
+    pub rebuilds_since_sort: u32,
+    /// Statistics of the last force evaluation (reported in thermo rows).
+    pub contacts: u64,
+    pub max_overlap: f64,
+    pub max_overlap_fraction: f64,
+    pub worst_pair: (u64, Option<u64>),
+}

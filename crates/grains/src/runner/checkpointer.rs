@@ -1,0 +1,286 @@
+//! Writes the checkpoints of a run, MD or DSMC: the run's payload (the
+//! scenario as TOML with its origin and base directory, the dimension, the
+//! run plan, the checkpoint interval, the output state, the step, the
+//! engine's exported state, and the measurement section: a flag, and when
+//! set the accumulators' length-prefixed bytes) inside the sealed file of
+//! [`crate::checkpoint`].
+
+use super::engine::Engine;
+use super::options::RunOptions;
+use super::output::OutputState;
+use crate::checkpoint;
+use crate::codec::Enc;
+use crate::error::{Error, Result};
+use crate::scenario::schema::Scenario;
+use crate::scenario::Loaded;
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+
+/// The hooks' parts of a checkpoint: where the output files stand, and the
+/// measurement accumulators once the measurement has begun.
+#[derive(Default)]
+pub(crate) struct Saved {
+    pub outputs: Option<OutputState>,
+    pub measurements: Option<Vec<u8>>,
+}
+
+/// Why a scenario's state cannot be checkpointed yet, if it cannot: the
+/// flow events (settling, recycling) and the measurements the flow run keeps
+/// (repose, surface_angle, spacetime) are not part of a checkpoint.
+fn blocker(scenario: &Scenario) -> Option<String> {
+    let mesh = |w: &&crate::scenario::schema::WallSpec| {
+        matches!(w.shape, crate::scenario::schema::ShapeSpec::Mesh { .. })
+    };
+    if let Some(w) = scenario.walls.iter().find(mesh) {
+        return Some(format!(
+            "checkpoints do not carry the tangential springs of mesh walls yet (wall '{}'); \
+             run this scenario without --checkpoint-every",
+            w.name
+        ));
+    }
+    if scenario.hopper.is_some() || scenario.run.events.is_some() {
+        return Some(
+            "checkpoints do not carry the state of [hopper] recycling or run.events yet; \
+             run this scenario without --checkpoint-every"
+                .to_string(),
+        );
+    }
+    let m = &scenario.measure;
+    let flow: Vec<&str> = [
+        ("measure.repose", m.repose.is_some()),
+        ("measure.surface_angle", m.surface_angle.is_some()),
+        ("measure.spacetime", m.spacetime.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(k, on)| on.then_some(k))
+    .collect();
+    if flow.is_empty() {
+        return None;
+    }
+    Some(format!(
+        "checkpoints do not carry the state of {} yet; remove {} (or --set it off) \
+         to checkpoint this run",
+        flow.join(", "),
+        if flow.len() == 1 { "it" } else { "them" }
+    ))
+}
+
+/// Writes the checkpoints of one run, MD or DSMC: the run loop calls it
+/// when a hook asks for one ([`super::run_loop::Control`]).
+pub(crate) struct Checkpointer {
+    dir: PathBuf,
+    interval: Option<u64>,
+    /// Why this scenario cannot be checkpointed, if it cannot.
+    blocked: Option<String>,
+    scenario: String,
+    origin: String,
+    base_dir: String,
+    plan: (u64, u64),
+}
+
+impl Checkpointer {
+    /// The checkpoints of a run of `loaded` with time step `dt` and
+    /// (relaxation, measured) steps `plan`; refuses `--checkpoint-every`
+    /// for a scenario whose state a checkpoint does not carry.
+    pub(crate) fn new(
+        loaded: &Loaded,
+        opts: &RunOptions,
+        dt: f64,
+        plan: (u64, u64),
+    ) -> Result<Self> {
+        let blocked = match loaded.scenario.method {
+            crate::dsmc::Method::Dsmc => None,
+            _ => blocker(&loaded.scenario),
+        };
+        if let (Some(_), Some(why)) = (opts.checkpoint_every, &blocked) {
+            return Err(Error::input(format!("--checkpoint-every: {why}")));
+        }
+        let scenario = scenario_text(&loaded.scenario)?;
+        Ok(Self {
+            dir: opts.out_dir.clone(),
+            interval: opts.checkpoint_every.map(|e| e.steps(dt)),
+            blocked,
+            scenario,
+            origin: loaded.origin.clone(),
+            base_dir: loaded.base_dir.to_string_lossy().into_owned(),
+            plan,
+        })
+    }
+
+    /// Checkpoints into `dir` at `interval` of a run with no scenario text
+    /// (for the run loop's tests).
+    #[cfg(test)]
+    pub(crate) fn in_dir(dir: &Path, interval: Option<u64>) -> Self {
+        Self {
+            dir: dir.to_path_buf(),
+            interval,
+            blocked: None,
+            scenario: String::new(),
+            origin: String::new(),
+            base_dir: String::new(),
+            plan: (0, 0),
+        }
+    }
+
+    /// The interval in steps, when the run takes checkpoints.
+    pub(crate) fn interval(&self) -> Option<u64> {
+        self.interval
+    }
+
+    /// Whether the interval asks for a checkpoint at `step`.
+    pub(crate) fn due(&self, step: u64) -> bool {
+        self.interval.is_some_and(|n| step.is_multiple_of(n))
+    }
+
+    /// The summary of a run stopped by a signal at the step `engine` stands
+    /// at, with a checkpoint there unless the scenario cannot take one.
+    pub(crate) fn interrupt(&self, engine: &dyn Engine, saved: &Saved) -> Result<Value> {
+        let (step, time) = (engine.step_count(), engine.sim_time());
+        if let Some(why) = &self.blocked {
+            return Ok(json!({
+                "interrupted": true,
+                "step": step,
+                "time": time,
+                "checkpoint": Value::Null,
+                "message": format!("stopped at step {step} without a checkpoint: {why}"),
+            }));
+        }
+        let path = self.write(engine, saved)?;
+        Ok(json!({
+            "interrupted": true,
+            "step": step,
+            "time": time,
+            "checkpoint": path.display().to_string(),
+            "message": format!(
+                "stopped at step {step} (t = {time:.6e} s); checkpoint {}; continue with: grains resume {}",
+                path.display(), self.dir.display()
+            ),
+        }))
+    }
+
+    /// Writes the checkpoint of `engine` with the hooks' `saved` parts.
+    pub(crate) fn write(&self, engine: &dyn Engine, saved: &Saved) -> Result<PathBuf> {
+        let run = RunHeader {
+            scenario: &self.scenario,
+            origin: &self.origin,
+            base_dir: &self.base_dir,
+            dim: engine.dim(),
+            plan: self.plan,
+            interval: self.interval,
+        };
+        let outputs = saved.outputs.clone().unwrap_or_default();
+        write_payload(
+            &self.dir,
+            &run,
+            &outputs,
+            engine.step_count(),
+            &engine.export()?,
+            saved.measurements.as_deref(),
+        )
+    }
+}
+
+/// What every checkpoint payload, MD or DSMC, says about its run.
+pub(crate) struct RunHeader<'a> {
+    pub scenario: &'a str,
+    pub origin: &'a str,
+    pub base_dir: &'a str,
+    pub dim: usize,
+    pub plan: (u64, u64),
+    pub interval: Option<u64>,
+}
+
+/// Writes one checkpoint: the run header, where the outputs stood, the
+/// step, the engine's bytes and the (MD) measurement section. [`decode`]
+/// reads exactly this layout, for both engines.
+pub(crate) fn write_payload(
+    dir: &Path,
+    run: &RunHeader,
+    outputs: &OutputState,
+    step: u64,
+    engine: &[u8],
+    measurements: Option<&[u8]>,
+) -> Result<PathBuf> {
+    let payload = payload(run, outputs, step, engine, measurements);
+    checkpoint::write(dir, step, &payload)
+}
+
+/// The payload [`write_payload`] writes.
+pub(crate) fn payload(
+    run: &RunHeader,
+    outputs: &OutputState,
+    step: u64,
+    engine: &[u8],
+    measurements: Option<&[u8]>,
+) -> Vec<u8> {
+    let mut e = Enc::default();
+    e.str(run.scenario);
+    e.str(run.origin);
+    e.str(run.base_dir);
+    e.u8(run.dim as u8);
+    e.u64(run.plan.0);
+    e.u64(run.plan.1);
+    e.u64(run.interval.unwrap_or(0));
+    encode_outputs(&mut e, outputs);
+    e.u64(step);
+    e.len(engine.len());
+    e.buf.extend_from_slice(engine);
+    encode_measurements(&mut e, measurements);
+    e.buf
+}
+
+/// The scenario as TOML text that reads back to an equal scenario.
+pub(crate) fn scenario_text(s: &Scenario) -> Result<String> {
+    let text = toml::to_string(s)
+        .map_err(|e| Error::input(format!("checkpoint: cannot write the scenario: {e}")))?;
+    match toml::from_str::<Scenario>(&text) {
+        Ok(back) if back == *s => Ok(text),
+        _ => Err(Error::input(
+            "checkpoint: the scenario does not survive a TOML round trip; cannot checkpoint it",
+        )),
+    }
+}
+
+/// The measurement section: a flag, then the accumulators' bytes.
+fn encode_measurements(e: &mut Enc, bytes: Option<&[u8]>) {
+    e.bool(bytes.is_some());
+    if let Some(b) = bytes {
+        e.len(b.len());
+        e.buf.extend_from_slice(b);
+    }
+}
+
+fn encode_outputs(e: &mut Enc, o: &OutputState) {
+    e.u64(o.thermo_len);
+    opt(e, o.dump_len);
+    e.len(o.frames.len());
+    for (t, f) in &o.frames {
+        e.f64(*t);
+        e.str(f);
+    }
+    opt(e, o.last_step);
+}
+
+fn opt(e: &mut Enc, v: Option<u64>) {
+    e.bool(v.is_some());
+    e.u64(v.unwrap_or(0));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shipped_scenarios_survive_toml_round_trip() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+        for f in std::fs::read_dir(dir).unwrap() {
+            let p = f.unwrap().path();
+            // scenarios/meshes/ holds the mesh scenarios' STL files.
+            if p.extension().is_none_or(|e| e != "toml") {
+                continue;
+            }
+            let l = crate::scenario::load_file(&p, &[]).unwrap();
+            scenario_text(&l.scenario).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        }
+    }
+}

@@ -1,0 +1,291 @@
+//! The MD measurements a scenario asks for (`[measure]`), accumulated
+//! between steps, and the hook that runs them in the measured phase.
+
+use super::run_loop::{Control, Every, Hook, Saved};
+use crate::codec::{Dec, DecResult, Enc};
+use crate::dim::Dim;
+use crate::error::{Error, Result};
+use crate::io::Frame;
+use crate::md::Md;
+use crate::measure::phase::drive;
+use crate::measure::{
+    Convection, DisplacementField, FlowField, PhaseSnapshots, Profiles, Tracer, Trajectories,
+};
+use crate::scenario::Loaded;
+use serde_json::{json, Map, Value};
+use std::path::Path;
+
+/// Measurements the scenario asked for.
+pub(crate) struct Measurements {
+    pub(super) displacement: Option<DisplacementField>,
+    convection: Option<Convection>,
+    phases: Option<PhaseSnapshots>,
+    tracer: Option<Tracer>,
+    profiles: Option<Profiles>,
+    trajectories: Option<Trajectories>,
+    flow_field: Option<FlowField>,
+}
+
+impl Measurements {
+    /// `remaining`: steps of the measurement; `dt` the time step.
+    pub(super) fn begin<D: Dim>(
+        loaded: &Loaded,
+        md: &Md<D>,
+        remaining: u64,
+        dt: f64,
+    ) -> Result<Self> {
+        let m = &loaded.scenario.measure;
+        let d0 = loaded.scenario.particles.d0;
+        let phases = match &m.phases {
+            Some(p) => Some(
+                PhaseSnapshots::begin(md, &p.phases, p.segment_time, p.displacement_after)
+                    .ok_or_else(|| {
+                        Error::input("measure.phases needs a vibrating or oscillating wall")
+                    })?,
+            ),
+            None => None,
+        };
+        let trajectories = match &m.trajectories {
+            Some(t) => {
+                let f = drive(&md.walls).map(|d| d.0).ok_or_else(|| {
+                    Error::input("measure.trajectories needs a vibrating or oscillating wall")
+                })?;
+                let window = (t.cycles / (f * dt)).round() as u64;
+                Some(Trajectories::new(md, t.every, remaining, window))
+            }
+            None => None,
+        };
+        if let Some(p) = &m.profiles {
+            if !(p.bin.is_finite() && p.bin > 0.0) {
+                return Err(Error::input(format!(
+                    "measure.profiles.bin = {}: must be positive (units of d0)",
+                    p.bin
+                )));
+            }
+        }
+        let flow_field = match &m.flow_field {
+            Some(f) => Some(FlowField::for_md(md, &f.cells, f.from, f.top)?),
+            None => None,
+        };
+        Ok(Self {
+            flow_field,
+            displacement: m.displacement.then(|| DisplacementField::begin(md)),
+            convection: m.convection.as_ref().map(|c| Convection::new(c.band)),
+            phases,
+            tracer: m.tracer.as_ref().map(|t| Tracer::new(t.id)),
+            profiles: m.profiles.as_ref().map(|p| Profiles::new(md, p.bin * d0)),
+            trajectories,
+        })
+    }
+
+    /// The accumulators as checkpoint bytes: for each measurement in a
+    /// fixed order a presence flag, then its state.
+    pub(super) fn save(&self) -> Vec<u8> {
+        let mut e = Enc::default();
+        fn one<T>(e: &mut Enc, m: &Option<T>, save: impl Fn(&T, &mut Enc)) {
+            e.bool(m.is_some());
+            if let Some(m) = m {
+                save(m, e);
+            }
+        }
+        one(&mut e, &self.displacement, DisplacementField::save);
+        one(&mut e, &self.convection, Convection::save);
+        one(&mut e, &self.phases, PhaseSnapshots::save);
+        one(&mut e, &self.tracer, Tracer::save);
+        one(&mut e, &self.profiles, Profiles::save);
+        one(&mut e, &self.trajectories, Trajectories::save);
+        // Last, so that checkpoints from before it existed still load.
+        if let Some(f) = &self.flow_field {
+            e.bool(true);
+            f.save(&mut e);
+        }
+        e.buf
+    }
+
+    /// The accumulators saved by [`Measurements::save`]; each must be present
+    /// exactly when the scenario asks for it.
+    pub(super) fn load<D: Dim>(
+        loaded: &Loaded,
+        md: &Md<D>,
+        bytes: &[u8],
+    ) -> std::result::Result<Self, String> {
+        let m = &loaded.scenario.measure;
+        let mut d = Dec::new(bytes);
+        fn one<T>(
+            d: &mut Dec,
+            name: &str,
+            want: bool,
+            load: impl Fn(&mut Dec) -> DecResult<T>,
+        ) -> DecResult<Option<T>> {
+            let has = d.bool(name)?;
+            if has != want {
+                return Err(format!(
+                    "measurement {name}: {} in the checkpoint but {} in the scenario",
+                    if has { "present" } else { "absent" },
+                    if want { "asked for" } else { "not asked for" }
+                ));
+            }
+            has.then(|| load(d)).transpose()
+        }
+        let out = Self {
+            displacement: one(
+                &mut d,
+                "displacement",
+                m.displacement,
+                DisplacementField::load,
+            )?,
+            convection: one(
+                &mut d,
+                "convection",
+                m.convection.is_some(),
+                Convection::load,
+            )?,
+            phases: one(&mut d, "phases", m.phases.is_some(), PhaseSnapshots::load)?,
+            tracer: one(&mut d, "tracer", m.tracer.is_some(), Tracer::load)?,
+            profiles: one(&mut d, "profiles", m.profiles.is_some(), Profiles::load)?,
+            trajectories: one(
+                &mut d,
+                "trajectories",
+                m.trajectories.is_some(),
+                Trajectories::load,
+            )?,
+            flow_field: None,
+        };
+        let mut out = out;
+        // Written only when asked for (see `save`).
+        let has_flow = d.remaining() > 0 && d.bool("flow_field")?;
+        match (&m.flow_field, has_flow) {
+            (Some(f), true) => {
+                let fresh =
+                    FlowField::for_md(md, &f.cells, f.from, f.top).map_err(|e| e.to_string())?;
+                out.flow_field = Some(fresh.load(&mut d)?);
+            }
+            (None, false) => {}
+            (want, _) => {
+                return Err(format!(
+                    "measurement flow_field: {} in the checkpoint but {} in the scenario",
+                    if has_flow { "present" } else { "absent" },
+                    if want.is_some() {
+                        "asked for"
+                    } else {
+                        "not asked for"
+                    }
+                ))
+            }
+        }
+        if d.remaining() != 0 {
+            return Err(format!(
+                "{} unexpected bytes after the measurements",
+                d.remaining()
+            ));
+        }
+        Ok(out)
+    }
+
+    /// Whether [`Self::step`] after engine step `step` at time `t` reads the
+    /// grains (a decomposed run gathers them then). At any other step it
+    /// only notes the drive's phase, so the serial runner skips it: judged
+    /// from an older phase the answer is the same, as no target phase (nor
+    /// cycle start) was crossed in between — else that step was due.
+    pub(super) fn due(&self, step: u64, t: f64) -> bool {
+        self.phases.as_ref().is_some_and(|p| p.due(t))
+            || self.trajectories.as_ref().is_some_and(|x| x.due(step))
+    }
+
+    /// After every step (phase- and step-exact measurements).
+    pub(super) fn step<D: Dim>(&mut self, md: &Md<D>) {
+        if let Some(p) = &mut self.phases {
+            p.step(md);
+        }
+        if let Some(t) = &mut self.trajectories {
+            t.step(md);
+        }
+    }
+
+    pub(super) fn sample<D: Dim>(&mut self, md: &Md<D>) {
+        if let Some(d) = &mut self.displacement {
+            d.sample(md);
+        }
+        if let Some(c) = &mut self.convection {
+            c.sample(md);
+        }
+        if let Some(t) = &mut self.tracer {
+            t.sample(md);
+        }
+        if let Some(p) = &mut self.profiles {
+            p.sample(md);
+        }
+        if let Some(f) = &mut self.flow_field {
+            f.sample(md);
+        }
+    }
+
+    pub(super) fn write<D: Dim>(&self, dir: &Path, md: &Md<D>, last: &Frame) -> Result<()> {
+        if let Some(c) = &self.convection {
+            c.write(dir, &md.domain)?;
+        }
+        if let Some(p) = &self.phases {
+            p.write(dir, &md.walls)?;
+        }
+        if let Some(t) = &self.tracer {
+            t.write(dir, last)?;
+        }
+        if let Some(p) = &self.profiles {
+            p.write(dir)?;
+        }
+        if let Some(t) = &self.trajectories {
+            t.write(dir, last, &md.walls)?;
+        }
+        if let Some(f) = &self.flow_field {
+            f.write(dir, last, &md.walls)?;
+        }
+        Ok(())
+    }
+
+    pub(super) fn scalars(&self, summary: &mut Map<String, Value>) {
+        if let Some(c) = &self.convection {
+            summary.insert("convection_center_vz".into(), json!(c.center_vz()));
+            summary.insert("convection_edge_vz".into(), json!(c.edge_vz()));
+            summary.insert(
+                "convection_strength".into(),
+                json!(c.center_vz() - c.edge_vz()),
+            );
+            summary.insert("heap_height".into(), json!(c.heap_height()));
+        }
+        if let Some(t) = &self.tracer {
+            summary.insert("tracer_rms".into(), json!(t.rms_spread()));
+        }
+        if let Some(p) = &self.profiles {
+            summary.insert("transport_velocity".into(), json!(p.transport_velocity()));
+        }
+    }
+}
+
+/// Runs the measurements in the measured phase: the per-step ones
+/// (phases, trajectories) at the steps they read the grains, the sampled
+/// ones every `sample` steps.
+pub(super) struct MeasureHook<'a> {
+    pub m: &'a mut Measurements,
+    pub sample: Every,
+    pub dt: f64,
+}
+
+impl<D: Dim> Hook<Md<D>> for MeasureHook<'_> {
+    fn next(&self, now: u64, horizon: u64) -> u64 {
+        let h = self.sample.next(now, horizon);
+        (now + 1..h)
+            .find(|&s| self.m.due(s, s as f64 * self.dt))
+            .unwrap_or(h)
+    }
+    fn act(&mut self, md: &mut Md<D>, now: u64) -> Result<Control> {
+        self.m.step(md);
+        if self.sample.due(now) {
+            self.m.sample(md);
+        }
+        Ok(Control::Go)
+    }
+    fn pack(&self, saved: &mut Saved) -> Result<()> {
+        saved.measurements = Some(self.m.save());
+        Ok(())
+    }
+}
