@@ -8,11 +8,14 @@ use super::wall_loads::WallLoad;
 use super::wall_springs::{ChunkSprings, MeshKey, WallSprings};
 use super::MdStats;
 use crate::boundary::{MeshScratch, PlacedWall, WallContact};
-use crate::contact::ContactLaw;
+use crate::contact::hertz_mindlin::HertzMindlin;
+use crate::contact::{Contact, ContactLaw, ContactModel, Step};
 use crate::dim::Dim;
 
 pub struct FieldInput<'a, D: Dim> {
     pub law: &'a ContactLaw,
+    /// The material law, when the scenario has one (it replaces `law`).
+    pub hertz: Option<&'a HertzMindlin>,
     /// The walls placed at the evaluation's time, once for all blocks.
     pub walls: &'a [PlacedWall<'a, D>],
     pub gravity: D::V,
@@ -40,6 +43,8 @@ pub struct GrainView<'a, D: Dim> {
     pub mass: &'a [f64],
     pub frozen: &'a [bool],
     pub id: &'a [u64],
+    /// Grain types: a material law's key to each grain's material.
+    pub kind: &'a [u32],
     /// Grains past this index (ghosts) get no field force.
     pub owned: usize,
 }
@@ -88,7 +93,10 @@ pub fn field_part<D: Dim>(
     let part = if input.walls.is_empty() {
         empty()
     } else {
-        wall_contacts(input, g, springs_in, first, force, torque)
+        match input.hertz {
+            Some(h) => wall_contacts(h, input, g, springs_in, first, (force, torque)),
+            None => wall_contacts(input.law, input, g, springs_in, first, (force, torque)),
+        }
     };
     // Gravity after the walls, as each grain's sum has always been formed:
     // a loop of its own, without the walls' machinery around it.
@@ -106,18 +114,22 @@ pub fn field_part<D: Dim>(
 /// Adds the wall contacts of the owned, non-frozen grains among
 /// `first..first + force.len()` (each grain's walls in wall order); their
 /// statistics and springs.
-fn wall_contacts<D: Dim>(
+fn wall_contacts<D: Dim, L: ContactModel>(
+    law: &L,
     input: &FieldInput<D>,
     g: &GrainView<D>,
     springs_in: &WallSprings<D>,
     first: usize,
-    force: &mut [D::V],
-    torque: &mut [D::A],
+    (force, torque): (&mut [D::V], &mut [D::A]),
 ) -> FieldPart<D> {
     let mut s = PartStats::default();
     let mut kept = ChunkSprings::default();
     let range = first..first + force.len();
-    let law = input.law;
+    let rotation = law.rotation();
+    let step = Step {
+        dt: input.dt,
+        update: input.update,
+    };
     let mut springs = springs_in.cursor(range.clone());
     // Mesh walls: several contacts per wall, springs per patch, and the
     // load they take (nothing allocated when there is no mesh).
@@ -158,6 +170,7 @@ fn wall_contacts<D: Dim>(
             omega: omega[k],
             radius: ri,
             mass: mi,
+            kind: g.kind[i],
         };
         for (w, wall) in input.walls.iter().enumerate() {
             if meshes && wall.mesh().is_some() {
@@ -165,10 +178,10 @@ fn wall_contacts<D: Dim>(
                 for &(patch, contact) in &mesh.found {
                     let key = (i as u32, w as u32, patch);
                     let mut spring = mesh.springs.get_key(key);
-                    let (f, t) = push(input, &grain, &contact, &mut spring);
+                    let (f, t) = push(law, step, (&grain, w), &contact, &mut spring);
                     mesh.kept.keep_key(key, spring);
                     force[k] += f;
-                    if law.rotation {
+                    if rotation {
                         torque[k] -= t;
                     }
                     mesh.loads[w].add::<D>(f, contact.point);
@@ -181,10 +194,10 @@ fn wall_contacts<D: Dim>(
                 continue;
             };
             let mut spring = springs.get(i, w);
-            let (f, t) = push(input, &grain, &contact, &mut spring);
+            let (f, t) = push(law, step, (&grain, w), &contact, &mut spring);
             kept.keep(i, w, spring);
             force[k] += f;
-            if law.rotation {
+            if rotation {
                 torque[k] -= t;
             }
             s.count(&contact, ri, g.id[i]);
@@ -204,6 +217,7 @@ struct Grain<D: Dim> {
     omega: D::A,
     radius: f64,
     mass: f64,
+    kind: u32,
 }
 
 /// What a range of grains keeps while meeting mesh walls.
@@ -218,28 +232,32 @@ struct MeshPass<'a, D: Dim> {
 /// The force on a grain from one wall contact, and the torque to take
 /// from its sum (the contact law on the relative velocity at the contact).
 #[inline(always)]
-fn push<D: Dim>(
-    input: &FieldInput<D>,
-    g: &Grain<D>,
+fn push<D: Dim, L: ContactModel>(
+    law: &L,
+    step: Step,
+    (g, wall): (&Grain<D>, usize),
     contact: &WallContact<D>,
     spring: &mut D::V,
 ) -> (D::V, D::A) {
-    let law = input.law;
+    let rotation = law.rotation();
     let mut v_rel = g.vel - contact.velocity;
-    if law.rotation {
+    if rotation {
         v_rel -= D::ang_cross(g.omega * g.radius, contact.normal);
     }
-    let out = law.evaluate::<D>(
-        contact.overlap,
-        contact.normal,
+    // A wall is infinitely heavy and flat.
+    let c = Contact::<D> {
+        overlap: contact.overlap,
+        normal: contact.normal,
         v_rel,
-        law.damping_mass(g.mass, f64::INFINITY),
-        spring,
-        input.dt,
-        input.update,
-    );
-    let fi = law.scaling.force_factor(g.mass);
-    let torque = if law.rotation {
+        mi: g.mass,
+        mj: f64::INFINITY,
+        ri: g.radius,
+        rj: f64::INFINITY,
+        pair: law.wall_pair_index(g.kind, wall),
+    };
+    let out = law.evaluate(&c, spring, step);
+    let fi = law.force_factor(g.mass);
+    let torque = if rotation {
         D::torque(contact.normal, out.tangential) * (g.radius * fi)
     } else {
         D::A::default()

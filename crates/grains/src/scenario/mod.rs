@@ -2,6 +2,7 @@
 //! that turns a scenario into a ready MD engine.
 
 pub mod build;
+pub mod materials;
 pub mod memory;
 mod mesh_wall;
 pub mod overrides;
