@@ -9,6 +9,7 @@
 //! is LAMMPS's `gran/hooke/history`, which the shared benchmarks are checked
 //! against.
 
+use super::contract::Step;
 use crate::dim::Dim;
 
 /// Parameters of the tangential contact, with damping already multiplied by
@@ -26,6 +27,12 @@ impl Tangential {
     /// normal `n` (unit) and normal force magnitude `fn_abs`. Updates the
     /// spring when `update` (false when forces are evaluated without time
     /// advancing, as at the start of a run).
+    ///
+    /// `known` says the caller's law always has a spring (k_t > 0) and a
+    /// finite cap, so the tests for them fold away. The sliding case is a
+    /// selection, not a branch (both outcomes computed, one kept), so that
+    /// the batched lanes vectorize it; a law without a cap returns before
+    /// any of it.
     #[inline(always)]
     pub fn force<D: Dim>(
         &self,
@@ -33,31 +40,37 @@ impl Tangential {
         vt: D::V,
         n: D::V,
         fn_abs: f64,
-        dt: f64,
-        update: bool,
+        step: Step,
+        known: bool,
     ) -> D::V {
-        if self.kt > 0.0 && update {
-            *spring += vt * dt;
+        let has_spring = known || self.kt > 0.0;
+        if has_spring && step.update {
+            *spring += vt * step.dt;
             let along_normal = D::dot(*spring, n);
             *spring -= n * along_normal;
         }
-        let mut fs = -(*spring * self.kt + vt * self.gamma);
-        if self.mu.is_finite() {
-            let cap = self.mu * fn_abs;
-            let fs2 = D::norm2(fs);
-            if fs2 > cap * cap {
-                let scale = cap / fs2.sqrt();
-                if self.kt > 0.0 {
-                    if D::norm2(*spring) == 0.0 {
-                        return D::zero();
-                    }
-                    let damp = vt * (self.gamma / self.kt);
-                    *spring = (*spring + damp) * scale - damp;
-                }
-                fs *= scale;
-            }
+        let fs = -(*spring * self.kt + vt * self.gamma);
+        if !(known || self.mu.is_finite()) {
+            return fs;
         }
-        fs
+        let cap = self.mu * fn_abs;
+        let fs2 = D::norm2(fs);
+        let sliding = fs2 > cap * cap;
+        let scale = cap / fs2.sqrt();
+        // Sliding: the spring cut back to the length that gives the capped
+        // force; a spring of length zero gives no force at all.
+        let s2 = D::norm2(*spring);
+        let cut = sliding && has_spring && s2 != 0.0;
+        let kill = sliding && has_spring && s2 == 0.0;
+        let damp = vt * (self.gamma / self.kt);
+        let cut_spring = (*spring + damp) * scale - damp;
+        *spring = if cut { cut_spring } else { *spring };
+        let capped = if sliding { fs * scale } else { fs };
+        if kill {
+            D::zero()
+        } else {
+            capped
+        }
     }
 }
 
@@ -66,6 +79,10 @@ mod tests {
     use super::*;
     use crate::dim::D3;
     use glam::DVec3;
+
+    fn step(dt: f64) -> Step {
+        Step { dt, update: true }
+    }
 
     #[test]
     fn spring_stays_in_tangent_plane() {
@@ -76,12 +93,12 @@ mod tests {
         };
         let mut s = DVec3::new(0.0, 0.0, 0.0);
         let n = DVec3::new(0.0, 0.0, 1.0);
-        let f = t.force::<D3>(&mut s, DVec3::new(1.0, 0.0, 0.0), n, 1.0, 0.1, true);
+        let f = t.force::<D3>(&mut s, DVec3::new(1.0, 0.0, 0.0), n, 1.0, step(0.1), false);
         assert_eq!(s, DVec3::new(0.1, 0.0, 0.0));
         assert_eq!(f, DVec3::new(-1.0, 0.0, 0.0));
         // The contact turns: the spring is projected onto the new plane.
         let n2 = DVec3::new(1.0, 0.0, 1.0).normalize();
-        t.force::<D3>(&mut s, DVec3::ZERO, n2, 1.0, 0.1, true);
+        t.force::<D3>(&mut s, DVec3::ZERO, n2, 1.0, step(0.1), false);
         assert!(s.dot(n2).abs() < 1e-15);
     }
 
@@ -95,7 +112,7 @@ mod tests {
         let mut s = DVec3::new(0.05, 0.0, 0.0);
         let n = DVec3::Z;
         // Spring force 5 exceeds the cap 0.5 * 2 = 1.
-        let f = t.force::<D3>(&mut s, DVec3::ZERO, n, 2.0, 0.1, true);
+        let f = t.force::<D3>(&mut s, DVec3::ZERO, n, 2.0, step(0.1), false);
         assert!((f.length() - 1.0).abs() < 1e-14);
         assert!((s.length() - 0.01).abs() < 1e-15);
     }

@@ -1,24 +1,25 @@
-//! The LAMMPS `gran/hooke/history` contact as a fixed kernel for the hot
-//! pair loop: linear spring (β = 1), reduced-mass damping, Cundall–Strack
-//! spring with a finite Coulomb cap, rotation on.
+//! The LAMMPS `gran/hooke/history` contact with its choices fixed at
+//! compile time: linear spring (β = 1), reduced-mass damping,
+//! Cundall–Strack spring with a finite Coulomb cap, rotation on.
 //!
-//! It is [`ContactLaw::evaluate`] with those choices made at compile time:
-//! the same operations in the same order, so the results are the same bits
-//! (a test checks it), but without the power-law, scaling and cap branches
-//! that the general law tests on every contact.
+//! It is the spring–dashpot law of [`super::law`], the same code, with the
+//! power-law, scaling and cap tests folded away; the results are the same
+//! bits as the general [`ContactLaw`] (a test checks it). Written without
+//! branches, it runs on the batched lanes of the pair loop.
 
-use super::law::{ContactLaw, ContactOutcome};
+use super::contract::{Contact, ContactModel, ContactOutcome, Step};
+use super::law::{spring_dashpot, ContactLaw, SpringDashpot};
 use super::mass_scaling::MassScaling;
 use crate::dim::Dim;
 
 /// Coefficients of a contact law that has the Hooke-with-history shape.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HookeHistory {
-    pub(super) kn: f64,
-    pub(super) gamma_n: f64,
-    pub(super) gamma_t: f64,
-    pub(super) kt: f64,
-    pub(super) mu: f64,
+    kn: f64,
+    gamma_n: f64,
+    gamma_t: f64,
+    kt: f64,
+    mu: f64,
 }
 
 impl HookeHistory {
@@ -38,53 +39,50 @@ impl HookeHistory {
             mu: law.mu,
         })
     }
+}
 
-    /// Reduced mass, a frozen grain (infinite mass) leaving its partner's.
+impl SpringDashpot for HookeHistory {
+    const KNOWN_SHAPE: bool = true;
     #[inline(always)]
-    pub fn damping_mass(mi: f64, mj: f64) -> f64 {
+    fn elastic(&self, overlap: f64) -> f64 {
+        self.kn * overlap
+    }
+    #[inline(always)]
+    fn damping_mass(&self, mi: f64, mj: f64) -> f64 {
         MassScaling::Reduced.damping_mass(mi, mj)
     }
-
-    /// As [`ContactLaw::evaluate`] (same arguments, same bits).
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    pub fn evaluate<D: Dim>(
-        &self,
-        overlap: f64,
-        n: D::V,
-        v_rel: D::V,
-        damping_mass: f64,
-        spring: &mut D::V,
-        dt: f64,
-        update: bool,
-    ) -> ContactOutcome<D> {
-        let vn = D::dot(v_rel, n);
-        let fn_total = self.kn * overlap + -self.gamma_n * damping_mass * vn;
-        let vt = v_rel - n * vn;
-        let gamma = self.gamma_t * damping_mass;
-        if update {
-            *spring += vt * dt;
-            let along_normal = D::dot(*spring, n);
-            *spring -= n * along_normal;
-        }
-        let mut fs = -(*spring * self.kt + vt * gamma);
-        let cap = self.mu * fn_total.abs();
-        let fs2 = D::norm2(fs);
-        if fs2 > cap * cap {
-            // Sliding: cut the spring back to the capped force.
-            let scale = cap / fs2.sqrt();
-            if D::norm2(*spring) == 0.0 {
-                fs = D::zero();
-            } else {
-                let damp = vt * (gamma / self.kt);
-                *spring = (*spring + damp) * scale - damp;
-                fs *= scale;
-            }
-        }
-        ContactOutcome {
-            force: n * fn_total + fs,
-            tangential: fs,
-        }
+    fn gamma_n(&self) -> f64 {
+        self.gamma_n
+    }
+    #[inline(always)]
+    fn gamma_t(&self) -> f64 {
+        self.gamma_t
+    }
+    #[inline(always)]
+    fn kt(&self) -> f64 {
+        self.kt
+    }
+    #[inline(always)]
+    fn mu(&self) -> f64 {
+        self.mu
+    }
+}
+
+impl ContactModel for HookeHistory {
+    const LANES: bool = true;
+    #[inline(always)]
+    fn rotation(&self) -> bool {
+        true
+    }
+    #[inline(always)]
+    fn force_factor(&self, _: f64) -> f64 {
+        // Reduced scaling: forces are not multiplied by a mass.
+        1.0
+    }
+    #[inline(always)]
+    fn evaluate<D: Dim>(&self, c: &Contact<D>, spring: &mut D::V, step: Step) -> ContactOutcome<D> {
+        spring_dashpot(self, c, spring, step)
     }
 }
 
@@ -152,11 +150,23 @@ mod tests {
                 let (mi, mj) = (1.0 + u().abs(), 1.0 + u().abs());
                 let mj = if case % 7 == 0 { f64::INFINITY } else { mj };
                 let dm = law.damping_mass(mi, mj);
-                assert_eq!(HookeHistory::damping_mass(mi, mj).to_bits(), dm.to_bits());
-                let update = case % 11 != 0;
+                let step = Step {
+                    dt: 1e-4,
+                    update: case % 11 != 0,
+                };
+                let c = Contact::<D3> {
+                    overlap,
+                    normal: n,
+                    v_rel: v,
+                    mi,
+                    mj,
+                    ri: 0.5,
+                    rj: 0.5,
+                    pair: 0,
+                };
                 let (mut a, mut b) = (s0, s0);
-                let g = law.evaluate::<D3>(overlap, n, v, dm, &mut a, 1e-4, update);
-                let h = k.evaluate::<D3>(overlap, n, v, dm, &mut b, 1e-4, update);
+                let g = law.evaluate(&c, &mut a, step);
+                let h = k.evaluate(&c, &mut b, step);
                 let bits = |x: DVec3| x.to_array().map(f64::to_bits);
                 assert_eq!(bits(g.force), bits(h.force), "case {case}");
                 assert_eq!(bits(g.tangential), bits(h.tangential), "case {case}");
@@ -171,8 +181,22 @@ mod tests {
             let mut b = a;
             let n = DVec2::new(0.6, 0.8);
             let v = DVec2::new(2.0, -1.0);
-            let g = law.evaluate::<D2>(1e-4, n, v, 0.5, &mut a, 1e-4, true);
-            let h = k.evaluate::<D2>(1e-4, n, v, 0.5, &mut b, 1e-4, true);
+            let c = Contact::<D2> {
+                overlap: 1e-4,
+                normal: n,
+                v_rel: v,
+                mi: 1.0,
+                mj: 1.0,
+                ri: 0.5,
+                rj: 0.5,
+                pair: 0,
+            };
+            let step = Step {
+                dt: 1e-4,
+                update: true,
+            };
+            let g = law.evaluate(&c, &mut a, step);
+            let h = k.evaluate(&c, &mut b, step);
             assert_eq!(g.force, h.force);
             assert_eq!(a, b);
         }

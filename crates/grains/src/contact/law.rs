@@ -1,5 +1,9 @@
-//! The full contact law: normal power law + viscous damping + Cundall–Strack.
+//! The spring–dashpot contact law: normal power law + viscous damping +
+//! Cundall–Strack, written once ([`spring_dashpot`]) for the general law
+//! of coefficients ([`ContactLaw`]) and for the laws that fix some of its
+//! choices at compile time ([`super::hooke_history`]).
 
+use super::contract::{Contact, ContactModel, ContactOutcome, Step};
 use super::cundall_strack::Tangential;
 use super::damping::viscous;
 use super::mass_scaling::MassScaling;
@@ -25,16 +29,6 @@ pub struct ContactLaw {
     pub scaling: MassScaling,
     /// Whether grains rotate (torques, ω in the contact-point velocity).
     pub rotation: bool,
-}
-
-/// What one contact evaluation produced, before the mass factor of
-/// [`MassScaling::force_factor`] is applied.
-#[derive(Clone, Copy, Debug)]
-pub struct ContactOutcome<D: Dim> {
-    /// Force on grain i (the partner gets minus this, times its own factor).
-    pub force: D::V,
-    /// The tangential part of `force`, for torques.
-    pub tangential: D::V,
 }
 
 impl ContactLaw {
@@ -74,44 +68,92 @@ impl ContactLaw {
         Ok(())
     }
 
-    /// Evaluates one contact.
-    ///
-    /// `overlap` > 0; `n` the unit normal pointing from the partner to grain i;
-    /// `v_rel` the velocity of i's contact point minus the partner's;
-    /// `damping_mass` from [`MassScaling::damping_mass`]; `spring` the
-    /// contact's tangential history, updated when `update`.
-    #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    pub fn evaluate<D: Dim>(
-        &self,
-        overlap: f64,
-        n: D::V,
-        v_rel: D::V,
-        damping_mass: f64,
-        spring: &mut D::V,
-        dt: f64,
-        update: bool,
-    ) -> ContactOutcome<D> {
-        let vn = D::dot(v_rel, n);
-        let fn_total =
-            elastic_force(self.kn, self.beta, overlap) + viscous(self.gamma_n, damping_mass, vn);
-        let vt = v_rel - n * vn;
-        let tangential = Tangential {
-            kt: self.kt,
-            gamma: self.gamma_t * damping_mass,
-            mu: self.mu,
-        }
-        .force::<D>(spring, vt, n, fn_total.abs(), dt, update);
-        ContactOutcome {
-            force: n * fn_total + tangential,
-            tangential,
-        }
-    }
-
     /// Damping mass for a pair of grains, infinite mass for frozen ones.
     #[inline(always)]
     pub fn damping_mass(&self, mi: f64, mj: f64) -> f64 {
         self.scaling.damping_mass(mi, mj)
+    }
+}
+
+/// The parts of a spring–dashpot law, as [`spring_dashpot`] reads them.
+pub(super) trait SpringDashpot {
+    /// Whether the law always has a tangential spring and a finite
+    /// Coulomb cap (known at compile time).
+    const KNOWN_SHAPE: bool;
+    fn elastic(&self, overlap: f64) -> f64;
+    fn damping_mass(&self, mi: f64, mj: f64) -> f64;
+    fn gamma_n(&self) -> f64;
+    fn gamma_t(&self) -> f64;
+    fn kt(&self) -> f64;
+    fn mu(&self) -> f64;
+}
+
+/// The spring–dashpot law on one contact: F_n = elastic(ξ) − γ_n m v_n
+/// along n, plus the Cundall–Strack tangential force capped at μ|F_n|.
+#[inline(always)]
+pub(super) fn spring_dashpot<D: Dim, L: SpringDashpot>(
+    law: &L,
+    c: &Contact<D>,
+    spring: &mut D::V,
+    step: Step,
+) -> ContactOutcome<D> {
+    let n = c.normal;
+    let damping_mass = law.damping_mass(c.mi, c.mj);
+    let vn = D::dot(c.v_rel, n);
+    let fn_total = law.elastic(c.overlap) + viscous(law.gamma_n(), damping_mass, vn);
+    let vt = c.v_rel - n * vn;
+    let tangential = Tangential {
+        kt: law.kt(),
+        gamma: law.gamma_t() * damping_mass,
+        mu: law.mu(),
+    }
+    .force::<D>(spring, vt, n, fn_total.abs(), step, L::KNOWN_SHAPE);
+    ContactOutcome {
+        force: n * fn_total + tangential,
+        tangential,
+    }
+}
+
+impl SpringDashpot for ContactLaw {
+    const KNOWN_SHAPE: bool = false;
+    #[inline(always)]
+    fn elastic(&self, overlap: f64) -> f64 {
+        elastic_force(self.kn, self.beta, overlap)
+    }
+    #[inline(always)]
+    fn damping_mass(&self, mi: f64, mj: f64) -> f64 {
+        self.scaling.damping_mass(mi, mj)
+    }
+    #[inline(always)]
+    fn gamma_n(&self) -> f64 {
+        self.gamma_n
+    }
+    #[inline(always)]
+    fn gamma_t(&self) -> f64 {
+        self.gamma_t
+    }
+    #[inline(always)]
+    fn kt(&self) -> f64 {
+        self.kt
+    }
+    #[inline(always)]
+    fn mu(&self) -> f64 {
+        self.mu
+    }
+}
+
+impl ContactModel for ContactLaw {
+    #[inline(always)]
+    fn rotation(&self) -> bool {
+        self.rotation
+    }
+    #[inline(always)]
+    fn force_factor(&self, m: f64) -> f64 {
+        self.scaling.force_factor(m)
+    }
+    #[inline(always)]
+    fn evaluate<D: Dim>(&self, c: &Contact<D>, spring: &mut D::V, step: Step) -> ContactOutcome<D> {
+        spring_dashpot(self, c, spring, step)
     }
 }
 
@@ -138,15 +180,22 @@ mod tests {
     fn normal_and_shear_parts() {
         let mut s = DVec2::ZERO;
         // Approaching along the normal at 1 m/s and sliding at 2 m/s.
-        let out = law().evaluate::<D2>(
-            0.01,
-            DVec2::Y,
-            DVec2::new(2.0, -1.0),
-            0.5,
-            &mut s,
-            1e-4,
-            true,
-        );
+        // Two unit masses: the reduced mass is 1/2.
+        let c = Contact::<D2> {
+            overlap: 0.01,
+            normal: DVec2::Y,
+            v_rel: DVec2::new(2.0, -1.0),
+            mi: 1.0,
+            mj: 1.0,
+            ri: 0.5,
+            rj: 0.5,
+            pair: 0,
+        };
+        let step = Step {
+            dt: 1e-4,
+            update: true,
+        };
+        let out = law().evaluate(&c, &mut s, step);
         // Normal: 1000·0.01 + 10·0.5·1 = 15; shear: −5·0.5·2 = −5.
         assert!((out.force - DVec2::new(-5.0, 15.0)).length() < 1e-12);
         assert_eq!(out.tangential, DVec2::new(-5.0, 0.0));

@@ -6,22 +6,35 @@
 //! - [`damping`]: viscous normal dissipation γ_n and viscous shear friction γ_t;
 //! - [`cundall_strack`]: the tangential spring with its Coulomb cap μ|F_n|.
 //!
+//! Materials ([`material`]: moduli, restitution, friction and their mixing
+//! rules) give the Hertz–Mindlin law ([`hertz_mindlin`], with the damping of
+//! [`tsuji_damping`]).
+//!
 //! [`mass_scaling`] says how the coefficients meet the masses (the seeds'
 //! "normalized by the mass" or the momentum-conserving reduced mass), and
-//! [`law::ContactLaw`] puts the parts together. [`binary`] has the closed
-//! forms of a two-grain collision that the tests and the automatic time step use.
-//! [`hooke_history`] is the LAMMPS-shaped law fixed at compile time, for the
-//! pair loop, and [`hooke_lanes`] the same law over batches of contacts in
-//! component rows, which the compiler vectorizes.
+//! [`law`] puts the parts together, once. [`contract`] is what every law
+//! offers the loops ([`ContactModel`], one contact's [`Contact`] in).
+//! [`hooke_history`] is the LAMMPS-shaped law with its choices fixed at
+//! compile time, and [`lanes`] runs any law written for it over batches of
+//! contacts in component rows, which the compiler vectorizes. [`binary`]
+//! has the closed forms of a two-grain collision that the tests and the
+//! automatic time step use.
 
 pub mod binary;
+#[cfg(test)]
+mod chung_ooi;
+pub mod contract;
 pub mod cundall_strack;
 pub mod damping;
+pub mod hertz_mindlin;
 pub mod hooke_history;
-pub mod hooke_lanes;
+pub mod lanes;
 pub mod law;
 pub mod mass_scaling;
+pub mod material;
 pub mod normal_power_law;
+pub mod tsuji_damping;
 
-pub use law::{ContactLaw, ContactOutcome};
+pub use contract::{Contact, ContactModel, ContactOutcome, Step};
+pub use law::ContactLaw;
 pub use mass_scaling::MassScaling;

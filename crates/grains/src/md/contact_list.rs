@@ -2,6 +2,7 @@
 //! normal, force), for analysis from outside the engine.
 
 use super::Md;
+use crate::contact::{Contact, ContactModel, Step};
 use crate::dim::Dim;
 
 /// The touching pairs of the neighbour list, in list order.
@@ -25,8 +26,14 @@ impl<D: Dim> Md<D> {
     /// force evaluation made in this state. Grain–wall contacts are not
     /// listed.
     pub fn contact_list(&self) -> ContactList<D> {
+        match &self.settings.materials {
+            Some(law) => self.contacts_under(law),
+            None => self.contacts_under(&self.settings.contact),
+        }
+    }
+
+    fn contacts_under<L: ContactModel>(&self, law: &L) -> ContactList<D> {
         let p = &self.particles;
-        let law = &self.settings.contact;
         let mut out = ContactList::default();
         let mass = |i: usize| {
             if p.frozen[i] {
@@ -45,17 +52,29 @@ impl<D: Dim> Md<D> {
             }
             let n = del * (1.0 / r);
             let mut v_rel = p.vel[i] - p.vel[j];
-            if law.rotation {
+            if law.rotation() {
                 v_rel -= D::ang_cross(p.omega[i] * ri + p.omega[j] * rj, n);
             }
             let mut spring = self.springs.get(k).copied().unwrap_or(D::zero());
-            let damping = law.damping_mass(mass(i), mass(j));
-            let f = law.evaluate::<D>(ri + rj - r, n, v_rel, damping, &mut spring, 0.0, false);
+            let contact = Contact::<D> {
+                overlap: ri + rj - r,
+                normal: n,
+                v_rel,
+                mi: mass(i),
+                mj: mass(j),
+                ri,
+                rj,
+                pair: law.pair_index(p.kind[i], p.kind[j]),
+            };
+            let still = Step {
+                dt: 0.0,
+                update: false,
+            };
+            let f = law.evaluate(&contact, &mut spring, still);
             out.ids.push([p.id[i], p.id[j]]);
             out.overlap.push(ri + rj - r);
             out.normal.push(n);
-            out.force
-                .push(f.force * law.scaling.force_factor(p.mass[i]));
+            out.force.push(f.force * law.force_factor(p.mass[i]));
         }
         out
     }

@@ -8,11 +8,14 @@ use super::wall_loads::WallLoad;
 use super::wall_springs::{ChunkSprings, MeshKey, WallSprings};
 use super::MdStats;
 use crate::boundary::{MeshScratch, PlacedWall, WallContact};
-use crate::contact::ContactLaw;
+use crate::contact::hertz_mindlin::HertzMindlin;
+use crate::contact::{Contact, ContactLaw, ContactModel, Step};
 use crate::dim::Dim;
 
 pub struct FieldInput<'a, D: Dim> {
     pub law: &'a ContactLaw,
+    /// The material law, when the scenario has one (it replaces `law`).
+    pub hertz: Option<&'a HertzMindlin>,
     /// The walls placed at the evaluation's time, once for all blocks.
     pub walls: &'a [PlacedWall<'a, D>],
     pub gravity: D::V,
@@ -40,6 +43,8 @@ pub struct GrainView<'a, D: Dim> {
     pub mass: &'a [f64],
     pub frozen: &'a [bool],
     pub id: &'a [u64],
+    /// Grain types: a material law's key to each grain's material.
+    pub kind: &'a [u32],
     /// Grains past this index (ghosts) get no field force.
     pub owned: usize,
 }
@@ -88,7 +93,22 @@ pub fn field_part<D: Dim>(
     let part = if input.walls.is_empty() {
         empty()
     } else {
-        wall_contacts(input, g, springs_in, first, force, torque)
+        match input.hertz {
+            // Elastic walls are the spring-dashpot laws' option; a material
+            // law gets them from a wall material of restitution 1 (the
+            // scenario refuses the key with it).
+            Some(h) => wall_contacts((h, h), input, g, springs_in, first, (force, torque)),
+            None => {
+                // An elastic wall (`Wall::with_elastic`) meets grains with
+                // their law less its normal damping.
+                let elastic = ContactLaw {
+                    gamma_n: 0.0,
+                    ..input.law.clone()
+                };
+                let laws = (input.law, &elastic);
+                wall_contacts(laws, input, g, springs_in, first, (force, torque))
+            }
+        }
     };
     // Gravity after the walls, as each grain's sum has always been formed:
     // a loop of its own, without the walls' machinery around it.
@@ -106,23 +126,21 @@ pub fn field_part<D: Dim>(
 /// Adds the wall contacts of the owned, non-frozen grains among
 /// `first..first + force.len()` (each grain's walls in wall order); their
 /// statistics and springs.
-fn wall_contacts<D: Dim>(
+fn wall_contacts<D: Dim, L: ContactModel>(
+    (law, elastic): (&L, &L),
     input: &FieldInput<D>,
     g: &GrainView<D>,
     springs_in: &WallSprings<D>,
     first: usize,
-    force: &mut [D::V],
-    torque: &mut [D::A],
+    (force, torque): (&mut [D::V], &mut [D::A]),
 ) -> FieldPart<D> {
     let mut s = PartStats::default();
     let mut kept = ChunkSprings::default();
     let range = first..first + force.len();
-    let law = input.law;
-    // An elastic wall (`Wall::with_elastic`) meets grains with their law
-    // less its normal damping.
-    let elastic = ContactLaw {
-        gamma_n: 0.0,
-        ..law.clone()
+    let rotation = law.rotation();
+    let step = Step {
+        dt: input.dt,
+        update: input.update,
     };
     let mut springs = springs_in.cursor(range.clone());
     // Mesh walls: several contacts per wall, springs per patch, and the
@@ -164,18 +182,19 @@ fn wall_contacts<D: Dim>(
             omega: omega[k],
             radius: ri,
             mass: mi,
+            kind: g.kind[i],
         };
         for (w, wall) in input.walls.iter().enumerate() {
-            let wall_law = if wall.is_elastic() { &elastic } else { law };
+            let wall_law = if wall.is_elastic() { elastic } else { law };
             if meshes && wall.mesh().is_some() {
                 wall.mesh_contacts(pos[k], ri, &mut mesh.scratch, &mut mesh.found);
                 for &(patch, contact) in &mesh.found {
                     let key = (i as u32, w as u32, patch);
                     let mut spring = mesh.springs.get_key(key);
-                    let (f, t) = push(input, wall_law, &grain, &contact, &mut spring);
+                    let (f, t) = push(wall_law, step, (&grain, w), &contact, &mut spring);
                     mesh.kept.keep_key(key, spring);
                     force[k] += f;
-                    if law.rotation {
+                    if rotation {
                         torque[k] -= t;
                     }
                     mesh.loads[w].add::<D>(f, contact.point);
@@ -188,10 +207,10 @@ fn wall_contacts<D: Dim>(
                 continue;
             };
             let mut spring = springs.get(i, w);
-            let (f, t) = push(input, wall_law, &grain, &contact, &mut spring);
+            let (f, t) = push(wall_law, step, (&grain, w), &contact, &mut spring);
             kept.keep(i, w, spring);
             force[k] += f;
-            if law.rotation {
+            if rotation {
                 torque[k] -= t;
             }
             s.count(&contact, ri, g.id[i]);
@@ -211,6 +230,7 @@ struct Grain<D: Dim> {
     omega: D::A,
     radius: f64,
     mass: f64,
+    kind: u32,
 }
 
 /// What a range of grains keeps while meeting mesh walls.
@@ -225,28 +245,32 @@ struct MeshPass<'a, D: Dim> {
 /// The force on a grain from one wall contact, and the torque to take
 /// from its sum (the contact law on the relative velocity at the contact).
 #[inline(always)]
-fn push<D: Dim>(
-    input: &FieldInput<D>,
-    law: &ContactLaw,
-    g: &Grain<D>,
+fn push<D: Dim, L: ContactModel>(
+    law: &L,
+    step: Step,
+    (g, wall): (&Grain<D>, usize),
     contact: &WallContact<D>,
     spring: &mut D::V,
 ) -> (D::V, D::A) {
+    let rotation = law.rotation();
     let mut v_rel = g.vel - contact.velocity;
-    if law.rotation {
+    if rotation {
         v_rel -= D::ang_cross(g.omega * g.radius, contact.normal);
     }
-    let out = law.evaluate::<D>(
-        contact.overlap,
-        contact.normal,
+    // A wall is infinitely heavy and flat.
+    let c = Contact::<D> {
+        overlap: contact.overlap,
+        normal: contact.normal,
         v_rel,
-        law.damping_mass(g.mass, f64::INFINITY),
-        spring,
-        input.dt,
-        input.update,
-    );
-    let fi = law.scaling.force_factor(g.mass);
-    let torque = if law.rotation {
+        mi: g.mass,
+        mj: f64::INFINITY,
+        ri: g.radius,
+        rj: f64::INFINITY,
+        pair: law.wall_pair_index(g.kind, wall),
+    };
+    let out = law.evaluate(&c, spring, step);
+    let fi = law.force_factor(g.mass);
+    let torque = if rotation {
         D::torque(contact.normal, out.tangential) * (g.radius * fi)
     } else {
         D::A::default()

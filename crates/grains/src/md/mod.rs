@@ -65,6 +65,10 @@ pub struct MdSettings<D: Dim> {
     pub max_overlap_fraction: f64,
     /// Check positions for NaN/inf every this many steps.
     pub nan_check_every: u64,
+    /// The material contact law (`contact.model = "hertz-mindlin"`); it
+    /// replaces `contact`'s coefficients, `contact` keeps the rotation
+    /// switch and the time-step estimate.
+    pub materials: Option<crate::contact::hertz_mindlin::HertzMindlin>,
 }
 
 impl<D: Dim> MdSettings<D> {
@@ -78,6 +82,7 @@ impl<D: Dim> MdSettings<D> {
             sort_every: 20,
             max_overlap_fraction: 0.5,
             nan_check_every: 10,
+            materials: None,
         }
     }
 }
@@ -574,6 +579,7 @@ impl<D: Dim> Md<D> {
         let s = &self.settings;
         let pairs = PairInput {
             law: &s.contact,
+            hertz: s.materials.as_ref(),
             dt: s.dt,
             update: update_history,
             neighbors: &self.neighbors,
@@ -583,6 +589,7 @@ impl<D: Dim> Md<D> {
         let walls: Vec<_> = self.walls.iter().map(|w| w.at(self.time)).collect();
         let fields = FieldInput {
             law: &s.contact,
+            hertz: s.materials.as_ref(),
             walls: &walls,
             gravity: s.gravity,
             dt: s.dt,

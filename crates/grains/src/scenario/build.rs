@@ -130,6 +130,7 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Vec<ParticleRecord
         ),
         None => (dom.lo, dom.hi),
     };
+    let density = super::materials::density(s, None)?;
     let mut out: Vec<ParticleRecord<D>> = match ps.placement {
         Placement::Lattice | Placement::Random => {
             if ps.count == 0 {
@@ -146,7 +147,7 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Vec<ParticleRecord
             let vel = placement::velocities::<D>(ps.count, ps.random_velocity, s.seed);
             (0..ps.count)
                 .map(|k| {
-                    let mut g = grain::<D>(k as u64 + 1, pos[k], d[k], ps.density, ps.mass_model);
+                    let mut g = grain::<D>(k as u64 + 1, pos[k], d[k], density, ps.mass_model);
                     g.vel = vel[k];
                     g
                 })
@@ -165,7 +166,8 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Vec<ParticleRecord
                 "{key}.diameter = {d}: must be positive"
             )));
         }
-        let mut g = grain::<D>(first_id + k as u64, pos, d, ps.density, ps.mass_model);
+        let rho = super::materials::density(s, Some(a))?;
+        let mut g = grain::<D>(first_id + k as u64, pos, d, rho, ps.mass_model);
         if let Some(v) = &a.velocity {
             g.vel = vector::<D>(&format!("{key}.velocity"), v)?;
         }
@@ -247,7 +249,7 @@ fn from_file<D: Dim>(loaded: &Loaded) -> Result<Vec<ParticleRecord<D>>> {
                     id,
                     D::from_xyz(c.pos),
                     2.0 * c.radius,
-                    ps.density,
+                    super::materials::density(&loaded.scenario, None)?,
                     ps.mass_model,
                 );
                 g.kind = c.kind.unwrap_or(1);
@@ -416,6 +418,16 @@ fn build_md_inner<D: Dim>(loaded: &Loaded) -> Result<(Md<D>, Resolved)> {
     settings.max_overlap_fraction = s.run.max_overlap;
     if let Some(g) = &s.gravity {
         settings.gravity = vector::<D>("gravity", g)?;
+    }
+    let kinds: Vec<u32> = records.iter().map(|g| g.kind).collect();
+    settings.materials = super::materials::hertz_law(s, &kinds)?;
+    if settings.materials.is_some() && !s.contact.elastic_walls.is_empty() {
+        return Err(Error::input(format!(
+            "{}: contact.elastic_walls is an option of the spring-dashpot laws; with \
+             materials, give those walls a material (or a [[material_pairs]] entry) \
+             with restitution = 1",
+            loaded.origin
+        )));
     }
     let particles = Particles::from_records(records);
     let md = Md::new(particles, dom, walls, settings).map_err(|e| match e {

@@ -25,6 +25,7 @@ fn wall(name: &str, shape: ShapeSpec) -> WallSpec {
         shape,
         motion: MotionSpec::Fixed,
         remove_at: None,
+        material: None,
     }
 }
 

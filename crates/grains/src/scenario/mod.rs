@@ -4,6 +4,7 @@
 pub mod build;
 pub mod dsmc;
 pub mod hopper;
+pub mod materials;
 pub mod memory;
 mod mesh_wall;
 pub mod overrides;

@@ -198,7 +198,12 @@ fn span(
 
 /// Resolves timing; `lightest_mass` is the smallest mass of a mobile grain.
 pub fn resolve(s: &Scenario, lightest_mass: f64) -> Result<Resolved> {
-    let law = contact_law(&s.contact, lightest_mass)?;
+    super::materials::check_contact_keys(s)?;
+    let law = if super::materials::uses_materials(s) {
+        super::materials::equivalent_law(s)?
+    } else {
+        contact_law(&s.contact, lightest_mass)?
+    };
     let g = s
         .gravity
         .as_ref()

@@ -29,6 +29,12 @@ pub struct Scenario {
     pub particles: ParticlesSpec,
     #[serde(default)]
     pub contact: ContactSpec,
+    /// Materials, for `contact.model = "hertz-mindlin"`.
+    #[serde(default)]
+    pub materials: Vec<MaterialSpec>,
+    /// Values of a pair of materials that replace the mixing rules.
+    #[serde(default)]
+    pub material_pairs: Vec<MaterialPairSpec>,
     #[serde(default)]
     pub walls: Vec<WallSpec>,
     /// Gravitational acceleration vector (m/s²); default zero.
@@ -124,6 +130,10 @@ pub struct ParticlesSpec {
     /// Individual grains added after the placement above.
     #[serde(default)]
     pub add: Vec<GrainSpec>,
+    /// The grains' material (a `[[materials]]` name); its density replaces
+    /// `density`.
+    #[serde(default)]
+    pub material: Option<String>,
 }
 
 fn default_d0() -> f64 {
@@ -179,12 +189,20 @@ pub struct GrainSpec {
     /// Type for output; default 1 (2 if frozen).
     #[serde(default)]
     pub kind: Option<u32>,
+    /// Material of this grain (default `particles.material`); grains of one
+    /// kind share one material.
+    #[serde(default)]
+    pub material: Option<String>,
 }
 
 /// Contact law. A preset fills every field; fields given next to it override.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq, Default)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
+    /// "spring-dashpot" (default: the coefficients below) or
+    /// "hertz-mindlin" (from `[[materials]]`).
+    #[serde(default)]
+    pub model: Option<ContactModelKind>,
     #[serde(default)]
     pub preset: Option<ContactPreset>,
     /// Normal stiffness (seed scaling: s⁻² m^(1−β); reduced: N m^(−β)).
@@ -210,6 +228,57 @@ pub struct ContactSpec {
     pub elastic_walls: Vec<String>,
 }
 
+/// Which contact law a scenario uses.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum ContactModelKind {
+    /// k_n ξ^β with viscous damping and the Cundall–Strack spring, from
+    /// coefficients (`kn`, `gamma_n`, …).
+    #[default]
+    SpringDashpot,
+    /// Hertz–Mindlin from the materials' moduli, restitution and friction.
+    HertzMindlin,
+}
+
+/// One material (SI units).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    pub name: String,
+    /// kg/m³.
+    pub density: f64,
+    /// Pa.
+    pub youngs_modulus: f64,
+    /// In (−1, 0.5).
+    pub poisson_ratio: f64,
+    /// Normal restitution of two grains of this material, in (0, 1].
+    pub restitution: f64,
+    /// Sliding friction μ.
+    pub friction: f64,
+    /// Rolling friction μ_r (dimensionless); default 0.
+    #[serde(default)]
+    pub rolling_friction: f64,
+    /// J/m², for cohesion; default 0.
+    #[serde(default)]
+    pub surface_energy: f64,
+}
+
+/// Values for one pair of materials instead of the mixing rules.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialPairSpec {
+    pub a: String,
+    pub b: String,
+    #[serde(default)]
+    pub restitution: Option<f64>,
+    #[serde(default)]
+    pub friction: Option<f64>,
+    #[serde(default)]
+    pub rolling_friction: Option<f64>,
+    #[serde(default)]
+    pub surface_energy: Option<f64>,
+}
+
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
 pub enum ContactPreset {
     /// Seed 002: Hooke, γ_n = 200 s⁻¹, γ_t = 400 s⁻¹, k_n = 5e7 s⁻², seed
@@ -233,6 +302,9 @@ pub struct WallSpec {
     /// Time (s) at which the wall disappears.
     #[serde(default)]
     pub remove_at: Option<f64>,
+    /// The wall's material (default `particles.material`).
+    #[serde(default)]
+    pub material: Option<String>,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]

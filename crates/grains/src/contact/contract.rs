@@ -1,0 +1,82 @@
+//! The contract every contact law meets: one contact's geometry and
+//! velocities in, the force on the first body and its tangential part out.
+//!
+//! The pair loop (one contact at a time, or in batches of lanes), the wall
+//! contacts and the contact list all call a law through [`ContactModel`];
+//! a new law implements it once and runs on every path.
+
+use crate::dim::Dim;
+
+/// One contact as a law sees it: body i (a grain) against its partner (a
+/// grain or a wall).
+#[derive(Clone, Copy, Debug)]
+pub struct Contact<D: Dim> {
+    /// Overlap ξ = r_i + r_j − |x_i − x_j| > 0 (against a wall: r_i minus
+    /// the distance to it).
+    pub overlap: f64,
+    /// Unit normal from the partner to body i.
+    pub normal: D::V,
+    /// Velocity of i's contact point minus the partner's.
+    pub v_rel: D::V,
+    /// Masses; ∞ for a frozen grain or a wall.
+    pub mi: f64,
+    pub mj: f64,
+    /// Radii; ∞ for a wall (flat).
+    pub ri: f64,
+    pub rj: f64,
+    /// The pair's entry in the law's table of coefficients
+    /// ([`ContactModel::pair_index`]); 0 for a law of one pair.
+    pub pair: u32,
+}
+
+/// How far time advances in this evaluation.
+#[derive(Clone, Copy, Debug)]
+pub struct Step {
+    pub dt: f64,
+    /// Whether the contact's history (springs) advances; false when forces
+    /// are evaluated without time advancing (the start of a run, the
+    /// contact list).
+    pub update: bool,
+}
+
+/// What one contact evaluation produced, before the mass factor of
+/// [`ContactModel::force_factor`] is applied.
+#[derive(Clone, Copy, Debug)]
+pub struct ContactOutcome<D: Dim> {
+    /// Force on body i (the partner gets minus this, times its own factor).
+    pub force: D::V,
+    /// The tangential part of `force`, for torques.
+    pub tangential: D::V,
+}
+
+/// A contact law.
+pub trait ContactModel: Sync {
+    /// Whether the law runs on the batched lanes of the pair loop: written
+    /// without branches that keep the compiler from vectorizing it.
+    const LANES: bool = false;
+
+    /// Whether grains rotate (torques, ω in the contact-point velocity).
+    fn rotation(&self) -> bool;
+
+    /// Factor turning the law's force into the force on a body of mass `m`
+    /// (the seeds' mass-normalized coefficients multiply by it).
+    fn force_factor(&self, m: f64) -> f64;
+
+    /// The entry of the coefficient table for grains of kinds `kind_i` and
+    /// `kind_j` (their materials); laws of one pair need none.
+    #[inline(always)]
+    fn pair_index(&self, _kind_i: u32, _kind_j: u32) -> u32 {
+        0
+    }
+
+    /// The entry for a grain of kind `kind_i` against wall `wall`.
+    #[inline(always)]
+    fn wall_pair_index(&self, _kind_i: u32, _wall: usize) -> u32 {
+        0
+    }
+
+    /// Evaluates one contact; `spring` is its tangential history (the
+    /// displacement of i relative to the partner), advanced when
+    /// `step.update`.
+    fn evaluate<D: Dim>(&self, c: &Contact<D>, spring: &mut D::V, step: Step) -> ContactOutcome<D>;
+}

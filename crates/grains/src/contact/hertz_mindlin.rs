@@ -1,0 +1,164 @@
+//! The Hertz–Mindlin contact between materials: Hertz's normal force,
+//! Tsuji-form damping set from the pair's restitution, Mindlin's
+//! tangential stiffness with the Cundall–Strack history and the Coulomb cap.
+//!
+//! With R* = R_i R_j / (R_i + R_j) (R_i against a wall), m* the reduced
+//! mass (m_i against a wall or a frozen grain), a = √(R* ξ) the contact
+//! radius:
+//! - normal: F_n = (4/3) E* √R* ξ^{3/2} − α √(m* S_n) v_n, S_n = 2 E* a;
+//! - tangential: k_t = 8 G* a on the Cundall–Strack spring, damping
+//!   α √(m* k_t) on the tangential velocity, the whole capped at μ |F_n|;
+//! - α from the pair's restitution ([`super::tsuji_damping`]).
+//!
+//! In 2D a disk is a sphere of the same radius moving in the plane (as in
+//! LAMMPS's 2D granular runs): the same formulas, with the disk's mass.
+//! Pairs of materials are looked up by the grains' `kind` (each kind has one
+//! material) and by the wall's index. Written without branches, the law
+//! runs on the batched lanes of the pair loop.
+
+use super::contract::{Contact, ContactModel, ContactOutcome, Step};
+use super::cundall_strack::Tangential;
+use super::mass_scaling::MassScaling;
+use super::material::{Material, PairCoefficients, PairOverride};
+use super::tsuji_damping::alpha_for_restitution;
+use crate::dim::Dim;
+
+/// The coefficients one pair of materials gives the law.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HertzPair {
+    /// 2 E*: S_n = 2 E* a.
+    two_e_star: f64,
+    /// 8 G*: k_t = 8 G* a.
+    eight_g_star: f64,
+    /// Damping coefficient α.
+    alpha: f64,
+    mu: f64,
+}
+
+impl HertzPair {
+    pub fn new(p: &PairCoefficients) -> Self {
+        Self {
+            two_e_star: 2.0 * p.e_star,
+            eight_g_star: 8.0 * p.g_star,
+            alpha: alpha_for_restitution(p.restitution),
+            mu: p.friction,
+        }
+    }
+}
+
+/// The Hertz–Mindlin law of a set of materials.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HertzMindlin {
+    materials: usize,
+    /// `pairs[a * materials + b]`.
+    pairs: Vec<HertzPair>,
+    /// The material of each grain kind.
+    material_of_kind: Vec<u32>,
+    /// The material of each wall.
+    wall_material: Vec<u32>,
+    pub rotation: bool,
+}
+
+impl HertzMindlin {
+    /// The law for `materials` (with `overrides` per pair of their indices),
+    /// grains of kind k being of material `material_of_kind[k]` and wall w
+    /// of `wall_material[w]`.
+    pub fn new(
+        materials: &[Material],
+        overrides: &[((usize, usize), PairOverride)],
+        material_of_kind: Vec<u32>,
+        wall_material: Vec<u32>,
+        rotation: bool,
+    ) -> Self {
+        let n = materials.len();
+        assert!(
+            material_of_kind
+                .iter()
+                .chain(&wall_material)
+                .all(|&m| (m as usize) < n),
+            "a material index beyond the {n} materials"
+        );
+        let mut pairs = Vec::with_capacity(n * n);
+        for (a, ma) in materials.iter().enumerate() {
+            for (b, mb) in materials.iter().enumerate() {
+                let over = overrides
+                    .iter()
+                    .find(|((x, y), _)| (*x, *y) == (a, b) || (*x, *y) == (b, a))
+                    .map(|(_, o)| o.clone())
+                    .unwrap_or_default();
+                pairs.push(HertzPair::new(&PairCoefficients::mix(ma, mb, &over)));
+            }
+        }
+        Self {
+            materials: n,
+            pairs,
+            material_of_kind,
+            wall_material,
+            rotation,
+        }
+    }
+
+    /// The coefficients of materials `a` and `b`.
+    pub fn pair(&self, a: usize, b: usize) -> &HertzPair {
+        &self.pairs[a * self.materials + b]
+    }
+
+    /// The material of grain kind `kind`.
+    #[inline(always)]
+    fn material(&self, kind: u32) -> u32 {
+        self.material_of_kind[kind as usize]
+    }
+}
+
+impl ContactModel for HertzMindlin {
+    const LANES: bool = true;
+    #[inline(always)]
+    fn rotation(&self) -> bool {
+        self.rotation
+    }
+    #[inline(always)]
+    fn force_factor(&self, _: f64) -> f64 {
+        1.0
+    }
+    #[inline(always)]
+    fn pair_index(&self, kind_i: u32, kind_j: u32) -> u32 {
+        self.material(kind_i) * self.materials as u32 + self.material(kind_j)
+    }
+    #[inline(always)]
+    fn wall_pair_index(&self, kind_i: u32, wall: usize) -> u32 {
+        self.material(kind_i) * self.materials as u32 + self.wall_material[wall]
+    }
+    #[inline(always)]
+    fn evaluate<D: Dim>(&self, c: &Contact<D>, spring: &mut D::V, step: Step) -> ContactOutcome<D> {
+        // SAFETY: `c.pair` comes from `pair_index`/`wall_pair_index`, whose
+        // materials are below `materials` (checked in `new`), so the entry
+        // exists; unchecked, the lanes need no bounds-check exit.
+        debug_assert!((c.pair as usize) < self.pairs.len());
+        let p = unsafe { self.pairs.get_unchecked(c.pair as usize) };
+        let n = c.normal;
+        let r_star = if c.rj.is_infinite() {
+            c.ri
+        } else {
+            c.ri * c.rj / (c.ri + c.rj)
+        };
+        let m_star = MassScaling::Reduced.damping_mass(c.mi, c.mj);
+        let a = (r_star * c.overlap).sqrt();
+        let sn = p.two_e_star * a;
+        // (4/3) E* √R* ξ^{3/2} = (2/3) S_n ξ.
+        let elastic = 2.0 / 3.0 * sn * c.overlap;
+        let vn = D::dot(c.v_rel, n);
+        let fn_total = elastic - p.alpha * (m_star * sn).sqrt() * vn;
+        let vt = c.v_rel - n * vn;
+        let kt = p.eight_g_star * a;
+        let tangential = Tangential {
+            kt,
+            gamma: p.alpha * (m_star * kt).sqrt(),
+            mu: p.mu,
+        }
+        .force::<D>(spring, vt, n, fn_total.abs(), step, true);
+        ContactOutcome {
+            force: n * fn_total + tangential,
+            tangential,
+        }
+    }
+}

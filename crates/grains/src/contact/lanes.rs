@@ -1,0 +1,348 @@
+//! A contact law over a batch of contacts held in component rows
+//! ("lanes"), so that the compiler turns each operation into vector
+//! instructions: the square root, the divisions and the sliding test of a
+//! law then cost a fraction of a scalar contact each.
+//!
+//! The kernel is generic over the law ([`ContactModel`] with `LANES`): each
+//! lane reads its contact from the rows, does the pair loop's geometry and
+//! calls the law's own `evaluate`, the code the one-by-one path runs, so the
+//! results are the same bits (a test checks it). A law written with
+//! selections instead of branches (as [`super::cundall_strack`] is) then
+//! vectorizes. Lanes past `len` hold stale values and are ignored.
+
+use super::contract::{Contact, ContactModel, Step};
+use crate::dim::Dim;
+use crate::simd::{self, Kernel};
+use std::marker::PhantomData;
+
+/// Contacts per batch: enough rows that the vector loop runs long and that
+/// the scalar stores filling a batch have left the store buffer before the
+/// vector loads read them; small enough to stay in the L1 cache.
+pub const LANES: usize = 32;
+
+type Row = [f64; LANES];
+
+/// One batch of contacts in component rows (x, y, z; 2D uses x and y for
+/// vectors and z for the spin).
+#[derive(Clone, Debug)]
+pub struct ContactLanes {
+    /// Inputs. `del` points from the second grain to the first.
+    pub del: [Row; 3],
+    /// Velocity of the first grain minus that of the second.
+    pub v_rel: [Row; 3],
+    /// ω_i r_i + ω_j r_j, whose cross product with n is the rolling part.
+    pub spin: [Row; 3],
+    pub ri: Row,
+    pub rj: Row,
+    /// Masses, ∞ for a frozen grain.
+    pub mi: Row,
+    pub mj: Row,
+    /// The pairs' entries in the law's table of coefficients.
+    pub pair: [u32; LANES],
+    /// The tangential spring; the kernel leaves the updated one here.
+    pub spring: [Row; 3],
+    /// Outputs: the force on the first grain, and the torques to subtract
+    /// from the first and the second grain's sums.
+    pub force: [Row; 3],
+    pub torque_i: [Row; 3],
+    pub torque_j: [Row; 3],
+    pub overlap: Row,
+}
+
+impl Default for ContactLanes {
+    fn default() -> Self {
+        let row = [0.0; LANES];
+        Self {
+            del: [row; 3],
+            v_rel: [row; 3],
+            spin: [row; 3],
+            ri: row,
+            rj: row,
+            mi: row,
+            mj: row,
+            pair: [0; LANES],
+            spring: [row; 3],
+            force: [row; 3],
+            torque_i: [row; 3],
+            torque_j: [row; 3],
+            overlap: row,
+        }
+    }
+}
+
+/// `law` on every lane, with the geometry of the pair loop before it
+/// (distance, normal, contact-point velocity) and the torques after it.
+/// Uses AVX-512 or AVX2 where the processor has them (same bits: no fused
+/// multiply-add is formed; a test compares the dispatched and the plain
+/// kernel). Meant for laws with `LANES`; the law's rotation is taken as on.
+pub fn evaluate_lanes<D: Dim, L: ContactModel>(law: &L, c: &mut ContactLanes, step: Step) {
+    simd::run_widest(&mut LawOnLanes::<D, L> {
+        law,
+        c,
+        step,
+        dim: PhantomData,
+    });
+}
+
+/// The lane loop, for one instruction set.
+#[inline(always)]
+fn lanes<D: Dim, L: ContactModel>(law: &L, c: &mut ContactLanes, step: Step) {
+    let three = |r: &[Row; 3], l: usize| [r[0][l], r[1][l], r[2][l]];
+    for l in 0..LANES {
+        let del = D::from_xyz(three(&c.del, l));
+        let (ri, rj) = (c.ri[l], c.rj[l]);
+        // The pair loop's geometry: r = |del|, one division for n.
+        let r = D::norm(del);
+        let overlap = ri + rj - r;
+        let n = del * (1.0 / r);
+        // Contact-point velocities: ω_i × (−r_i n) − ω_j × (r_j n).
+        let spin = D::ang_from_xyz(three(&c.spin, l));
+        let v_rel = D::from_xyz(three(&c.v_rel, l)) - D::ang_cross(spin, n);
+        let mut spring = D::from_xyz(three(&c.spring, l));
+        let contact = Contact::<D> {
+            overlap,
+            normal: n,
+            v_rel,
+            mi: c.mi[l],
+            mj: c.mj[l],
+            ri,
+            rj,
+            pair: c.pair[l],
+        };
+        let out = law.evaluate(&contact, &mut spring, step);
+        // Lever arms −r_i n and +r_j n, force on j is −F: both torques are
+        // −r (n × F_t) with each grain's own radius.
+        let nt = D::torque(n, out.tangential);
+        let (f, s) = (D::to_xyz(out.force), D::to_xyz(spring));
+        let (ti, tj) = (D::ang_to_xyz(nt * ri), D::ang_to_xyz(nt * rj));
+        for a in 0..3 {
+            if a < D::D {
+                c.force[a][l] = f[a];
+                c.spring[a][l] = s[a];
+            }
+            if D::D == 3 || a == 2 {
+                c.torque_i[a][l] = ti[a];
+                c.torque_j[a][l] = tj[a];
+            }
+        }
+        c.overlap[l] = overlap;
+    }
+}
+
+/// [`evaluate_lanes`]'s call, compiled for each instruction set.
+struct LawOnLanes<'a, D, L> {
+    law: &'a L,
+    c: &'a mut ContactLanes,
+    step: Step,
+    dim: PhantomData<D>,
+}
+
+impl<D: Dim, L: ContactModel> Kernel for LawOnLanes<'_, D, L> {
+    #[inline(always)]
+    fn run(&mut self) {
+        lanes::<D, L>(self.law, self.c, self.step);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::hooke_history::{lammps_law, HookeHistory};
+    use crate::dim::{D2, D3};
+    use rand::{Rng, SeedableRng};
+    use rand_xoshiro::Xoshiro256PlusPlus;
+
+    /// One contact as the scalar pair loop sees it.
+    struct Case<D: Dim> {
+        del: D::V,
+        v_rel: D::V,
+        spin: D::A,
+        ri: f64,
+        rj: f64,
+        mi: f64,
+        mj: f64,
+        spring: D::V,
+        pair: u32,
+    }
+
+    /// The scalar pair loop's geometry and `law` (for the Hooke shape, the
+    /// general law, not the lanes' compiled one): force, torques on i and
+    /// j (to subtract), spring, overlap.
+    fn scalar<D: Dim, L: ContactModel>(law: &L, c: &Case<D>, step: Step) -> [Vec<u64>; 5] {
+        let r = D::norm(c.del);
+        let overlap = c.ri + c.rj - r;
+        let n = c.del * (1.0 / r);
+        let v_rel = c.v_rel - D::ang_cross(c.spin, n);
+        let mut spring = c.spring;
+        let contact = Contact::<D> {
+            overlap,
+            normal: n,
+            v_rel,
+            mi: c.mi,
+            mj: c.mj,
+            ri: c.ri,
+            rj: c.rj,
+            pair: c.pair,
+        };
+        let out = law.evaluate(&contact, &mut spring, step);
+        let nt = D::torque(n, out.tangential);
+        let v = |x: D::V| (0..D::D).map(|a| D::get(x, a).to_bits()).collect();
+        let a = |x: D::A| D::ang_to_xyz(x).map(f64::to_bits).to_vec();
+        [
+            v(out.force),
+            a(nt * c.ri),
+            a(nt * c.rj),
+            v(spring),
+            vec![overlap.to_bits()],
+        ]
+    }
+
+    fn lanes_out<D: Dim>(c: &ContactLanes, l: usize) -> [Vec<u64>; 5] {
+        let v = |r: &[Row; 3]| (0..D::D).map(|a| r[a][l].to_bits()).collect();
+        let a = |r: &[Row; 3]| {
+            let x = D::ang_from_xyz([r[0][l], r[1][l], r[2][l]]);
+            D::ang_to_xyz(x).map(f64::to_bits).to_vec()
+        };
+        [
+            v(&c.force),
+            a(&c.torque_i),
+            a(&c.torque_j),
+            v(&c.spring),
+            vec![c.overlap[l].to_bits()],
+        ]
+    }
+
+    /// A batch of random contacts (pair entries cycling through `pairs`),
+    /// as cases and in lanes.
+    fn batch<D: Dim>(rng: &mut Xoshiro256PlusPlus, pairs: u32) -> (Vec<Case<D>>, ContactLanes) {
+        let mut u = || rng.gen_range(-1.0..1.0);
+        let cases: Vec<Case<D>> = (0..LANES)
+            .map(|l| {
+                let v3 = |u: &mut dyn FnMut() -> f64| D::from_xyz([u(), u(), u()]);
+                let (ri, rj) = (0.5 + 0.1 * u(), 0.5 + 0.1 * u());
+                let dir = v3(&mut u);
+                let del = dir * ((ri + rj) * (1.0 - 2e-3 * (u() + 1.0)) / D::norm(dir));
+                let frozen = |m: f64, f: bool| if f { f64::INFINITY } else { m };
+                Case {
+                    del,
+                    v_rel: v3(&mut u) * 3.0,
+                    spin: D::ang_from_xyz([u(), u(), u()]) * 2.0,
+                    ri,
+                    rj,
+                    mi: frozen(1.0 + u().abs(), l % 9 == 4),
+                    mj: frozen(1.0 + u().abs(), l % 7 == 3),
+                    spring: if l % 5 == 0 {
+                        D::zero()
+                    } else {
+                        v3(&mut u) * 1e-3
+                    },
+                    pair: l as u32 % pairs,
+                }
+            })
+            .collect();
+        let mut c = ContactLanes::default();
+        for (l, x) in cases.iter().enumerate() {
+            let spin = D::ang_to_xyz(x.spin);
+            for (a, w) in spin.into_iter().enumerate() {
+                c.spin[a][l] = w;
+                if a < D::D {
+                    c.del[a][l] = D::get(x.del, a);
+                    c.v_rel[a][l] = D::get(x.v_rel, a);
+                    c.spring[a][l] = D::get(x.spring, a);
+                }
+            }
+            (c.ri[l], c.rj[l], c.mi[l], c.mj[l]) = (x.ri, x.rj, x.mi, x.mj);
+            c.pair[l] = x.pair;
+        }
+        (cases, c)
+    }
+
+    /// Random contacts, sticking and sliding, fresh springs and frozen
+    /// partners, through both the plain and the dispatched (AVX2 where
+    /// present) kernel: the same bits as the scalar path, lane by lane.
+    fn same_bits<D: Dim>() {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(11);
+        let mut sliding = 0;
+        let mut total = 0;
+        for gamma_t in [0.0, 25.0] {
+            let law = lammps_law(gamma_t);
+            let k = HookeHistory::of(&law).unwrap();
+            for update in [true, false] {
+                for _batch in 0..40 {
+                    let (cases, mut c) = batch::<D>(&mut rng, 1);
+                    let mut plain = c.clone();
+                    let step = Step { dt: 1e-4, update };
+                    lanes::<D, _>(&k, &mut plain, step);
+                    evaluate_lanes::<D, _>(&k, &mut c, step);
+                    for (l, x) in cases.iter().enumerate() {
+                        let want = scalar(&law, x, step);
+                        assert_eq!(lanes_out::<D>(&plain, l), want, "plain lane {l}");
+                        assert_eq!(lanes_out::<D>(&c, l), want, "dispatched lane {l}");
+                        let f = (0..D::D).map(|a| c.force[a][l]).collect::<Vec<_>>();
+                        let n = (0..D::D).map(|a| D::get(x.del, a)).collect::<Vec<_>>();
+                        let r = n.iter().map(|v| v * v).sum::<f64>().sqrt();
+                        let fn_ = f.iter().zip(&n).map(|(f, n)| f * n / r).sum::<f64>();
+                        let ft2 = f.iter().map(|v| v * v).sum::<f64>() - fn_ * fn_;
+                        sliding += (ft2.max(0.0).sqrt() > 0.499 * fn_.abs()) as usize;
+                        total += 1;
+                    }
+                }
+            }
+        }
+        // Both regimes were exercised.
+        assert!(
+            sliding > total / 20 && sliding < total * 19 / 20,
+            "{sliding} of {total} sliding"
+        );
+    }
+
+    /// The Hertz–Mindlin law of two materials (four pair entries) on the
+    /// lanes: the same bits as one contact at a time.
+    fn hertz_same_bits<D: Dim>() {
+        use crate::contact::hertz_mindlin::HertzMindlin;
+        use crate::contact::material::Material;
+        let mat = |name: &str, e: f64, rest: f64, mu: f64| Material {
+            name: name.into(),
+            density: 1.0,
+            youngs_modulus: e,
+            poisson_ratio: 0.25,
+            restitution: rest,
+            friction: mu,
+            rolling_friction: 0.0,
+            surface_energy: 0.0,
+        };
+        let mats = [mat("a", 2e6, 0.8, 0.5), mat("b", 5e6, 0.6, 0.3)];
+        let law = HertzMindlin::new(&mats, &[], vec![0, 1], vec![], true);
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
+        for update in [true, false] {
+            for _ in 0..40 {
+                let (cases, mut c) = batch::<D>(&mut rng, 4);
+                let mut plain = c.clone();
+                let step = Step { dt: 1e-4, update };
+                lanes::<D, _>(&law, &mut plain, step);
+                evaluate_lanes::<D, _>(&law, &mut c, step);
+                for (l, x) in cases.iter().enumerate() {
+                    let want = scalar(&law, x, step);
+                    assert_eq!(lanes_out::<D>(&plain, l), want, "plain lane {l}");
+                    assert_eq!(lanes_out::<D>(&c, l), want, "dispatched lane {l}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn hertz_mindlin_same_bits_as_one_by_one() {
+        hertz_same_bits::<D3>();
+        hertz_same_bits::<D2>();
+    }
+
+    #[test]
+    fn same_bits_as_the_scalar_kernel_3d() {
+        same_bits::<D3>();
+    }
+
+    #[test]
+    fn same_bits_as_the_scalar_kernel_2d() {
+        same_bits::<D2>();
+    }
+}
