@@ -127,11 +127,6 @@ impl Checkpointer {
         self.interval
     }
 
-    /// Whether the interval asks for a checkpoint at `step`.
-    pub(crate) fn due(&self, step: u64) -> bool {
-        self.interval.is_some_and(|n| step.is_multiple_of(n))
-    }
-
     /// The summary of a run stopped by a signal at the step `engine` stands
     /// at, with a checkpoint there unless the scenario cannot take one.
     pub(crate) fn interrupt(&self, engine: &dyn Engine, saved: &Saved) -> Result<Value> {
@@ -158,8 +153,14 @@ impl Checkpointer {
         }))
     }
 
-    /// Writes the checkpoint of `engine` with the hooks' `saved` parts.
+    /// Writes the checkpoint of `engine` with the hooks' `saved` parts (on
+    /// the rank that writes; every rank calls this, as the engine's export
+    /// may gather). Returns the file's path.
     pub(crate) fn write(&self, engine: &dyn Engine, saved: &Saved) -> Result<PathBuf> {
+        let bytes = engine.export()?;
+        if !engine.writes() {
+            return Ok(self.dir.join(checkpoint::file_name(engine.step_count())));
+        }
         let run = RunHeader {
             scenario: &self.scenario,
             origin: &self.origin,
@@ -174,7 +175,7 @@ impl Checkpointer {
             &run,
             &outputs,
             engine.step_count(),
-            &engine.export()?,
+            &bytes,
             saved.measurements.as_deref(),
         )
     }

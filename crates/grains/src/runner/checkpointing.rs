@@ -3,6 +3,7 @@
 //! continued with the outputs cut back to where they stood at the
 //! checkpoint, so no row or frame is written twice.
 
+use super::flow::FlowRun;
 use super::md_run::{run_loop, Start};
 use super::options::{prepare, Progress, RunOptions};
 use super::output::Outputs;
@@ -75,13 +76,15 @@ fn resume_dim<D: Dim>(
     opts: &RunOptions,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
-    let r = found.restore::<D>(steps)?;
+    let mut r = found.restore::<D>(steps)?;
+    r.md.timing.reset();
     let loaded = &found.loaded;
     let outputs = Outputs::resume(&opts.out_dir, &loaded.scenario.output, &found.outputs)?;
     let start = Start {
-        md: r.md,
+        flow: Some(FlowRun::begin(loaded, &r.md)?),
+        engine: r.md,
         resolved: r.resolved,
-        outputs,
+        outputs: Some(outputs),
         plan: r.plan,
         restored: r.measurements,
     };

@@ -1,10 +1,11 @@
 //! Runs a scenario over several ranks (`mpirun -np N grains run ...`).
 //!
 //! MD scenarios go to [`super::distributed_md`]. DSMC: each rank steps its
-//! slab ([`crate::dsmc::decomp`]);
-//! at every sampling and output step the ranks gather the whole state on
-//! rank 0, into an engine of the same run, and rank 0 measures and writes
-//! it with the serial runner's code. The files are therefore the serial
+//! slab ([`crate::dsmc::decomp`]) inside [`DistGas`], the decomposed engine
+//! the serial run's loop drives ([`super::dsmc`]); at every sampling and
+//! output step the ranks gather the whole state on rank 0, into an engine
+//! of the same run, and rank 0 measures and writes it with the serial
+//! code. The files are therefore the serial
 //! run's, byte for byte (summary.json adds `ranks`, `imbalance`,
 //! `rebalances`). The gather costs O(N) on rank 0 per sample: for very
 //! large runs choose `output.every` and `dsmc.profile_bins` with that in
@@ -20,21 +21,21 @@
 //! without a checkpoint.
 
 use super::checkpointing::{self, Found};
-use super::dsmc::{build, gas_outputs, gas_summary, head, spec};
-use super::engine::gas_frame as frame;
+use super::dsmc::{build, gas_outputs, head, run_loop, GasStart};
+use super::engine::{gas_frame as frame, Engine, GasView};
 use super::options::{prepare, Progress, RunOptions};
 use super::output::Pieces;
 use crate::comm::Comm;
 use crate::dim::{D2, D3};
 use crate::dsmc::collide::GasDim;
 use crate::dsmc::decomp::Decomposed;
+use crate::dsmc::engine::Dsmc;
 use crate::dsmc::Method;
 use crate::error::{Error, Result};
-use crate::measure::gas::GasMeasurement as Measure;
+use crate::io::Frame;
 use crate::scenario::schema::Dimension;
 use crate::scenario::Loaded;
-use serde_json::{json, Value};
-use std::time::Instant;
+use serde_json::{json, Map, Value};
 
 /// Runs `loaded` on the ranks of `comm` (all of them call this). Returns the
 /// summary on rank 0 and `Value::Null` elsewhere.
@@ -99,115 +100,115 @@ fn run_dim<D: GasDim>(
     // Every rank builds the same engine; rank 0 keeps a second one to
     // gather the whole state into.
     let (full, plan) = build::<D>(loaded)?;
-    let mut mirror = if root {
-        Some(build::<D>(loaded)?.0)
-    } else {
-        None
+    let mirror = match root {
+        true => Some(build::<D>(loaded)?.0),
+        false => None,
     };
-    let mut summary = head(loaded, &full, &plan);
-    let mut dec = Decomposed::new(full, comm).map_err(Error::input)?;
+    let summary = head(loaded, &full, &plan);
+    let dec = Decomposed::new(full, comm).map_err(Error::input)?;
     let mut outputs = match root {
         true => Some(gas_outputs(&opts.out_dir, &loaded.scenario.output)?),
         false => None,
     };
-    let (relax, measure) = match opts.steps {
-        Some(n) => (0, n),
-        None => (plan.relax_steps, plan.measure_steps),
-    };
     if let Some(out) = outputs.as_mut() {
         out.set_ranks(comm.size());
     }
-    // Frames in pieces: each rank writes its own particles at an output
-    // step, with their serial store positions as ids (as when gathered).
-    let pieces = Pieces::new(&loaded.scenario.output, &opts.out_dir, comm);
-    let write_piece = |dec: &Decomposed<D>| {
-        pieces.write(|| {
-            let mut f = frame(&dec.sim);
-            f.id = dec.keys().iter().map(|k| k + 1).collect();
-            f
-        })
+    let engine = DistGas {
+        dec,
+        comm,
+        mirror,
+        fresh: None,
+        pieces: Pieces::new(&loaded.scenario.output, &opts.out_dir, comm),
     };
-    let ds = spec(loaded);
-    let every = plan.output_every;
-    let started = Instant::now();
-    if relax > 0 {
-        progress.phase("relax", relax);
-        for k in 1..=relax {
-            dec.step();
-            if k % 256 == 0 || k == relax {
-                progress.advance(k, dec.sim.time);
-            }
-        }
-    }
-    progress.phase("run", measure);
-    dec.gather(mirror.as_mut());
-    write_piece(&dec)?;
-    let mut m = None;
-    if let (Some(sim), Some(out)) = (mirror.as_mut(), outputs.as_mut()) {
-        let mut mm = Measure::new(sim, &ds);
-        // Discard the relaxation's collisions from the validity window.
-        mm.validity.sample(sim);
-        out.record(&mm.origin.row(sim), &frame(sim), |_| None)?;
-        m = Some(mm);
-    }
-    dec.reset_collisions();
-    let profile_every = (every / 10).max(1);
-    let profiles = ds.profile_bins > 0;
-    for k in 1..=measure {
-        dec.step();
-        let output = k % every == 0 || k == measure;
-        if output || (profiles && k % profile_every == 0) {
-            dec.gather(mirror.as_mut());
-        }
-        if output {
-            write_piece(&dec)?;
-        }
-        if let (Some(sim), Some(mm)) = (mirror.as_mut(), m.as_mut()) {
-            if let Some(p) = &mut mm.profiles {
-                if k % profile_every == 0 {
-                    p.sample(sim);
-                }
-            }
-            if output {
-                let out = outputs.as_mut().expect("rank 0 writes");
-                out.record(&mm.origin.row(sim), &frame(sim), |_| None)?;
-                for w in mm.validity.sample(sim) {
-                    eprintln!("warning: {w}");
-                }
-            }
-        }
-        if output {
-            dec.reset_collisions();
-        }
-        if k % 256 == 0 || k == measure {
-            progress.advance(k, dec.sim.time);
-        }
-    }
-    progress.finish();
-    let wall = started.elapsed().as_secs_f64();
-    let (Some(sim), Some(m)) = (mirror.as_ref(), m.as_ref()) else {
-        return Ok(Value::Null);
+    let start = GasStart {
+        engine,
+        every: plan.output_every,
+        plan: match opts.steps {
+            Some(n) => (0, n),
+            None => (plan.relax_steps, plan.measure_steps),
+        },
+        outputs,
+        restored: None,
+        summary,
     };
-    let dir = &opts.out_dir;
-    super::output::finish_gas(dir, &loaded.scenario.output, &frame(sim))?;
-    if let Some(p) = &m.profiles {
-        crate::io::write_atomic(&dir.join("profiles.csv"), p.csv(sim).as_bytes())?;
+    run_loop(loaded, opts, start, progress)
+}
+
+/// The decomposed DSMC engine of one rank: its slab of the gas, and on
+/// rank 0 the mirror, an engine of the same run into which the ranks
+/// gather the whole gas where a hook reads it.
+struct DistGas<'c, D: GasDim> {
+    dec: Decomposed<'c, D>,
+    comm: &'c dyn Comm,
+    mirror: Option<Dsmc<D>>,
+    /// The step at which the mirror last received the gas.
+    fresh: Option<u64>,
+    pieces: Pieces,
+}
+
+impl<D: GasDim> Engine for DistGas<'_, D> {
+    fn dim(&self) -> usize {
+        D::D
     }
-    let n = sim.store.len() as f64;
-    summary.remove("source");
-    summary.insert("steps".into(), json!(relax + measure));
-    summary.insert("time".into(), json!(sim.time));
-    summary.insert("wall_seconds".into(), json!(wall));
-    summary.insert(
-        "ns_per_particle_step".into(),
-        json!(1e9 * wall / ((relax + measure).max(1) as f64 * n)),
-    );
-    gas_summary(&mut summary, sim, m);
-    summary.insert("ranks".into(), json!(comm.size()));
-    summary.insert("imbalance".into(), json!(dec.imbalance));
-    summary.insert("rebalances".into(), json!(dec.rebalances));
-    let summary = Value::Object(summary);
-    let text = serde_json::to_string_pretty(&summary).expect("JSON values always serialize");
-    crate::io::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
-    Ok(summary)
+    fn step_count(&self) -> u64 {
+        self.dec.sim.step
+    }
+    fn sim_time(&self) -> f64 {
+        self.dec.sim.time
+    }
+    fn time_step(&self) -> f64 {
+        self.dec.sim.settings.dt
+    }
+    fn advance(&mut self, n: u64) -> Result<()> {
+        self.dec.run(n);
+        Ok(())
+    }
+    /// This rank's particles, with their serial store positions as ids (as
+    /// when gathered).
+    fn frame(&self) -> Frame {
+        let mut f = frame(&self.dec.sim);
+        f.id = self.dec.keys().iter().map(|k| k + 1).collect();
+        f
+    }
+    fn export(&self) -> Result<Vec<u8>> {
+        Err(Error::input(
+            "checkpoints of a DSMC run on several ranks are not supported yet; \
+             run it on one process to checkpoint it",
+        ))
+    }
+    fn import(&mut self, _: &[u8], origin: &str) -> Result<()> {
+        Err(Error::input(format!(
+            "checkpoint {origin}: resuming a DSMC run on several ranks is not supported yet"
+        )))
+    }
+    fn writes(&self) -> bool {
+        self.comm.rank() == 0
+    }
+    fn any_rank(&mut self, flag: bool) -> bool {
+        let mut n = [u64::from(flag)];
+        self.comm.sum_u64(&mut n);
+        n[0] > 0
+    }
+}
+
+impl<D: GasDim> GasView for DistGas<'_, D> {
+    type D = D;
+    fn whole(&mut self) -> Option<&mut Dsmc<D>> {
+        if self.fresh != Some(self.dec.sim.step) {
+            self.dec.gather(self.mirror.as_mut());
+            self.fresh = Some(self.dec.sim.step);
+        }
+        self.mirror.as_mut()
+    }
+    fn write_piece(&self) -> Result<()> {
+        self.pieces.write(|| self.frame())
+    }
+    fn tallies_read(&mut self) {
+        self.dec.reset_collisions();
+    }
+    fn summarize(&mut self, summary: &mut Map<String, Value>) {
+        summary.insert("ranks".into(), json!(self.comm.size()));
+        summary.insert("imbalance".into(), json!(self.dec.imbalance));
+        summary.insert("rebalances".into(), json!(self.dec.rebalances));
+    }
 }

@@ -1,8 +1,9 @@
-//! Runs a `method = "dsmc"` scenario: build, relax, measure, write
-//! thermo.csv, frames, profiles.csv and summary.json.
+//! Runs a `method = "dsmc"` scenario on the run loop, serial or decomposed
+//! over ranks: build, relax, measure, write thermo.csv, frames,
+//! profiles.csv and summary.json.
 
 use super::checkpointer::Checkpointer;
-use super::engine::{gas_frame, Engine};
+use super::engine::{gas_frame, Engine, GasView};
 use super::found::{resume_plan, Found};
 use super::options::{prepare, Progress, RunOptions};
 use super::output::Outputs;
@@ -95,10 +96,15 @@ fn run_dim<D: GasDim>(
         Some(n) => (0, n),
         None => (plan.relax_steps, plan.measure_steps),
     };
-    let every = plan.output_every;
-    run_loop(
-        loaded, opts, sim, every, steps, outputs, None, summary, progress,
-    )
+    let start = GasStart {
+        engine: sim,
+        every: plan.output_every,
+        plan: steps,
+        outputs: Some(outputs),
+        restored: None,
+        summary,
+    };
+    run_loop(loaded, opts, start, progress)
 }
 
 /// The description of a run as it was built, summary.json's head.
@@ -187,118 +193,152 @@ fn resume_dim<D: GasDim>(
     } = restore::<D>(found)?;
     let (relax, measure) = resume_plan(found.plan, sim.step, steps, &origin)?;
     let outputs = Outputs::resume(&opts.out_dir, &loaded.scenario.output, &found.outputs)?;
-    run_loop(
-        loaded,
-        opts,
-        sim,
-        plan.output_every,
-        (relax, measure),
-        outputs,
-        m,
+    let start = GasStart {
+        engine: sim,
+        every: plan.output_every,
+        plan: (relax, measure),
+        outputs: Some(outputs),
+        restored: m,
         summary,
-        progress,
-    )
+    };
+    run_loop(loaded, opts, start, progress)
 }
 
 /// The output steps of a DSMC run: a thermo row (counted from the start
-/// of the measurement `origin`) and a frame; while relaxing it never acts
-/// but says where the files stand.
+/// of the measurement `origin`) and a frame, on rank 0 (every rank writes
+/// its piece); while relaxing it never acts but says where the files
+/// stand.
 struct GasRecord<'a> {
-    outputs: &'a mut Outputs,
+    outputs: Option<&'a mut Outputs>,
     origin: Origin,
     at: Option<Every>,
 }
 
-impl<D: GasDim> Hook<Dsmc<D>> for GasRecord<'_> {
-    fn next(&self, now: u64, horizon: u64) -> u64 {
-        self.at.map_or(horizon, |a| a.next(now, horizon))
-    }
-    fn act(&mut self, sim: &mut Dsmc<D>, now: u64) -> Result<Control> {
-        if self.at.is_some_and(|a| a.due(now)) {
-            let row = self.origin.row(sim);
-            self.outputs.record(&row, &gas_frame(sim), |_| None)?;
+impl GasRecord<'_> {
+    fn record(&mut self, engine: &mut impl GasView) -> Result<()> {
+        engine.write_piece()?;
+        if let (Some(sim), Some(out)) = (engine.whole(), self.outputs.as_deref_mut()) {
+            out.record(&self.origin.row(sim), &gas_frame(sim), |_| None)?;
         }
-        Ok(Control::Go)
-    }
-    fn pack(&self, saved: &mut Saved) -> Result<()> {
-        saved.outputs = Some(self.outputs.state()?);
         Ok(())
     }
 }
 
-/// The measured phase's accumulators: density and temperature profiles
-/// every `profile` steps, the validity window at every output step.
+impl<E: GasView> Hook<E> for GasRecord<'_> {
+    fn next(&self, now: u64, horizon: u64) -> u64 {
+        self.at.map_or(horizon, |a| a.next(now, horizon))
+    }
+    fn act(&mut self, engine: &mut E, now: u64) -> Result<Control> {
+        if self.at.is_some_and(|a| a.due(now)) {
+            self.record(engine)?;
+        }
+        Ok(Control::Go)
+    }
+    fn pack(&self, saved: &mut Saved) -> Result<()> {
+        if let Some(out) = &self.outputs {
+            saved.outputs = Some(out.state()?);
+        }
+        Ok(())
+    }
+}
+
+/// The measured phase's accumulators (rank 0's): density and temperature
+/// profiles every `profile` steps, the validity window at every output
+/// step.
 struct GasMeasureHook<'a> {
-    m: &'a mut GasMeasurement,
+    m: Option<&'a mut GasMeasurement>,
     profile: Option<Every>,
     output: Every,
 }
 
-impl<D: GasDim> Hook<Dsmc<D>> for GasMeasureHook<'_> {
+impl<E: GasView> Hook<E> for GasMeasureHook<'_> {
     fn next(&self, now: u64, horizon: u64) -> u64 {
         let h = self.output.next(now, horizon);
         self.profile.map_or(h, |p| p.next(now, h))
     }
-    fn act(&mut self, sim: &mut Dsmc<D>, now: u64) -> Result<Control> {
-        if let (Some(p), Some(at)) = (&mut self.m.profiles, self.profile) {
-            if at.due(now) {
-                p.sample(sim);
+    fn act(&mut self, engine: &mut E, now: u64) -> Result<Control> {
+        if self.profile.is_some_and(|at| at.due(now)) {
+            if let (Some(sim), Some(m)) = (engine.whole(), self.m.as_deref_mut()) {
+                if let Some(p) = &mut m.profiles {
+                    p.sample(sim);
+                }
             }
         }
         if self.output.due(now) {
-            for w in self.m.validity.sample(sim) {
-                eprintln!("warning: {w}");
+            if let (Some(sim), Some(m)) = (engine.whole(), self.m.as_deref_mut()) {
+                for w in m.validity.sample(sim) {
+                    eprintln!("warning: {w}");
+                }
             }
+            engine.tallies_read();
         }
         Ok(Control::Go)
     }
     fn pack(&self, saved: &mut Saved) -> Result<()> {
-        saved.measurements = Some(self.m.to_bytes());
+        if let Some(m) = self.m.as_deref() {
+            saved.measurements = Some(m.to_bytes());
+        }
         Ok(())
     }
 }
 
-/// The run from wherever `sim` stands (step 0, or a restored checkpoint
-/// with its measurement state `m`) to `relax + measure` steps, then the
-/// final files.
-#[allow(clippy::too_many_arguments)] // the run's whole context, shared by run and resume
-fn run_loop<D: GasDim>(
+/// Where a DSMC run starts: the engine (serial, or decomposed over ranks)
+/// at step 0 or restored from a checkpoint with its measurement state; the
+/// outputs and the measurement are rank 0's.
+pub(super) struct GasStart<E> {
+    pub engine: E,
+    pub every: u64,
+    /// (relaxation, measured) steps.
+    pub plan: (u64, u64),
+    pub outputs: Option<Outputs>,
+    pub restored: Option<GasMeasurement>,
+    /// summary.json's head: the run as it was built.
+    pub summary: Map<String, Value>,
+}
+
+/// The run from wherever the engine stands to `relax + measure` steps, then
+/// the final files; on every rank of a decomposed engine alike (the
+/// summary on rank 0, `Value::Null` elsewhere).
+pub(super) fn run_loop<D: GasDim, E: GasView<D = D>>(
     loaded: &Loaded,
     opts: &RunOptions,
-    mut sim: Dsmc<D>,
-    every: u64,
-    (relax, measure): (u64, u64),
-    mut outputs: Outputs,
-    m: Option<GasMeasurement>,
-    mut summary: Map<String, Value>,
+    start: GasStart<E>,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
+    let GasStart {
+        mut engine,
+        every,
+        plan: (relax, measure),
+        mut outputs,
+        restored,
+        mut summary,
+    } = start;
     let ds = spec(loaded);
     let dir = &opts.out_dir;
     let started = Instant::now();
-    let first_step = sim.step;
-    let ck = Checkpointer::new(loaded, opts, sim.settings.dt, (relax, measure))?;
-    if ck.interval().is_some() && sim.step == 0 {
+    let first_step = engine.step_count();
+    let ck = Checkpointer::new(loaded, opts, engine.time_step(), (relax, measure))?;
+    if ck.interval().is_some() && first_step == 0 {
         let saved = Saved {
-            outputs: Some(outputs.state()?),
+            outputs: outputs.as_ref().map(Outputs::state).transpose()?,
             measurements: None,
         };
-        ck.write(&sim, &saved)?;
+        ck.write(&engine, &saved)?;
     }
     let mut interval = Interval(ck.interval());
     let mut stop = StopFlag(opts.stop.clone());
-    if relax > sim.step.min(relax) {
+    if relax > engine.step_count().min(relax) {
         progress.phase("relax", relax);
         let stopped = {
             let mut record = GasRecord {
-                outputs: &mut outputs,
+                outputs: outputs.as_mut(),
                 origin: Origin::default(),
                 at: None,
             };
             let mut report = Report::new(progress, 0, relax);
-            let mut hooks: [&mut dyn Hook<Dsmc<D>>; 4] =
+            let mut hooks: [&mut dyn Hook<E>; 4] =
                 [&mut record, &mut report, &mut interval, &mut stop];
-            run_to(&mut sim, relax, &mut hooks, &ck)?
+            run_to(&mut engine, relax, &mut hooks, &ck)?
         };
         if let Some(summary) = stopped {
             progress.finish();
@@ -306,13 +346,22 @@ fn run_loop<D: GasDim>(
         }
     }
     progress.phase("run", measure);
-    let mut m = match m {
-        Some(m) => m,
+    let mut m = match restored {
+        Some(m) => Some(m),
         None => {
-            let mut m = GasMeasurement::new(&sim, &ds);
-            // Discard the relaxation's collisions from the validity window.
-            m.validity.sample(&mut sim);
-            outputs.record(&m.origin.row(&sim), &gas_frame(&sim), |_| None)?;
+            let mut m = engine.whole().map(|sim| {
+                let mut m = GasMeasurement::new(sim, &ds);
+                // Discard the relaxation's collisions from the validity window.
+                m.validity.sample(sim);
+                m
+            });
+            engine.tallies_read();
+            let mut record = GasRecord {
+                outputs: outputs.as_mut(),
+                origin: m.as_mut().map_or_else(Origin::default, |m| m.origin),
+                at: None,
+            };
+            record.record(&mut engine)?;
             m
         }
     };
@@ -321,24 +370,21 @@ fn run_loop<D: GasDim>(
     let end = base + measure;
     let stopped = {
         let output = Every::new(base, every, Some(end));
-        let profile = m
-            .profiles
-            .is_some()
-            .then(|| Every::new(base, (every / 10).max(1), None));
+        let profile = (ds.profile_bins > 0).then(|| Every::new(base, (every / 10).max(1), None));
         let mut record = GasRecord {
-            outputs: &mut outputs,
-            origin: m.origin,
+            outputs: outputs.as_mut(),
+            origin: m.as_ref().map_or_else(Origin::default, |m| m.origin),
             at: Some(output),
         };
         let mut gas = GasMeasureHook {
-            m: &mut m,
+            m: m.as_mut(),
             profile,
             output,
         };
         let mut report = Report::new(progress, base, end);
-        let mut hooks: [&mut dyn Hook<Dsmc<D>>; 5] =
+        let mut hooks: [&mut dyn Hook<E>; 5] =
             [&mut record, &mut gas, &mut report, &mut interval, &mut stop];
-        run_to(&mut sim, end, &mut hooks, &ck)?
+        run_to(&mut engine, end, &mut hooks, &ck)?
     };
     if let Some(summary) = stopped {
         progress.finish();
@@ -346,9 +392,15 @@ fn run_loop<D: GasDim>(
     }
     progress.finish();
     let wall = started.elapsed().as_secs_f64();
-    super::output::finish_gas(dir, &loaded.scenario.output, &gas_frame(&sim))?;
+    let stepped = engine.step_count() - first_step;
+    let mut extra = Map::new();
+    engine.summarize(&mut extra);
+    let (Some(sim), Some(m)) = (engine.whole(), m) else {
+        return Ok(Value::Null);
+    };
+    super::output::finish_gas(dir, &loaded.scenario.output, &gas_frame(sim))?;
     if let Some(p) = &m.profiles {
-        crate::io::write_atomic(&dir.join("profiles.csv"), p.csv(&sim).as_bytes())?;
+        crate::io::write_atomic(&dir.join("profiles.csv"), p.csv(sim).as_bytes())?;
     }
     let n = sim.store.len() as f64;
     let steps = relax + measure;
@@ -358,9 +410,10 @@ fn run_loop<D: GasDim>(
     summary.insert("wall_seconds".into(), json!(wall));
     summary.insert(
         "ns_per_particle_step".into(),
-        json!(1e9 * wall / ((sim.step - first_step).max(1) as f64 * n)),
+        json!(1e9 * wall / (stepped.max(1) as f64 * n)),
     );
-    gas_summary(&mut summary, &sim, &m);
+    gas_summary(&mut summary, sim, &m);
+    summary.extend(extra);
     let summary = Value::Object(summary);
     let text = serde_json::to_string_pretty(&summary).expect("JSON values always serialize");
     crate::io::write_atomic(&dir.join("summary.json"), text.as_bytes())?;

@@ -2,9 +2,13 @@
 //! show the state as a frame, export and import the complete state.
 //!
 //! Implemented here for the serial MD engine ([`Md`]) and the DSMC engine
-//! ([`Dsmc`]); the run loop ([`super::run_loop`]) and the Python session
-//! drive either through it.
+//! ([`Dsmc`]), and in [`super::distributed_md`] and [`super::distributed`]
+//! for their decompositions over ranks; the run loop ([`super::run_loop`])
+//! and the Python session drive any of them through it. The MD and the gas
+//! hooks see an engine through [`MdView`] and [`GasView`]: the whole state,
+//! at hand in a serial engine, gathered on rank 0 in a decomposed one.
 
+use super::flow::FlowRun;
 use crate::checkpoint;
 use crate::dim::Dim;
 use crate::dsmc::collide::GasDim;
@@ -12,6 +16,7 @@ use crate::dsmc::engine::Dsmc;
 use crate::error::{Error, Result};
 use crate::io::Frame;
 use crate::md::Md;
+use serde_json::{json, Map, Value};
 
 /// A simulation engine as the run loop sees it. The method names differ
 /// from the engines' own (`Md::step` is a field, `Dsmc::step` takes a
@@ -28,14 +33,117 @@ pub trait Engine: Send {
     /// Takes `n` steps, the same bits as `n` single steps, returning with
     /// every step complete (also on error).
     fn advance(&mut self, n: u64) -> Result<()>;
-    /// The state now as a neutral frame, for outputs.
+    /// The state now as a neutral frame, for outputs (this rank's part
+    /// of a decomposed engine).
     fn frame(&self) -> Frame;
-    /// The complete state as bytes: a checkpoint's engine field.
+    /// The complete state as bytes: a checkpoint's engine field. A
+    /// decomposed engine gathers it (every rank calls this) and returns it
+    /// on rank 0, no bytes elsewhere.
     fn export(&self) -> Result<Vec<u8>>;
     /// Puts back a state written by [`Engine::export`] into an engine
     /// freshly built from the same scenario; `origin` names the file in
     /// messages.
     fn import(&mut self, bytes: &[u8], origin: &str) -> Result<()>;
+    /// Whether this process writes the run's files (rank 0 of a
+    /// decomposed engine).
+    fn writes(&self) -> bool {
+        true
+    }
+    /// Whether `flag` is set on any rank (every rank calls this).
+    fn any_rank(&mut self, flag: bool) -> bool {
+        flag
+    }
+}
+
+/// An MD engine as the MD hooks see it. Its methods that gather are
+/// collective in a decomposed engine: every rank calls them at the same
+/// steps.
+pub(crate) trait MdView: Engine {
+    /// The dimension.
+    type D: Dim;
+    /// The whole state now (gathered at most once a step); `None` on the
+    /// ranks other than 0.
+    fn whole(&mut self) -> Option<&mut Md<Self::D>>;
+    /// The whole state now when `want` on some rank (rank 0 alone may
+    /// know); else rank 0's whole engine with only its step and time
+    /// current.
+    fn whole_if(&mut self, want: bool) -> Option<&mut Md<Self::D>>;
+    /// Whether the steps at which rank 0's measurements and flow events
+    /// act are known to rank 0 alone, so that those hooks act at every
+    /// step.
+    fn lockstep(&self) -> bool {
+        false
+    }
+    /// This rank's piece of the frame at an output step, when frames come
+    /// in pieces from several ranks.
+    fn write_piece(&self) -> Result<()> {
+        Ok(())
+    }
+    /// The flow events after the step now (`flow` on rank 0).
+    fn flow_events(&mut self, flow: Option<&mut FlowRun<Self::D>>);
+    /// What the engine adds to summary.json after the common scalars
+    /// (every rank calls this).
+    fn summarize(&mut self, summary: &mut Map<String, Value>, wall_seconds: f64);
+}
+
+impl<D: Dim> MdView for Md<D> {
+    type D = D;
+    fn whole(&mut self) -> Option<&mut Md<D>> {
+        Some(self)
+    }
+    fn whole_if(&mut self, _: bool) -> Option<&mut Md<D>> {
+        Some(self)
+    }
+    fn flow_events(&mut self, flow: Option<&mut FlowRun<D>>) {
+        if let Some(f) = flow {
+            f.after_step(self);
+        }
+    }
+    fn summarize(&mut self, summary: &mut Map<String, Value>, wall_seconds: f64) {
+        md_scalars(self, summary, wall_seconds);
+    }
+}
+
+/// What a serial MD engine adds to summary.json: its neighbour builds, the
+/// seconds per phase of the step (`other` is mostly measurements and
+/// output), and how the governor ran its steps (the pool's size, the steps
+/// run on all of it and on one thread: they depend on the machine's load,
+/// never on the result).
+pub(crate) fn md_scalars<D: Dim>(md: &Md<D>, summary: &mut Map<String, Value>, wall_seconds: f64) {
+    summary.insert("neighbor_builds".into(), json!(md.neighbor_builds()));
+    let phases = md.timing.to_json(wall_seconds, 1.0);
+    summary.insert("phase_seconds".into(), phases);
+    let (wide, narrow) = md.governor.steps_wide_narrow();
+    let pool = rayon::current_num_threads();
+    summary.insert(
+        "threads".into(),
+        json!({ "pool": pool, "steps_on_pool": wide, "steps_on_one": narrow }),
+    );
+}
+
+/// A DSMC engine as the gas hooks see it (collective as [`MdView`]).
+pub(crate) trait GasView: Engine {
+    /// The dimension.
+    type D: GasDim;
+    /// The whole gas now (gathered at most once a step); `None` on the
+    /// ranks other than 0.
+    fn whole(&mut self) -> Option<&mut Dsmc<Self::D>>;
+    /// This rank's piece of the frame at an output step.
+    fn write_piece(&self) -> Result<()> {
+        Ok(())
+    }
+    /// The collision tallies were read at an output step: the ranks of a
+    /// decomposed engine start theirs again.
+    fn tallies_read(&mut self) {}
+    /// What the engine adds to summary.json (every rank calls this).
+    fn summarize(&mut self, _summary: &mut Map<String, Value>) {}
+}
+
+impl<D: GasDim> GasView for Dsmc<D> {
+    type D = D;
+    fn whole(&mut self) -> Option<&mut Dsmc<D>> {
+        Some(self)
+    }
 }
 
 impl<D: Dim> Engine for Md<D> {

@@ -11,6 +11,7 @@
 //! [`FlowRun::sample`] at every sample; the runner calls
 //! [`FlowRun::finish`] at the end.
 
+use super::engine::MdView;
 use super::run_loop::{Control, Every, Hook};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
@@ -384,28 +385,44 @@ impl<D: Dim> FlowRun<D> {
 }
 
 /// The flow events as a hook of the run loop: after the stretches that end
-/// where they act, and (in the measured phase) the flow measurements at
-/// every sample.
+/// where they act (at every step when `lockstep`: rank 0 alone knows its
+/// stage), and (in the measured phase) the flow measurements at every
+/// sample. The flow run is rank 0's.
 pub(super) struct FlowHook<'a, D: Dim> {
-    flow: &'a mut FlowRun<D>,
+    flow: Option<&'a mut FlowRun<D>>,
     sample: Option<Every>,
+    lockstep: bool,
 }
 
 impl<'a, D: Dim> FlowHook<'a, D> {
-    pub(super) fn new(flow: &'a mut FlowRun<D>, sample: Option<Every>) -> Self {
-        Self { flow, sample }
+    pub(super) fn new(
+        flow: Option<&'a mut FlowRun<D>>,
+        sample: Option<Every>,
+        lockstep: bool,
+    ) -> Self {
+        Self {
+            flow,
+            sample,
+            lockstep,
+        }
     }
 }
 
-impl<D: Dim> Hook<Md<D>> for FlowHook<'_, D> {
+impl<D: Dim, E: MdView<D = D>> Hook<E> for FlowHook<'_, D> {
     fn next(&self, now: u64, horizon: u64) -> u64 {
         let h = self.sample.map_or(horizon, |s| s.next(now, horizon));
-        self.flow.next_act(now, h)
+        match (&self.flow, self.lockstep) {
+            (_, true) => (now + 1).min(h),
+            (Some(f), false) => f.next_act(now, h),
+            (None, false) => h,
+        }
     }
-    fn act(&mut self, md: &mut Md<D>, now: u64) -> Result<Control> {
-        self.flow.after_step(md);
+    fn act(&mut self, engine: &mut E, now: u64) -> Result<Control> {
+        engine.flow_events(self.flow.as_deref_mut());
         if self.sample.is_some_and(|s| s.due(now)) {
-            self.flow.sample(md);
+            if let (Some(md), Some(f)) = (engine.whole(), self.flow.as_deref_mut()) {
+                f.sample(md);
+            }
         }
         Ok(Control::Go)
     }
@@ -438,7 +455,7 @@ pub fn looks_at(loaded: &Loaded, step: u64) -> bool {
 }
 
 /// Steps between looks at the kinetic energy (a sum over all grains).
-const LOOK_EVERY: u64 = 50;
+pub(crate) const LOOK_EVERY: u64 = 50;
 
 /// Recycling height of `[hopper]`: `sink`, by default 10 d0 below the floor.
 fn hopper_sink(h: &HopperSpec, d0: f64) -> f64 {

@@ -1,8 +1,9 @@
-//! A serial MD run on the run loop: relaxation (flow events, progress,
-//! checkpoints), then the measurement (also the measurements and the
-//! outputs), then the final files and summary.json.
+//! An MD run on the run loop, serial or decomposed over ranks: relaxation
+//! (flow events, progress, checkpoints), then the measurement (also the
+//! measurements and the outputs), then the final files and summary.json.
 
 use super::checkpointer::Checkpointer;
+use super::engine::MdView;
 use super::flow::{FlowHook, FlowRun};
 use super::measurements::{MeasureHook, Measurements};
 use super::options::{prepare, Progress, RunOptions};
@@ -26,16 +27,18 @@ pub(super) fn run_dim<D: Dim>(
 ) -> Result<Value> {
     prepare(&opts.out_dir)?;
     let loaded = &*crate::scenario::hopper::expand(loaded)?;
-    let (md, resolved) = build_md::<D>(loaded)?;
+    let (mut md, resolved) = build_md::<D>(loaded)?;
+    md.timing.reset();
     let outputs = Outputs::create(&opts.out_dir, &loaded.scenario.output)?;
     let plan = match opts.steps {
         Some(n) => (0, n),
         None => (resolved.relax_steps, resolved.measure_steps),
     };
     let start = Start {
-        md,
+        flow: Some(FlowRun::begin(loaded, &md)?),
+        engine: md,
         resolved,
-        outputs,
+        outputs: Some(outputs),
         plan,
         restored: None,
     };
@@ -43,11 +46,14 @@ pub(super) fn run_dim<D: Dim>(
 }
 
 /// Where an MD run starts: step 0, or a restored checkpoint with its
-/// measurement accumulators when it lies inside the measurement.
-pub(super) struct Start<D: Dim> {
-    pub md: Md<D>,
+/// measurement accumulators when it lies inside the measurement. `E` is
+/// the serial engine or a decomposed one; the outputs and the flow run are
+/// rank 0's.
+pub(super) struct Start<D: Dim, E> {
+    pub engine: E,
     pub resolved: Resolved,
-    pub outputs: Outputs,
+    pub outputs: Option<Outputs>,
+    pub flow: Option<FlowRun<D>>,
     /// (relaxation, measured) steps.
     pub plan: (u64, u64),
     pub restored: Option<Measurements>,
@@ -56,79 +62,102 @@ pub(super) struct Start<D: Dim> {
 /// The output steps of an MD run: thermo.csv, frames, dump and walls.csv
 /// (never acting while relaxing, but saying where the files stand).
 struct Record<'a> {
-    outputs: &'a mut Outputs,
+    outputs: Option<&'a mut Outputs>,
     walls: Option<&'a mut WallTable>,
     at: Option<Every>,
 }
 
-impl<D: Dim> Hook<Md<D>> for Record<'_> {
-    fn next(&self, now: u64, horizon: u64) -> u64 {
-        self.at.map_or(horizon, |a| a.next(now, horizon))
-    }
-    fn act(&mut self, md: &mut Md<D>, now: u64) -> Result<Control> {
-        if self.at.is_some_and(|a| a.due(now)) {
-            self.outputs.record_md(md)?;
-            if let Some(w) = &mut self.walls {
+impl Record<'_> {
+    /// Records the state now (on rank 0; every rank writes its piece).
+    fn record(&mut self, engine: &mut impl MdView) -> Result<()> {
+        engine.write_piece()?;
+        if let (Some(md), Some(out)) = (engine.whole(), self.outputs.as_deref_mut()) {
+            out.record_md(md)?;
+            if let Some(w) = self.walls.as_deref_mut() {
                 w.record(md)?;
             }
         }
-        Ok(Control::Go)
-    }
-    fn pack(&self, saved: &mut Saved) -> Result<()> {
-        saved.outputs = Some(self.outputs.state()?);
         Ok(())
     }
 }
 
-/// The run from wherever `start.md` stands to `relax + measure` steps,
-/// then the final files.
-pub(super) fn run_loop<D: Dim>(
+impl<E: MdView> Hook<E> for Record<'_> {
+    fn next(&self, now: u64, horizon: u64) -> u64 {
+        self.at.map_or(horizon, |a| a.next(now, horizon))
+    }
+    fn act(&mut self, engine: &mut E, now: u64) -> Result<Control> {
+        if self.at.is_some_and(|a| a.due(now)) {
+            self.record(engine)?;
+        }
+        Ok(Control::Go)
+    }
+    fn pack(&self, saved: &mut Saved) -> Result<()> {
+        if let Some(out) = &self.outputs {
+            saved.outputs = Some(out.state()?);
+        }
+        Ok(())
+    }
+}
+
+/// The run from wherever `start.engine` stands to `relax + measure` steps,
+/// then the final files; on every rank of a decomposed engine alike (the
+/// summary on rank 0, `Value::Null` elsewhere).
+pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
     loaded: &Loaded,
     opts: &RunOptions,
-    start: Start<D>,
+    start: Start<D, E>,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
     let Start {
-        mut md,
+        mut engine,
         resolved,
         mut outputs,
+        mut flow,
         plan: (relax, measure),
         restored,
     } = start;
     let started = Instant::now();
-    md.timing.reset();
-    let first_step = md.step;
-    let ck = Checkpointer::new(loaded, opts, md.settings.dt, (relax, measure))?;
-    if ck.interval().is_some() && md.step == 0 {
+    let first_step = engine.step_count();
+    let ck = Checkpointer::new(loaded, opts, engine.time_step(), (relax, measure))?;
+    if ck.interval().is_some() && first_step == 0 {
         let saved = Saved {
-            outputs: Some(outputs.state()?),
+            outputs: outputs.as_ref().map(Outputs::state).transpose()?,
             measurements: None,
         };
-        ck.write(&md, &saved)?;
+        ck.write(&engine, &saved)?;
     }
-    let mut flow = FlowRun::begin(loaded, &md)?;
-    let mut walls_csv = WallTable::create(&opts.out_dir, &md)?;
+    let mut walls_csv = match engine.whole() {
+        Some(md) => WallTable::create(&opts.out_dir, md)?,
+        None => None,
+    };
     let mut interval = Interval(ck.interval());
     let mut stop = StopFlag(opts.stop.clone());
+    // A decomposed engine's flow events and per-step measurements act at
+    // every step: rank 0 alone knows when they read the grains.
+    let lockstep = engine.lockstep();
+    let flow_lockstep = lockstep
+        && (super::flow::sink_height(loaded).is_some() || loaded.scenario.run.events.is_some());
+    let m = &loaded.scenario.measure;
+    let per_step = m.phases.is_some() || m.trajectories.is_some();
 
-    if relax > md.step.min(relax) {
+    if relax > engine.step_count().min(relax) {
         progress.phase("relax", relax);
         let stopped = {
-            let mut events = FlowHook::new(&mut flow, None);
+            let mut events = FlowHook::new(flow.as_mut(), None, flow_lockstep);
             let mut record = Record {
-                outputs: &mut outputs,
+                outputs: outputs.as_mut(),
                 walls: None,
                 at: None,
             };
             let mut report = Report::new(progress, 0, relax);
-            let mut hooks: [&mut dyn Hook<Md<D>>; 5] = [
+            let mut hooks: [&mut dyn Hook<E>; 5] = [
                 &mut events,
                 &mut record,
                 &mut report,
                 &mut interval,
                 &mut stop,
             ];
-            run_to(&mut md, relax, &mut hooks, &ck)?
+            run_to(&mut engine, relax, &mut hooks, &ck)?
         };
         if let Some(summary) = stopped {
             progress.finish();
@@ -140,38 +169,44 @@ pub(super) fn run_loop<D: Dim>(
     // some when resumed inside the measurement. A checkpoint taken during
     // the measurement carries its accumulators; one taken before it does
     // not, and they begin here as in a straight run.
-    let measure_done = md.step - md.step.min(relax);
-    let mut measurements = match restored {
-        Some(m) => m,
-        None => Measurements::begin(loaded, &md, measure - measure_done, resolved.dt)?,
+    let measure_done = engine.step_count() - engine.step_count().min(relax);
+    let mut measurements = match (restored, engine.whole()) {
+        (Some(m), Some(_)) => Some(m),
+        (None, Some(md)) => Some(Measurements::begin(
+            loaded,
+            md,
+            measure - measure_done,
+            resolved.dt,
+        )?),
+        (_, None) => None,
+    };
+    let mut record = Record {
+        outputs: outputs.as_mut(),
+        walls: walls_csv.as_mut(),
+        at: None,
     };
     if measure_done == 0 {
-        outputs.record_md(&md)?;
-        if let Some(w) = &mut walls_csv {
-            w.record(&md)?;
-        }
+        record.record(&mut engine)?;
     }
     // Measured step k is engine step `base + k`. Sampling more often than
     // the output keeps the displacement unwrapping safe and the convection
     // average smooth.
-    let base = md.step - measure_done;
+    let base = engine.step_count() - measure_done;
     let end = base + measure;
     let every = resolved.output_every;
     let sample = Every::new(base, (every / 10).max(1), None);
+    record.at = Some(Every::new(base, every, Some(end)));
     let stopped = {
-        let mut events = FlowHook::new(&mut flow, Some(sample));
+        let mut events = FlowHook::new(flow.as_mut(), Some(sample), flow_lockstep);
         let mut meas = MeasureHook {
-            m: &mut measurements,
+            m: measurements.as_mut(),
             sample,
-            dt: md.settings.dt,
-        };
-        let mut record = Record {
-            outputs: &mut outputs,
-            walls: walls_csv.as_mut(),
-            at: Some(Every::new(base, every, Some(end))),
+            dt: engine.time_step(),
+            per_step,
+            lockstep,
         };
         let mut report = Report::new(progress, base, end);
-        let mut hooks: [&mut dyn Hook<Md<D>>; 6] = [
+        let mut hooks: [&mut dyn Hook<E>; 6] = [
             &mut events,
             &mut meas,
             &mut record,
@@ -179,29 +214,31 @@ pub(super) fn run_loop<D: Dim>(
             &mut interval,
             &mut stop,
         ];
-        run_to(&mut md, end, &mut hooks, &ck)?
+        run_to(&mut engine, end, &mut hooks, &ck)?
     };
     if let Some(summary) = stopped {
         progress.finish();
         return Ok(summary);
     }
-    measurements.sample(&md);
     progress.finish();
     let wall_seconds = started.elapsed().as_secs_f64();
-
+    let mut extra = Map::new();
+    engine.summarize(&mut extra, wall_seconds);
+    let stepped = engine.step_count() - first_step;
+    let (Some(md), Some(mut measurements), Some(flow), Some(mut outputs)) =
+        (engine.whole(), measurements, flow, outputs)
+    else {
+        return Ok(Value::Null);
+    };
+    measurements.sample(md);
     let last = md.frame();
     outputs.finish(&last, &md.walls, measurements.displacement.as_ref())?;
-    measurements.write(&opts.out_dir, &md, &last)?;
+    measurements.write(&opts.out_dir, md, &last)?;
     let steps = relax + measure;
-    let stepped = md.step - first_step;
-    let mut summary = md_summary(loaded, &md, &resolved, steps, stepped, wall_seconds);
-    summary.insert("neighbor_builds".into(), json!(md.neighbor_builds()));
-    // Seconds per phase of the step; `other` is mostly measurements and output.
-    let phases = md.timing.to_json(wall_seconds, 1.0);
-    summary.insert("phase_seconds".into(), phases);
-    summary.insert("threads".into(), threads_json(&md));
+    let mut summary = md_summary(loaded, md, &resolved, steps, stepped, wall_seconds);
+    summary.extend(extra);
     measurements.scalars(&mut summary);
-    flow.finish(&opts.out_dir, &md, &mut summary)?;
+    flow.finish(&opts.out_dir, md, &mut summary)?;
     let summary = Value::Object(summary);
     outputs.write_summary(&summary)?;
     Ok(summary)
@@ -244,12 +281,4 @@ pub(crate) fn md_summary<D: Dim>(
         json!(granular_temperature(&md.particles)),
     );
     summary
-}
-
-/// How the governor ran an engine's steps: the pool's size, the steps run
-/// on all of it and on one thread (they depend on the machine's load, never
-/// on the result).
-pub(crate) fn threads_json<D: Dim>(md: &Md<D>) -> Value {
-    let (wide, narrow) = md.governor.steps_wide_narrow();
-    json!({ "pool": rayon::current_num_threads(), "steps_on_pool": wide, "steps_on_one": narrow })
 }

@@ -1,6 +1,7 @@
 //! The MD measurements a scenario asks for (`[measure]`), accumulated
 //! between steps, and the hook that runs them in the measured phase.
 
+use super::engine::MdView;
 use super::run_loop::{Control, Every, Hook, Saved};
 use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
@@ -262,30 +263,50 @@ impl Measurements {
 }
 
 /// Runs the measurements in the measured phase: the per-step ones
-/// (phases, trajectories) at the steps they read the grains, the sampled
-/// ones every `sample` steps.
+/// (phases, trajectories) at the steps they read the grains (at every step
+/// when `lockstep`: rank 0 alone knows which), the sampled ones every
+/// `sample` steps. The accumulators are rank 0's.
 pub(super) struct MeasureHook<'a> {
-    pub m: &'a mut Measurements,
+    pub m: Option<&'a mut Measurements>,
     pub sample: Every,
     pub dt: f64,
+    /// Whether the scenario has per-step measurements.
+    pub per_step: bool,
+    pub lockstep: bool,
 }
 
-impl<D: Dim> Hook<Md<D>> for MeasureHook<'_> {
+impl<E: MdView> Hook<E> for MeasureHook<'_> {
     fn next(&self, now: u64, horizon: u64) -> u64 {
         let h = self.sample.next(now, horizon);
+        if self.per_step && self.lockstep {
+            return (now + 1).min(h);
+        }
+        let Some(m) = self.m.as_deref() else {
+            return h;
+        };
         (now + 1..h)
-            .find(|&s| self.m.due(s, s as f64 * self.dt))
+            .find(|&s| m.due(s, s as f64 * self.dt))
             .unwrap_or(h)
     }
-    fn act(&mut self, md: &mut Md<D>, now: u64) -> Result<Control> {
-        self.m.step(md);
+    fn act(&mut self, engine: &mut E, now: u64) -> Result<Control> {
+        if self.per_step {
+            let t = engine.sim_time();
+            let want = self.m.as_deref().is_some_and(|m| m.due(now, t));
+            if let (Some(md), Some(m)) = (engine.whole_if(want), self.m.as_deref_mut()) {
+                m.step(md);
+            }
+        }
         if self.sample.due(now) {
-            self.m.sample(md);
+            if let (Some(md), Some(m)) = (engine.whole(), self.m.as_deref_mut()) {
+                m.sample(md);
+            }
         }
         Ok(Control::Go)
     }
     fn pack(&self, saved: &mut Saved) -> Result<()> {
-        saved.measurements = Some(self.m.save());
+        if let Some(m) = self.m.as_deref() {
+            saved.measurements = Some(m.save());
+        }
         Ok(())
     }
 }

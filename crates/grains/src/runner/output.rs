@@ -100,16 +100,16 @@ fn in_pieces(spec: &OutputSpec, ranks: usize) -> bool {
 /// One rank's pieces of the frames of a distributed run (MD or DSMC):
 /// with frames in pieces on several ranks, each rank writes its own grains
 /// at an output step; otherwise nothing.
-pub(super) struct Pieces<'a> {
-    dir: &'a Path,
+pub(super) struct Pieces {
+    dir: PathBuf,
     rank: usize,
     on: bool,
 }
 
-impl<'a> Pieces<'a> {
-    pub(super) fn new(spec: &OutputSpec, dir: &'a Path, comm: &dyn Comm) -> Self {
+impl Pieces {
+    pub(super) fn new(spec: &OutputSpec, dir: &Path, comm: &dyn Comm) -> Self {
         Self {
-            dir,
+            dir: dir.to_path_buf(),
             rank: comm.rank(),
             on: in_pieces(spec, comm.size()),
         }
@@ -119,7 +119,7 @@ impl<'a> Pieces<'a> {
     /// written).
     pub(super) fn write(&self, frame: impl FnOnce() -> Frame) -> Result<()> {
         match self.on {
-            true => crate::io::write_piece(self.dir, &frame(), self.rank),
+            true => crate::io::write_piece(&self.dir, &frame(), self.rank),
             false => Ok(()),
         }
     }

@@ -161,16 +161,16 @@ impl<E> Hook<E> for Interval {
 }
 
 /// Stops the run at the end of the stretch in which a signal handler set
-/// the flag.
+/// the flag (on any rank: the ranks agree on the step).
 pub(crate) struct StopFlag(pub Option<Arc<AtomicBool>>);
 
-impl<E> Hook<E> for StopFlag {
+impl<E: Engine> Hook<E> for StopFlag {
     fn next(&self, _: u64, horizon: u64) -> u64 {
         horizon
     }
-    fn act(&mut self, _: &mut E, _: u64) -> Result<Control> {
+    fn act(&mut self, engine: &mut E, _: u64) -> Result<Control> {
         Ok(match &self.0 {
-            Some(s) if s.load(Ordering::SeqCst) => Control::Stop,
+            Some(s) if engine.any_rank(s.load(Ordering::SeqCst)) => Control::Stop,
             _ => Control::Go,
         })
     }

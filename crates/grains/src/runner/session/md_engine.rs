@@ -5,13 +5,14 @@ use crate::dim::Dim;
 use crate::error::Result;
 use crate::md::Md;
 use crate::measure::granular_temperature;
+use crate::runner::engine::md_scalars;
 use crate::runner::engine::Engine;
 use crate::runner::found::Found;
-use crate::runner::md_run::{md_summary, threads_json};
+use crate::runner::md_run::md_summary;
 use crate::runner::output::THERMO_COLUMNS;
 use crate::scenario::{build_md, Loaded, Resolved};
 use rayon::prelude::*;
-use serde_json::{json, Map, Value};
+use serde_json::{Map, Value};
 use std::sync::{Arc, Mutex};
 
 struct MdEngine<D: Dim> {
@@ -202,9 +203,7 @@ impl<D: Dim> Held for MdEngine<D> {
     fn summary(&self, loaded: &Loaded, stepped: u64, wall_seconds: f64) -> Map<String, Value> {
         let md = &self.md;
         let mut s = md_summary(loaded, md, &self.resolved, md.step, stepped, wall_seconds);
-        s.insert("neighbor_builds".into(), json!(md.neighbor_builds()));
-        s.insert("phase_seconds".into(), md.timing.to_json(wall_seconds, 1.0));
-        s.insert("threads".into(), threads_json(md));
+        md_scalars(md, &mut s, wall_seconds);
         s
     }
 }
