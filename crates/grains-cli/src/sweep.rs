@@ -4,9 +4,9 @@
 
 use clap::Args;
 use grains::measure::plot::{save_plot, Series, Titles, PALETTE};
-use grains::runner::sweep_grid::{grid, variant_name, variant_sets};
 use grains::runner::{self, RunOptions, Silent};
 use grains::scenario;
+use grains::scenario::sweep::{grid, variant_name, variant_sets};
 use grains::Error;
 use serde_json::Value;
 use std::collections::BTreeSet;

@@ -3,7 +3,7 @@
 //! `docs/python.md`.
 //!
 //! Everything here is a thin layer over the library: `Simulation` over
-//! [`grains::runner::session::Session`], `run` over [`grains::runner::run`]
+//! [`grains::session::Session`], `run` over [`grains::runner::run`]
 //! (what `grains run` calls). Errors become `grains.InputError`,
 //! `grains.UnstableError` or `OSError`; panics become a `RuntimeError`.
 

@@ -5,10 +5,10 @@
 use crate::errors::{guard, internal, InputError};
 use crate::scenario::{scenario_arg, toml_value};
 use crate::simulation::pool;
-use grains::runner::session::default_out_dir;
-use grains::runner::sweep_grid::{grid, variant_name, variant_sets};
 use grains::runner::{self, RunOptions, Silent};
+use grains::scenario::sweep::{grid, variant_name, variant_sets};
 use grains::scenario::{self, Loaded};
+use grains::session::default_out_dir;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString, PyTuple};

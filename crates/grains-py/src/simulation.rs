@@ -3,7 +3,7 @@
 
 use crate::errors::{guard, internal, InputError};
 use crate::scenario::scenario_arg;
-use grains::runner::session::{Column, Session};
+use grains::session::{Column, Session};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, IxDyn, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;

@@ -18,11 +18,13 @@ pub mod io;
 pub mod md;
 pub mod measure;
 pub mod neighbors;
+pub mod output;
 pub mod parallel;
 pub mod particles;
 pub mod render;
 pub mod runner;
 pub mod scenario;
+pub mod session;
 pub mod simd;
 
 pub use dim::{Dim, D2, D3};

@@ -14,8 +14,8 @@ use grains::io::vtp_string;
 use grains::md::Md;
 use grains::measure::Convection;
 use grains::runner::checkpointing::{self, Every};
-use grains::runner::flow::FlowRun;
 use grains::runner::{run, RunOptions, Silent};
+use grains::scenario::flow::FlowRun;
 use grains::scenario::{build_md, load_str, Loaded};
 use std::path::PathBuf;
 

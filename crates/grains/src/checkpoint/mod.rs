@@ -17,6 +17,7 @@
 
 pub mod dsmc;
 pub mod engine;
+pub mod run;
 pub mod state;
 
 /// The byte codec, at its old path (it lives at [`crate::codec`]).

@@ -4,8 +4,9 @@
 use crate::codec::{Dec, DecResult, Enc};
 use crate::dsmc::collide::{GasDim, Tally};
 use crate::dsmc::diagnostics::Validity;
-use crate::dsmc::engine::Dsmc;
+use crate::dsmc::engine::{haff_time, Dsmc};
 use crate::dsmc::spec::DsmcSpec;
+use serde_json::{json, Map, Value};
 use std::fmt::Write as _;
 
 /// Density and temperature versus height, accumulated over samples.
@@ -175,4 +176,40 @@ impl GasMeasurement {
         self.encode(&mut e);
         e.buf
     }
+}
+
+/// Columns of a DSMC thermo.csv.
+pub const THERMO_COLUMNS: [&str; 6] = [
+    "step",
+    "time",
+    "kinetic_energy",
+    "granular_temperature",
+    "collisions_per_particle",
+    "candidates_per_particle",
+];
+
+/// The gas's state at the end of a run, for summary.json: kinetic energy,
+/// temperature, collisions counted while measuring, Haff's τ0 for an
+/// inelastic gas, and the validity diagnostics (shared with the
+/// distributed runner).
+pub fn gas_summary<D: GasDim>(summary: &mut Map<String, Value>, sim: &Dsmc<D>, m: &GasMeasurement) {
+    summary.insert("kinetic_energy".into(), json!(sim.store.kinetic_energy()));
+    summary.insert(
+        "granular_temperature".into(),
+        json!(sim.store.granular_temperature()),
+    );
+    summary.insert(
+        "collisions".into(),
+        json!(sim.totals.collisions - m.origin.c0.collisions),
+    );
+    if sim.settings.restitution < 1.0 {
+        let omega0 =
+            sim.kinetic_collision_frequency(sim.number_density(), sim.packing_fraction(), m.temp0);
+        summary.insert(
+            "haff_tau0".into(),
+            json!(haff_time(D::D, sim.settings.restitution, omega0)),
+        );
+        summary.insert("haff_initial_temperature".into(), json!(m.temp0));
+    }
+    summary.insert("validity".into(), m.validity.summary(sim));
 }

@@ -7,6 +7,7 @@ pub mod displacement;
 pub mod draw;
 pub mod flow_field;
 pub mod gas;
+pub(crate) mod measurements;
 pub mod phase;
 pub mod plot;
 pub mod profiles;
@@ -25,6 +26,7 @@ pub use trajectories::Trajectories;
 
 pub mod spacetime;
 pub mod surface;
+pub(crate) mod wall_table;
 
 pub use spacetime::Spacetime;
 pub use surface::{fit_line, refit_below, surface, SurfaceFit};

@@ -1,7 +1,6 @@
 //! The band under a picture: the time on the left, a scale bar in the
 //! middle, the colour legend on the right.
 
-use super::still::kind_colour;
 use super::text::{draw_text, fill_rect, nice_length, sig3, text_width, GLYPH};
 use crate::io::{viridis, Image};
 
@@ -85,6 +84,23 @@ pub fn draw_band(img: &mut Image, top: u32, s: u32, t: f64, legend: &Legend) {
         }
         Legend::Note(note) => draw_text(img, x, y, s, note, INK),
     }
+}
+
+/// Colours for kinds 1, 2, … (kind 0 and beyond the list wrap around).
+const KIND_COLOURS: [[u8; 3]; 8] = [
+    [31, 119, 180],
+    [255, 127, 14],
+    [44, 160, 44],
+    [214, 39, 40],
+    [148, 103, 189],
+    [140, 86, 75],
+    [227, 119, 194],
+    [127, 127, 127],
+];
+
+/// The colour of the grains of `kind`.
+pub fn kind_colour(kind: u32) -> [u8; 3] {
+    KIND_COLOURS[(kind as usize + KIND_COLOURS.len() - 1) % KIND_COLOURS.len()]
 }
 
 #[cfg(test)]

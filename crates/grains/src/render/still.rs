@@ -6,7 +6,7 @@
 //! A [`Painter`] fixes the drawn rectangle and the colour range once, so
 //! the frames of a movie share them.
 
-use super::legend::{draw_band, Legend, BAND_ROWS};
+use super::legend::{draw_band, kind_colour, Legend, BAND_ROWS};
 use super::wires::Wire;
 use crate::io::{viridis, world_rect_of, Frame, Image, View};
 use crate::measure::draw::id_colour;
@@ -127,22 +127,6 @@ impl Default for StillOptions {
 const BOX_EDGE: [u8; 3] = [60, 60, 60];
 const WALL: [u8; 3] = [40, 40, 40];
 const OBSTACLE: [u8; 3] = [120, 120, 120];
-/// Colours for kinds 1, 2, … (kind 0 and beyond the list wrap around).
-const KIND_COLOURS: [[u8; 3]; 8] = [
-    [31, 119, 180],
-    [255, 127, 14],
-    [44, 160, 44],
-    [214, 39, 40],
-    [148, 103, 189],
-    [140, 86, 75],
-    [227, 119, 194],
-    [127, 127, 127],
-];
-
-pub fn kind_colour(kind: u32) -> [u8; 3] {
-    KIND_COLOURS[(kind as usize + KIND_COLOURS.len() - 1) % KIND_COLOURS.len()]
-}
-
 /// Draws frames with one rectangle, one colour range and one size.
 #[derive(Clone, Debug)]
 pub struct Painter {

@@ -7,14 +7,13 @@
 
 use super::engine::Engine;
 use super::options::RunOptions;
-use super::output::OutputState;
 use crate::checkpoint;
-use crate::codec::Enc;
+use crate::checkpoint::run::{scenario_text, write_payload, OutputState, RunHeader};
 use crate::error::{Error, Result};
 use crate::scenario::schema::Scenario;
 use crate::scenario::Loaded;
 use serde_json::{json, Value};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// The hooks' parts of a checkpoint: where the output files stand, and the
 /// measurement accumulators once the measurement has begun.
@@ -110,7 +109,7 @@ impl Checkpointer {
     /// Checkpoints into `dir` at `interval` of a run with no scenario text
     /// (for the run loop's tests).
     #[cfg(test)]
-    pub(crate) fn in_dir(dir: &Path, interval: Option<u64>) -> Self {
+    pub(crate) fn in_dir(dir: &std::path::Path, interval: Option<u64>) -> Self {
         Self {
             dir: dir.to_path_buf(),
             interval,
@@ -178,110 +177,5 @@ impl Checkpointer {
             &bytes,
             saved.measurements.as_deref(),
         )
-    }
-}
-
-/// What every checkpoint payload, MD or DSMC, says about its run.
-pub(crate) struct RunHeader<'a> {
-    pub scenario: &'a str,
-    pub origin: &'a str,
-    pub base_dir: &'a str,
-    pub dim: usize,
-    pub plan: (u64, u64),
-    pub interval: Option<u64>,
-}
-
-/// Writes one checkpoint: the run header, where the outputs stood, the
-/// step, the engine's bytes and the (MD) measurement section. [`decode`]
-/// reads exactly this layout, for both engines.
-pub(crate) fn write_payload(
-    dir: &Path,
-    run: &RunHeader,
-    outputs: &OutputState,
-    step: u64,
-    engine: &[u8],
-    measurements: Option<&[u8]>,
-) -> Result<PathBuf> {
-    let payload = payload(run, outputs, step, engine, measurements);
-    checkpoint::write(dir, step, &payload)
-}
-
-/// The payload [`write_payload`] writes.
-pub(crate) fn payload(
-    run: &RunHeader,
-    outputs: &OutputState,
-    step: u64,
-    engine: &[u8],
-    measurements: Option<&[u8]>,
-) -> Vec<u8> {
-    let mut e = Enc::default();
-    e.str(run.scenario);
-    e.str(run.origin);
-    e.str(run.base_dir);
-    e.u8(run.dim as u8);
-    e.u64(run.plan.0);
-    e.u64(run.plan.1);
-    e.u64(run.interval.unwrap_or(0));
-    encode_outputs(&mut e, outputs);
-    e.u64(step);
-    e.len(engine.len());
-    e.buf.extend_from_slice(engine);
-    encode_measurements(&mut e, measurements);
-    e.buf
-}
-
-/// The scenario as TOML text that reads back to an equal scenario.
-pub(crate) fn scenario_text(s: &Scenario) -> Result<String> {
-    let text = toml::to_string(s)
-        .map_err(|e| Error::input(format!("checkpoint: cannot write the scenario: {e}")))?;
-    match toml::from_str::<Scenario>(&text) {
-        Ok(back) if back == *s => Ok(text),
-        _ => Err(Error::input(
-            "checkpoint: the scenario does not survive a TOML round trip; cannot checkpoint it",
-        )),
-    }
-}
-
-/// The measurement section: a flag, then the accumulators' bytes.
-fn encode_measurements(e: &mut Enc, bytes: Option<&[u8]>) {
-    e.bool(bytes.is_some());
-    if let Some(b) = bytes {
-        e.len(b.len());
-        e.buf.extend_from_slice(b);
-    }
-}
-
-fn encode_outputs(e: &mut Enc, o: &OutputState) {
-    e.u64(o.thermo_len);
-    opt(e, o.dump_len);
-    e.len(o.frames.len());
-    for (t, f) in &o.frames {
-        e.f64(*t);
-        e.str(f);
-    }
-    opt(e, o.last_step);
-}
-
-fn opt(e: &mut Enc, v: Option<u64>) {
-    e.bool(v.is_some());
-    e.u64(v.unwrap_or(0));
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn shipped_scenarios_survive_toml_round_trip() {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
-        for f in std::fs::read_dir(dir).unwrap() {
-            let p = f.unwrap().path();
-            // scenarios/meshes/ holds the mesh scenarios' STL files.
-            if p.extension().is_none_or(|e| e != "toml") {
-                continue;
-            }
-            let l = crate::scenario::load_file(&p, &[]).unwrap();
-            scenario_text(&l.scenario).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-        }
     }
 }

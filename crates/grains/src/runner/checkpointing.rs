@@ -3,18 +3,18 @@
 //! continued with the outputs cut back to where they stood at the
 //! checkpoint, so no row or frame is written twice.
 
-use super::flow::FlowRun;
 use super::md_run::{run_loop, Start};
 use super::options::{prepare, Progress, RunOptions};
-use super::output::Outputs;
 use crate::checkpoint;
 use crate::dim::{Dim, D2, D3};
 use crate::error::Result;
+use crate::output::Outputs;
+use crate::scenario::flow::FlowRun;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
-pub use super::found::{decode, find, Found};
 pub use super::options::Every;
+pub use crate::checkpoint::run::{decode, find, Found};
 
 /// Continues a run from a checkpoint: to the end of its scenario, or for
 /// `steps` more steps. Outputs go to the checkpoint's directory.

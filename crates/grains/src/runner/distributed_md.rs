@@ -31,18 +31,18 @@
 
 use super::checkpointing;
 use super::engine::{Engine, MdView};
-use super::flow::{self, FlowRun};
-use super::found::Found;
 use super::md_run::{run_loop, Start};
-use super::measurements::Measurements;
 use super::options::{prepare, Progress, RunOptions};
-use super::output::{Outputs, Pieces};
+use crate::checkpoint::run::Found;
 use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::io::Frame;
 use crate::md::decomp::{get_vec, index_by_id, put_vec, DecomposedMd};
 use crate::md::Md;
+use crate::measure::measurements::Measurements;
+use crate::output::{Outputs, Pieces};
+use crate::scenario::flow::{self, FlowRun};
 use crate::scenario::{build_md, Loaded, Resolved};
 use serde_json::{json, Map, Value};
 use std::cell::RefCell;

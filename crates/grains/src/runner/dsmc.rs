@@ -4,75 +4,25 @@
 
 use super::checkpointer::Checkpointer;
 use super::engine::{gas_frame, Engine, GasView};
-use super::found::{resume_plan, Found};
+use super::found::resume_plan;
 use super::options::{prepare, Progress, RunOptions};
-use super::output::Outputs;
 use super::run_loop::{run_to, Control, Every, Hook, Interval, Report, Saved, StopFlag};
+use crate::checkpoint::run::Found;
 use crate::codec::Dec;
 use crate::dim::{D2, D3};
 use crate::dsmc::collide::GasDim;
-use crate::dsmc::engine::{haff_time, Dsmc};
+use crate::dsmc::engine::Dsmc;
 use crate::error::{Error, Result};
 use crate::measure::gas::{GasMeasurement, Origin};
+use crate::output::Outputs;
 use crate::scenario::schema::{Dimension, OutputSpec};
 use crate::scenario::Loaded;
 use serde_json::{json, Map, Value};
 use std::path::Path;
 use std::time::Instant;
 
-pub use crate::scenario::dsmc::{build_dsmc as build, spec, Plan};
-
-/// Columns of a DSMC thermo.csv.
-pub const THERMO_COLUMNS: [&str; 6] = [
-    "step",
-    "time",
-    "kinetic_energy",
-    "granular_temperature",
-    "collisions_per_particle",
-    "candidates_per_particle",
-];
-
-pub(super) fn describe<D: GasDim>(loaded: &Loaded, sim: &Dsmc<D>, plan: &Plan) -> Value {
-    let t = sim.store.granular_temperature();
-    let n = sim.number_density();
-    let nu = sim.packing_fraction();
-    let omega = sim.kinetic_collision_frequency(n, nu, t);
-    json!({
-        "scenario": loaded.scenario.name,
-        "source": loaded.origin,
-        "method": "dsmc",
-        "dimension": D::NAME,
-        "particles": sim.store.len(),
-        "walls": sim.walls.iter().map(|w| w.name.clone()).collect::<Vec<_>>(),
-        "dt": sim.settings.dt,
-        "cell_size": sim.grid.max_edge(),
-        "cells": sim.grid.cells(),
-        "number_density": n,
-        "packing_fraction": nu,
-        "diameter": sim.store.diameter,
-        "particle_mass": sim.store.mass,
-        "restitution": sim.settings.restitution,
-        "dense": format!("{:?}", sim.settings.dense),
-        "initial_temperature": t,
-        "kinetic_collision_frequency": omega,
-        "kinetic_mean_free_path": 1.0 / (std::f64::consts::SQRT_2 * n * crate::dsmc::store::cross_section(D::D, sim.store.diameter) * sim.selection().correction.mean_factor(nu)),
-        "relax_steps": plan.relax_steps,
-        "measure_steps": plan.measure_steps,
-        "output_every_steps": plan.output_every,
-    })
-}
-
-/// What `grains check` prints for a DSMC scenario.
-pub fn check(loaded: &Loaded) -> Result<Value> {
-    fn go<D: GasDim>(loaded: &Loaded) -> Result<Value> {
-        let (sim, plan) = build::<D>(loaded)?;
-        Ok(describe(loaded, &sim, &plan))
-    }
-    match loaded.scenario.dimension {
-        Dimension::Two => go::<D2>(loaded),
-        Dimension::Three => go::<D3>(loaded),
-    }
-}
+pub use crate::measure::gas::{gas_summary, THERMO_COLUMNS};
+pub use crate::scenario::dsmc::{build_dsmc as build, check, describe, spec, Plan};
 
 /// Runs a DSMC scenario; returns the summary written to summary.json.
 pub fn run(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) -> Result<Value> {
@@ -108,7 +58,7 @@ fn run_dim<D: GasDim>(
 }
 
 /// The description of a run as it was built, summary.json's head.
-pub(super) fn head<D: GasDim>(loaded: &Loaded, sim: &Dsmc<D>, plan: &Plan) -> Map<String, Value> {
+pub(crate) fn head<D: GasDim>(loaded: &Loaded, sim: &Dsmc<D>, plan: &Plan) -> Map<String, Value> {
     match describe(loaded, sim, plan) {
         Value::Object(m) => m,
         _ => Map::new(),
@@ -116,13 +66,13 @@ pub(super) fn head<D: GasDim>(loaded: &Loaded, sim: &Dsmc<D>, plan: &Plan) -> Ma
 }
 
 /// The output files of a DSMC run (thermo columns of a gas, no dump).
-pub(super) fn gas_outputs(dir: &Path, spec: &OutputSpec) -> Result<Outputs> {
+pub(crate) fn gas_outputs(dir: &Path, spec: &OutputSpec) -> Result<Outputs> {
     Outputs::with_columns(dir, spec, &THERMO_COLUMNS, false)
 }
 
 /// Continues a DSMC run from a checkpoint read by
 /// [`super::checkpointing::find`].
-pub(super) fn resume(
+pub(crate) fn resume(
     found: &Found,
     steps: Option<u64>,
     opts: &RunOptions,
@@ -135,7 +85,7 @@ pub(super) fn resume(
 }
 
 /// A DSMC engine restored from a checkpoint.
-pub(super) struct Restored<D: GasDim> {
+pub(crate) struct Restored<D: GasDim> {
     pub sim: Dsmc<D>,
     pub plan: Plan,
     /// The measurement state, when the checkpoint lies inside the measurement.
@@ -145,7 +95,7 @@ pub(super) struct Restored<D: GasDim> {
 }
 
 /// The engine of a DSMC checkpoint, with its scenario's plan.
-pub(super) fn restore<D: GasDim>(found: &Found) -> Result<Restored<D>> {
+pub(crate) fn restore<D: GasDim>(found: &Found) -> Result<Restored<D>> {
     let loaded = found.loaded();
     let origin = found.path.display().to_string();
     let (mut sim, plan) = build::<D>(loaded)?;
@@ -285,7 +235,7 @@ impl<E: GasView> Hook<E> for GasMeasureHook<'_> {
 /// Where a DSMC run starts: the engine (serial, or decomposed over ranks)
 /// at step 0 or restored from a checkpoint with its measurement state; the
 /// outputs and the measurement are rank 0's.
-pub(super) struct GasStart<E> {
+pub(crate) struct GasStart<E> {
     pub engine: E,
     pub every: u64,
     /// (relaxation, measured) steps.
@@ -299,7 +249,7 @@ pub(super) struct GasStart<E> {
 /// The run from wherever the engine stands to `relax + measure` steps, then
 /// the final files; on every rank of a decomposed engine alike (the
 /// summary on rank 0, `Value::Null` elsewhere).
-pub(super) fn run_loop<D: GasDim, E: GasView<D = D>>(
+pub(crate) fn run_loop<D: GasDim, E: GasView<D = D>>(
     loaded: &Loaded,
     opts: &RunOptions,
     start: GasStart<E>,
@@ -398,7 +348,7 @@ pub(super) fn run_loop<D: GasDim, E: GasView<D = D>>(
     let (Some(sim), Some(m)) = (engine.whole(), m) else {
         return Ok(Value::Null);
     };
-    super::output::finish_gas(dir, &loaded.scenario.output, &gas_frame(sim))?;
+    crate::output::finish_gas(dir, &loaded.scenario.output, &gas_frame(sim))?;
     if let Some(p) = &m.profiles {
         crate::io::write_atomic(&dir.join("profiles.csv"), p.csv(sim).as_bytes())?;
     }
@@ -418,34 +368,4 @@ pub(super) fn run_loop<D: GasDim, E: GasView<D = D>>(
     let text = serde_json::to_string_pretty(&summary).expect("JSON values always serialize");
     crate::io::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
     Ok(summary)
-}
-
-/// The gas's state at the end of a run, for summary.json: kinetic energy,
-/// temperature, collisions counted while measuring, Haff's τ0 for an
-/// inelastic gas, and the validity diagnostics (shared with the
-/// distributed runner).
-pub(super) fn gas_summary<D: GasDim>(
-    summary: &mut Map<String, Value>,
-    sim: &Dsmc<D>,
-    m: &GasMeasurement,
-) {
-    summary.insert("kinetic_energy".into(), json!(sim.store.kinetic_energy()));
-    summary.insert(
-        "granular_temperature".into(),
-        json!(sim.store.granular_temperature()),
-    );
-    summary.insert(
-        "collisions".into(),
-        json!(sim.totals.collisions - m.origin.c0.collisions),
-    );
-    if sim.settings.restitution < 1.0 {
-        let omega0 =
-            sim.kinetic_collision_frequency(sim.number_density(), sim.packing_fraction(), m.temp0);
-        summary.insert(
-            "haff_tau0".into(),
-            json!(haff_time(D::D, sim.settings.restitution, omega0)),
-        );
-        summary.insert("haff_initial_temperature".into(), json!(m.temp0));
-    }
-    summary.insert("validity".into(), m.validity.summary(sim));
 }

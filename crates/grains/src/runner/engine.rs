@@ -8,7 +8,6 @@
 //! hooks see an engine through [`MdView`] and [`GasView`]: the whole state,
 //! at hand in a serial engine, gathered on rank 0 in a decomposed one.
 
-use super::flow::FlowRun;
 use crate::checkpoint;
 use crate::dim::Dim;
 use crate::dsmc::collide::GasDim;
@@ -16,6 +15,7 @@ use crate::dsmc::engine::Dsmc;
 use crate::error::{Error, Result};
 use crate::io::Frame;
 use crate::md::Md;
+use crate::scenario::flow::FlowRun;
 use serde_json::{json, Map, Value};
 
 /// A simulation engine as the run loop sees it. The method names differ

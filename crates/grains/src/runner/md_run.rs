@@ -4,16 +4,16 @@
 
 use super::checkpointer::Checkpointer;
 use super::engine::MdView;
-use super::flow::{FlowHook, FlowRun};
-use super::measurements::{MeasureHook, Measurements};
 use super::options::{prepare, Progress, RunOptions};
-use super::output::Outputs;
 use super::run_loop::{run_to, Control, Every, Hook, Interval, Report, Saved, StopFlag};
-use super::wall_table::WallTable;
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::md::Md;
 use crate::measure::granular_temperature;
+use crate::measure::measurements::Measurements;
+use crate::measure::wall_table::WallTable;
+use crate::output::Outputs;
+use crate::scenario::flow::FlowRun;
 use crate::scenario::{build_md, Loaded, Resolved};
 use serde_json::Map;
 use serde_json::{json, Value};
@@ -136,7 +136,8 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
     // every step: rank 0 alone knows when they read the grains.
     let lockstep = engine.lockstep();
     let flow_lockstep = lockstep
-        && (super::flow::sink_height(loaded).is_some() || loaded.scenario.run.events.is_some());
+        && (crate::scenario::flow::sink_height(loaded).is_some()
+            || loaded.scenario.run.events.is_some());
     let m = &loaded.scenario.measure;
     let per_step = m.phases.is_some() || m.trajectories.is_some();
 
@@ -281,4 +282,93 @@ pub(crate) fn md_summary<D: Dim>(
         json!(granular_temperature(&md.particles)),
     );
     summary
+}
+
+/// The flow events as a hook of the run loop: after the stretches that end
+/// where they act (at every step when `lockstep`: rank 0 alone knows its
+/// stage), and (in the measured phase) the flow measurements at every
+/// sample. The flow run is rank 0's.
+struct FlowHook<'a, D: Dim> {
+    flow: Option<&'a mut FlowRun<D>>,
+    sample: Option<Every>,
+    lockstep: bool,
+}
+
+impl<'a, D: Dim> FlowHook<'a, D> {
+    fn new(flow: Option<&'a mut FlowRun<D>>, sample: Option<Every>, lockstep: bool) -> Self {
+        Self {
+            flow,
+            sample,
+            lockstep,
+        }
+    }
+}
+
+impl<D: Dim, E: MdView<D = D>> Hook<E> for FlowHook<'_, D> {
+    fn next(&self, now: u64, horizon: u64) -> u64 {
+        let h = self.sample.map_or(horizon, |s| s.next(now, horizon));
+        match (&self.flow, self.lockstep) {
+            (_, true) => (now + 1).min(h),
+            (Some(f), false) => f.next_act(now, h),
+            (None, false) => h,
+        }
+    }
+    fn act(&mut self, engine: &mut E, now: u64) -> Result<Control> {
+        engine.flow_events(self.flow.as_deref_mut());
+        if self.sample.is_some_and(|s| s.due(now)) {
+            if let (Some(md), Some(f)) = (engine.whole(), self.flow.as_deref_mut()) {
+                f.sample(md);
+            }
+        }
+        Ok(Control::Go)
+    }
+}
+
+/// Runs the measurements in the measured phase: the per-step ones
+/// (phases, trajectories) at the steps they read the grains (at every step
+/// when `lockstep`: rank 0 alone knows which), the sampled ones every
+/// `sample` steps. The accumulators are rank 0's.
+struct MeasureHook<'a> {
+    m: Option<&'a mut Measurements>,
+    sample: Every,
+    dt: f64,
+    /// Whether the scenario has per-step measurements.
+    per_step: bool,
+    lockstep: bool,
+}
+
+impl<E: MdView> Hook<E> for MeasureHook<'_> {
+    fn next(&self, now: u64, horizon: u64) -> u64 {
+        let h = self.sample.next(now, horizon);
+        if self.per_step && self.lockstep {
+            return (now + 1).min(h);
+        }
+        let Some(m) = self.m.as_deref() else {
+            return h;
+        };
+        (now + 1..h)
+            .find(|&s| m.due(s, s as f64 * self.dt))
+            .unwrap_or(h)
+    }
+    fn act(&mut self, engine: &mut E, now: u64) -> Result<Control> {
+        if self.per_step {
+            let t = engine.sim_time();
+            let want = self.m.as_deref().is_some_and(|m| m.due(now, t));
+            if let (Some(md), Some(m)) = (engine.whole_if(want), self.m.as_deref_mut()) {
+                m.step(md);
+            }
+        }
+        if self.sample.due(now) {
+            if let (Some(md), Some(m)) = (engine.whole(), self.m.as_deref_mut()) {
+                m.sample(md);
+            }
+        }
+        Ok(Control::Go)
+    }
+    fn pack(&self, saved: &mut Saved) -> Result<()> {
+        if let Some(m) = self.m.as_deref() {
+            saved.measurements = Some(m.save());
+        }
+        Ok(())
+    }
 }

@@ -5,22 +5,16 @@
 //! rows, frames and measurement samples at every output interval); finish
 //! (the final frame, pictures, measurement files and summary.json).
 
-mod checkpointer;
+pub(crate) mod checkpointer;
 pub mod checkpointing;
 pub mod distributed;
 mod distributed_md;
 pub mod dsmc;
 pub mod engine;
-pub mod flow;
-mod found;
-mod md_run;
-mod measurements;
+pub(crate) mod found;
+pub(crate) mod md_run;
 mod options;
-mod output;
 mod run_loop;
-pub mod session;
-pub mod sweep_grid;
-mod wall_table;
 
 pub use engine::Engine;
 pub use options::{prepare, Progress, RunOptions, Silent};
@@ -41,7 +35,7 @@ pub fn check(loaded: &Loaded) -> Result<Value> {
     fn go<D: Dim>(loaded: &Loaded) -> Result<Value> {
         let loaded = &*crate::scenario::hopper::expand(loaded)?;
         let (md, r) = build_md::<D>(loaded)?;
-        flow::FlowRun::begin(loaded, &md)?;
+        crate::scenario::flow::FlowRun::begin(loaded, &md)?;
         Ok(resolved_json(loaded, &md, &r))
     }
     match loaded.scenario.dimension {

@@ -5,9 +5,9 @@
 
 use super::build::{motion, vector};
 use super::resolve::cycle_frequency;
-use super::schema::{MotionSpec, Placement, ShapeSpec, TimeStep};
+use super::schema::{Dimension, MotionSpec, Placement, ShapeSpec, TimeStep};
 use super::Loaded;
-use crate::dim::Dim;
+use crate::dim::{Dim, D2, D3};
 use crate::domain::Domain;
 use crate::dsmc::collide::GasDim;
 use crate::dsmc::engine::{Dsmc, DsmcSettings, PlaneWall};
@@ -15,6 +15,7 @@ use crate::dsmc::spec::DsmcSpec;
 use crate::dsmc::store::{particle_volume, Store};
 use crate::error::{Error, Result};
 use crate::scenario::placement::{gas_in_cell_order, GasDraw, GasVelocity};
+use serde_json::{json, Value};
 
 /// Step counts of a run.
 #[derive(Clone, Copy, Debug)]
@@ -229,4 +230,47 @@ pub fn build_dsmc_reporting<D: GasDim>(
 
 fn gravity_norm<D: Dim>(g: D::V) -> f64 {
     D::norm(g)
+}
+
+/// What `grains check` prints of a built DSMC engine and its plan.
+pub fn describe<D: GasDim>(loaded: &Loaded, sim: &Dsmc<D>, plan: &Plan) -> Value {
+    let t = sim.store.granular_temperature();
+    let n = sim.number_density();
+    let nu = sim.packing_fraction();
+    let omega = sim.kinetic_collision_frequency(n, nu, t);
+    json!({
+        "scenario": loaded.scenario.name,
+        "source": loaded.origin,
+        "method": "dsmc",
+        "dimension": D::NAME,
+        "particles": sim.store.len(),
+        "walls": sim.walls.iter().map(|w| w.name.clone()).collect::<Vec<_>>(),
+        "dt": sim.settings.dt,
+        "cell_size": sim.grid.max_edge(),
+        "cells": sim.grid.cells(),
+        "number_density": n,
+        "packing_fraction": nu,
+        "diameter": sim.store.diameter,
+        "particle_mass": sim.store.mass,
+        "restitution": sim.settings.restitution,
+        "dense": format!("{:?}", sim.settings.dense),
+        "initial_temperature": t,
+        "kinetic_collision_frequency": omega,
+        "kinetic_mean_free_path": 1.0 / (std::f64::consts::SQRT_2 * n * crate::dsmc::store::cross_section(D::D, sim.store.diameter) * sim.selection().correction.mean_factor(nu)),
+        "relax_steps": plan.relax_steps,
+        "measure_steps": plan.measure_steps,
+        "output_every_steps": plan.output_every,
+    })
+}
+
+/// What `grains check` prints for a DSMC scenario.
+pub fn check(loaded: &Loaded) -> Result<Value> {
+    fn go<D: GasDim>(loaded: &Loaded) -> Result<Value> {
+        let (sim, plan) = build_dsmc::<D>(loaded)?;
+        Ok(describe(loaded, &sim, &plan))
+    }
+    match loaded.scenario.dimension {
+        Dimension::Two => go::<D2>(loaded),
+        Dimension::Three => go::<D3>(loaded),
+    }
 }

@@ -3,6 +3,7 @@
 
 pub mod build;
 pub mod dsmc;
+pub mod flow;
 pub mod hopper;
 pub mod materials;
 pub mod memory;
@@ -11,6 +12,7 @@ pub mod overrides;
 pub mod placement;
 pub mod resolve;
 pub mod schema;
+pub mod sweep;
 
 pub use build::build_md;
 pub use dsmc::build_dsmc;

@@ -3,14 +3,14 @@
 //! engine reorders by cell every few steps, as in the runner's frames.
 
 use super::held::{Column, Contacts, Held};
+use crate::checkpoint::run::Found;
 use crate::dsmc::collide::GasDim;
 use crate::dsmc::engine::Dsmc;
 use crate::error::{Error, Result};
 use crate::measure::gas::GasMeasurement as Measure;
-use crate::runner::dsmc::THERMO_COLUMNS;
-use crate::runner::dsmc::{build as build_dsmc, describe, gas_summary, spec, Plan};
+use crate::measure::gas::{gas_summary, THERMO_COLUMNS};
 use crate::runner::engine::Engine;
-use crate::runner::found::Found;
+use crate::scenario::dsmc::{build_dsmc, describe, spec, Plan};
 use crate::scenario::Loaded;
 use serde_json::{json, Map, Value};
 

@@ -1,15 +1,15 @@
 //! The MD engine of a [`super::Session`].
 
 use super::held::{Column, Contacts, Held};
+use crate::checkpoint::run::Found;
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::md::Md;
 use crate::measure::granular_temperature;
+use crate::output::THERMO_COLUMNS;
 use crate::runner::engine::md_scalars;
 use crate::runner::engine::Engine;
-use crate::runner::found::Found;
 use crate::runner::md_run::md_summary;
-use crate::runner::output::THERMO_COLUMNS;
 use crate::scenario::{build_md, Loaded, Resolved};
 use rayon::prelude::*;
 use serde_json::{Map, Value};

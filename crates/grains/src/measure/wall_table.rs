@@ -8,7 +8,7 @@ use crate::md::Md;
 use std::path::Path;
 
 /// The open walls.csv of a run.
-pub(super) struct WallTable {
+pub(crate) struct WallTable {
     writer: ThermoWriter,
     last_step: Option<u64>,
 }
@@ -18,7 +18,7 @@ impl WallTable {
     /// mesh wall `NAME_fx, NAME_fy, NAME_fz` (the force on it) and
     /// `NAME_tx, NAME_ty, NAME_tz` (the torque about its load point); `None`
     /// when no wall is a mesh.
-    pub(super) fn create<D: Dim>(dir: &Path, md: &Md<D>) -> Result<Option<Self>> {
+    pub(crate) fn create<D: Dim>(dir: &Path, md: &Md<D>) -> Result<Option<Self>> {
         let loads = md.mesh_loads();
         if loads.is_empty() {
             return Ok(None);
@@ -38,7 +38,7 @@ impl WallTable {
     }
 
     /// A row for the engine's step (once per step).
-    pub(super) fn record<D: Dim>(&mut self, md: &Md<D>) -> Result<()> {
+    pub(crate) fn record<D: Dim>(&mut self, md: &Md<D>) -> Result<()> {
         if self.last_step == Some(md.step) {
             return Ok(());
         }

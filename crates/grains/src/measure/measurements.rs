@@ -1,8 +1,7 @@
 //! The MD measurements a scenario asks for (`[measure]`), accumulated
-//! between steps, and the hook that runs them in the measured phase.
+//! between steps (the run loop's measurement hook drives them), saved in
+//! and loaded from a checkpoint, written at the end.
 
-use super::engine::MdView;
-use super::run_loop::{Control, Every, Hook, Saved};
 use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
@@ -18,7 +17,7 @@ use std::path::Path;
 
 /// Measurements the scenario asked for.
 pub(crate) struct Measurements {
-    pub(super) displacement: Option<DisplacementField>,
+    pub(crate) displacement: Option<DisplacementField>,
     convection: Option<Convection>,
     phases: Option<PhaseSnapshots>,
     tracer: Option<Tracer>,
@@ -29,7 +28,7 @@ pub(crate) struct Measurements {
 
 impl Measurements {
     /// `remaining`: steps of the measurement; `dt` the time step.
-    pub(super) fn begin<D: Dim>(
+    pub(crate) fn begin<D: Dim>(
         loaded: &Loaded,
         md: &Md<D>,
         remaining: u64,
@@ -81,7 +80,7 @@ impl Measurements {
 
     /// The accumulators as checkpoint bytes: for each measurement in a
     /// fixed order a presence flag, then its state.
-    pub(super) fn save(&self) -> Vec<u8> {
+    pub(crate) fn save(&self) -> Vec<u8> {
         let mut e = Enc::default();
         fn one<T>(e: &mut Enc, m: &Option<T>, save: impl Fn(&T, &mut Enc)) {
             e.bool(m.is_some());
@@ -105,7 +104,7 @@ impl Measurements {
 
     /// The accumulators saved by [`Measurements::save`]; each must be present
     /// exactly when the scenario asks for it.
-    pub(super) fn load<D: Dim>(
+    pub(crate) fn load<D: Dim>(
         loaded: &Loaded,
         md: &Md<D>,
         bytes: &[u8],
@@ -188,13 +187,13 @@ impl Measurements {
     /// only notes the drive's phase, so the serial runner skips it: judged
     /// from an older phase the answer is the same, as no target phase (nor
     /// cycle start) was crossed in between — else that step was due.
-    pub(super) fn due(&self, step: u64, t: f64) -> bool {
+    pub(crate) fn due(&self, step: u64, t: f64) -> bool {
         self.phases.as_ref().is_some_and(|p| p.due(t))
             || self.trajectories.as_ref().is_some_and(|x| x.due(step))
     }
 
     /// After every step (phase- and step-exact measurements).
-    pub(super) fn step<D: Dim>(&mut self, md: &Md<D>) {
+    pub(crate) fn step<D: Dim>(&mut self, md: &Md<D>) {
         if let Some(p) = &mut self.phases {
             p.step(md);
         }
@@ -203,7 +202,7 @@ impl Measurements {
         }
     }
 
-    pub(super) fn sample<D: Dim>(&mut self, md: &Md<D>) {
+    pub(crate) fn sample<D: Dim>(&mut self, md: &Md<D>) {
         if let Some(d) = &mut self.displacement {
             d.sample(md);
         }
@@ -221,7 +220,7 @@ impl Measurements {
         }
     }
 
-    pub(super) fn write<D: Dim>(&self, dir: &Path, md: &Md<D>, last: &Frame) -> Result<()> {
+    pub(crate) fn write<D: Dim>(&self, dir: &Path, md: &Md<D>, last: &Frame) -> Result<()> {
         if let Some(c) = &self.convection {
             c.write(dir, &md.domain)?;
         }
@@ -243,7 +242,7 @@ impl Measurements {
         Ok(())
     }
 
-    pub(super) fn scalars(&self, summary: &mut Map<String, Value>) {
+    pub(crate) fn scalars(&self, summary: &mut Map<String, Value>) {
         if let Some(c) = &self.convection {
             summary.insert("convection_center_vz".into(), json!(c.center_vz()));
             summary.insert("convection_edge_vz".into(), json!(c.edge_vz()));
@@ -259,54 +258,5 @@ impl Measurements {
         if let Some(p) = &self.profiles {
             summary.insert("transport_velocity".into(), json!(p.transport_velocity()));
         }
-    }
-}
-
-/// Runs the measurements in the measured phase: the per-step ones
-/// (phases, trajectories) at the steps they read the grains (at every step
-/// when `lockstep`: rank 0 alone knows which), the sampled ones every
-/// `sample` steps. The accumulators are rank 0's.
-pub(super) struct MeasureHook<'a> {
-    pub m: Option<&'a mut Measurements>,
-    pub sample: Every,
-    pub dt: f64,
-    /// Whether the scenario has per-step measurements.
-    pub per_step: bool,
-    pub lockstep: bool,
-}
-
-impl<E: MdView> Hook<E> for MeasureHook<'_> {
-    fn next(&self, now: u64, horizon: u64) -> u64 {
-        let h = self.sample.next(now, horizon);
-        if self.per_step && self.lockstep {
-            return (now + 1).min(h);
-        }
-        let Some(m) = self.m.as_deref() else {
-            return h;
-        };
-        (now + 1..h)
-            .find(|&s| m.due(s, s as f64 * self.dt))
-            .unwrap_or(h)
-    }
-    fn act(&mut self, engine: &mut E, now: u64) -> Result<Control> {
-        if self.per_step {
-            let t = engine.sim_time();
-            let want = self.m.as_deref().is_some_and(|m| m.due(now, t));
-            if let (Some(md), Some(m)) = (engine.whole_if(want), self.m.as_deref_mut()) {
-                m.step(md);
-            }
-        }
-        if self.sample.due(now) {
-            if let (Some(md), Some(m)) = (engine.whole(), self.m.as_deref_mut()) {
-                m.sample(md);
-            }
-        }
-        Ok(Control::Go)
-    }
-    fn pack(&self, saved: &mut Saved) -> Result<()> {
-        if let Some(m) = self.m.as_deref() {
-            saved.measurements = Some(m.save());
-        }
-        Ok(())
     }
 }

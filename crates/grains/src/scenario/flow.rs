@@ -4,15 +4,12 @@
 //! and the measurements that go with them (angle of repose, marginal angle,
 //! flow rate, dynamic angle of a drum, space–time density).
 //!
-//! The runner calls [`expand`] (the silo's walls) before building the
-//! engine; the run loop's
-//! [`FlowHook`] calls [`FlowRun::after_step`] after every step at which
+//! The runner calls [`crate::scenario::hopper::expand`] (the silo's walls)
+//! before building the engine; the run loop's flow hook calls [`FlowRun::after_step`] after every step at which
 //! [`FlowRun::next_act`] says it acts (relaxation included) and
 //! [`FlowRun::sample`] at every sample; the runner calls
 //! [`FlowRun::finish`] at the end.
 
-use super::engine::MdView;
-use super::run_loop::{Control, Every, Hook};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::io::write_atomic;
@@ -381,50 +378,6 @@ impl<D: Dim> FlowRun<D> {
             h.finish(dir, md.time, summary)?;
         }
         Ok(())
-    }
-}
-
-/// The flow events as a hook of the run loop: after the stretches that end
-/// where they act (at every step when `lockstep`: rank 0 alone knows its
-/// stage), and (in the measured phase) the flow measurements at every
-/// sample. The flow run is rank 0's.
-pub(super) struct FlowHook<'a, D: Dim> {
-    flow: Option<&'a mut FlowRun<D>>,
-    sample: Option<Every>,
-    lockstep: bool,
-}
-
-impl<'a, D: Dim> FlowHook<'a, D> {
-    pub(super) fn new(
-        flow: Option<&'a mut FlowRun<D>>,
-        sample: Option<Every>,
-        lockstep: bool,
-    ) -> Self {
-        Self {
-            flow,
-            sample,
-            lockstep,
-        }
-    }
-}
-
-impl<D: Dim, E: MdView<D = D>> Hook<E> for FlowHook<'_, D> {
-    fn next(&self, now: u64, horizon: u64) -> u64 {
-        let h = self.sample.map_or(horizon, |s| s.next(now, horizon));
-        match (&self.flow, self.lockstep) {
-            (_, true) => (now + 1).min(h),
-            (Some(f), false) => f.next_act(now, h),
-            (None, false) => h,
-        }
-    }
-    fn act(&mut self, engine: &mut E, now: u64) -> Result<Control> {
-        engine.flow_events(self.flow.as_deref_mut());
-        if self.sample.is_some_and(|s| s.due(now)) {
-            if let (Some(md), Some(f)) = (engine.whole(), self.flow.as_deref_mut()) {
-                f.sample(md);
-            }
-        }
-        Ok(Control::Go)
     }
 }
 

@@ -1,6 +1,7 @@
 //! The files a run writes in its output directory.
 
 use crate::boundary::Wall;
+pub use crate::checkpoint::run::OutputState;
 use crate::comm::Comm;
 use crate::dim::Dim;
 use crate::error::Error;
@@ -27,13 +28,13 @@ pub const THERMO_COLUMNS: [&str; 7] = [
 ];
 
 /// thermo.csv: a fresh table, or one reopened for appending after a resume.
-pub(super) enum Thermo {
+pub(crate) enum Thermo {
     Fresh(ThermoWriter),
     Appended { path: PathBuf, file: std::fs::File },
 }
 
 impl Thermo {
-    pub(super) fn write_row(&mut self, values: &[f64]) -> Result<()> {
+    pub(crate) fn write_row(&mut self, values: &[f64]) -> Result<()> {
         match self {
             Thermo::Fresh(w) => w.write_row(values),
             Thermo::Appended { path, file } => {
@@ -53,22 +54,10 @@ impl Thermo {
     }
 }
 
-/// Where the output files stood when a checkpoint was taken: resuming cuts
-/// them back to this point, so rows and frames written after the checkpoint
-/// by the interrupted run are not duplicated.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct OutputState {
-    pub thermo_len: u64,
-    pub dump_len: Option<u64>,
-    /// The frames.pvd entries (time, file).
-    pub frames: Vec<(f64, String)>,
-    pub last_step: Option<u64>,
-}
-
 /// The frame series of a run (None without frames): fresh, or continuing a
 /// checkpoint's `resumed` entries; in pieces (of one rank until
 /// [`Outputs::set_ranks`]) when the scenario asks.
-pub(super) fn frame_series(
+pub(crate) fn frame_series(
     dir: &Path,
     spec: &OutputSpec,
     resumed: Option<&[(f64, String)]>,
@@ -100,14 +89,14 @@ fn in_pieces(spec: &OutputSpec, ranks: usize) -> bool {
 /// One rank's pieces of the frames of a distributed run (MD or DSMC):
 /// with frames in pieces on several ranks, each rank writes its own grains
 /// at an output step; otherwise nothing.
-pub(super) struct Pieces {
+pub(crate) struct Pieces {
     dir: PathBuf,
     rank: usize,
     on: bool,
 }
 
 impl Pieces {
-    pub(super) fn new(spec: &OutputSpec, dir: &Path, comm: &dyn Comm) -> Self {
+    pub(crate) fn new(spec: &OutputSpec, dir: &Path, comm: &dyn Comm) -> Self {
         Self {
             dir: dir.to_path_buf(),
             rank: comm.rank(),
@@ -117,7 +106,7 @@ impl Pieces {
 
     /// Writes this rank's piece, `frame()` (built only when pieces are
     /// written).
-    pub(super) fn write(&self, frame: impl FnOnce() -> Frame) -> Result<()> {
+    pub(crate) fn write(&self, frame: impl FnOnce() -> Frame) -> Result<()> {
         match self.on {
             true => crate::io::write_piece(&self.dir, &frame(), self.rank),
             false => Ok(()),
@@ -127,7 +116,7 @@ impl Pieces {
 
 /// The end-of-run pictures of a DSMC run (a gas: no walls but the box):
 /// scene.json with the frames, final.png, and the movie when asked.
-pub(super) fn finish_gas(dir: &Path, spec: &OutputSpec, last: &Frame) -> Result<()> {
+pub(crate) fn finish_gas(dir: &Path, spec: &OutputSpec, last: &Frame) -> Result<()> {
     let scene = Scene::bare(last);
     if spec.frames {
         scene.write(dir)?;
@@ -162,7 +151,7 @@ impl Outputs {
     }
 
     /// Fresh files with thermo columns `columns`; a dump when `dump`.
-    pub(super) fn with_columns(
+    pub(crate) fn with_columns(
         dir: &Path,
         spec: &OutputSpec,
         columns: &[&str],

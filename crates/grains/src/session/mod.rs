@@ -17,9 +17,7 @@ mod md_engine;
 use held::Held;
 pub use held::{Column, Contacts};
 
-use super::checkpointer::{payload, scenario_text, RunHeader};
-use super::found::find;
-use super::output::OutputState;
+use crate::checkpoint::run::{find, payload, scenario_text, OutputState, RunHeader};
 use crate::dim::{D2, D3};
 use crate::error::{Error, Result};
 use crate::scenario::schema::Dimension;

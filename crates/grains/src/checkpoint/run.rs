@@ -1,0 +1,278 @@
+//! A run's checkpoint payload: the scenario as TOML with its origin and
+//! base directory, the dimension, the run plan, the checkpoint interval,
+//! where the output files stood, the step, the engine's exported state, and
+//! the measurement section (a flag, and when set the accumulators'
+//! length-prefixed bytes); written by [`payload`], read back by [`decode`]
+//! and [`find`] (the newest valid file of a run directory).
+
+use crate::codec::{Dec, Enc};
+use crate::error::{Error, Result};
+use crate::scenario::schema::{Dimension, Scenario};
+use crate::scenario::Loaded;
+use std::path::{Path, PathBuf};
+
+/// Where the output files stood when a checkpoint was taken: resuming cuts
+/// them back to this point, so rows and frames written after the checkpoint
+/// by the interrupted run are not duplicated.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OutputState {
+    pub thermo_len: u64,
+    pub dump_len: Option<u64>,
+    /// The frames.pvd entries (time, file).
+    pub frames: Vec<(f64, String)>,
+    pub last_step: Option<u64>,
+}
+
+/// What every checkpoint payload, MD or DSMC, says about its run.
+pub(crate) struct RunHeader<'a> {
+    pub scenario: &'a str,
+    pub origin: &'a str,
+    pub base_dir: &'a str,
+    pub dim: usize,
+    pub plan: (u64, u64),
+    pub interval: Option<u64>,
+}
+
+/// Writes one checkpoint: the run header, where the outputs stood, the
+/// step, the engine's bytes and the (MD) measurement section. [`decode`]
+/// reads exactly this layout, for both engines.
+pub(crate) fn write_payload(
+    dir: &Path,
+    run: &RunHeader,
+    outputs: &OutputState,
+    step: u64,
+    engine: &[u8],
+    measurements: Option<&[u8]>,
+) -> Result<PathBuf> {
+    let payload = payload(run, outputs, step, engine, measurements);
+    super::write(dir, step, &payload)
+}
+
+/// The payload [`write_payload`] writes.
+pub(crate) fn payload(
+    run: &RunHeader,
+    outputs: &OutputState,
+    step: u64,
+    engine: &[u8],
+    measurements: Option<&[u8]>,
+) -> Vec<u8> {
+    let mut e = Enc::default();
+    e.str(run.scenario);
+    e.str(run.origin);
+    e.str(run.base_dir);
+    e.u8(run.dim as u8);
+    e.u64(run.plan.0);
+    e.u64(run.plan.1);
+    e.u64(run.interval.unwrap_or(0));
+    encode_outputs(&mut e, outputs);
+    e.u64(step);
+    e.len(engine.len());
+    e.buf.extend_from_slice(engine);
+    encode_measurements(&mut e, measurements);
+    e.buf
+}
+
+/// The scenario as TOML text that reads back to an equal scenario.
+pub(crate) fn scenario_text(s: &Scenario) -> Result<String> {
+    let text = toml::to_string(s)
+        .map_err(|e| Error::input(format!("checkpoint: cannot write the scenario: {e}")))?;
+    match toml::from_str::<Scenario>(&text) {
+        Ok(back) if back == *s => Ok(text),
+        _ => Err(Error::input(
+            "checkpoint: the scenario does not survive a TOML round trip; cannot checkpoint it",
+        )),
+    }
+}
+
+/// The measurement section: a flag, then the accumulators' bytes.
+fn encode_measurements(e: &mut Enc, bytes: Option<&[u8]>) {
+    e.bool(bytes.is_some());
+    if let Some(b) = bytes {
+        e.len(b.len());
+        e.buf.extend_from_slice(b);
+    }
+}
+
+fn encode_outputs(e: &mut Enc, o: &OutputState) {
+    e.u64(o.thermo_len);
+    opt(e, o.dump_len);
+    e.len(o.frames.len());
+    for (t, f) in &o.frames {
+        e.f64(*t);
+        e.str(f);
+    }
+    opt(e, o.last_step);
+}
+
+fn opt(e: &mut Enc, v: Option<u64>) {
+    e.bool(v.is_some());
+    e.u64(v.unwrap_or(0));
+}
+
+fn decode_measurements(d: &mut Dec) -> std::result::Result<Option<Vec<u8>>, String> {
+    if !d.bool("measurement flag")? {
+        return Ok(None);
+    }
+    let n = d.len(1, "measurement state")?;
+    Ok(Some(d.take(n, "measurement state")?.to_vec()))
+}
+
+fn read_opt(d: &mut Dec, what: &str) -> std::result::Result<Option<u64>, String> {
+    let some = d.bool(what)?;
+    let v = d.u64(what)?;
+    Ok(some.then_some(v))
+}
+
+/// A checkpoint read and checked, ready to resume.
+pub struct Found {
+    pub path: PathBuf,
+    pub step: u64,
+    pub(crate) loaded: Loaded,
+    pub(crate) dim: usize,
+    pub(crate) plan: (u64, u64),
+    pub(crate) interval: u64,
+    pub(crate) outputs: OutputState,
+    pub(crate) engine: Vec<u8>,
+    pub(crate) measurements: Option<Vec<u8>>,
+}
+
+/// Decodes a checkpoint payload (from `path`, for messages).
+pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
+    let mut d = Dec::new(payload);
+    let mut go = || -> std::result::Result<_, String> {
+        let scenario = d.str("scenario")?;
+        let origin = d.str("scenario origin")?;
+        let base_dir = d.str("scenario directory")?;
+        let dim = d.u8("dimension")? as usize;
+        let plan = (d.u64("relax steps")?, d.u64("measured steps")?);
+        let interval = d.u64("checkpoint interval")?;
+        let outputs = OutputState {
+            thermo_len: d.u64("thermo length")?,
+            dump_len: read_opt(&mut d, "dump length")?,
+            frames: {
+                let n = d.len(16, "frame count")?;
+                let mut v = Vec::with_capacity(n);
+                for _ in 0..n {
+                    v.push((d.f64("frame time")?, d.str("frame file")?));
+                }
+                v
+            },
+            last_step: read_opt(&mut d, "last output step")?,
+        };
+        let step = d.u64("step")?;
+        let n = d.len(1, "engine state")?;
+        let engine = d.take(n, "engine state")?.to_vec();
+        let measurements = decode_measurements(&mut d)?;
+        if d.remaining() != 0 {
+            return Err(format!("{} unexpected bytes at the end", d.remaining()));
+        }
+        Ok((
+            scenario,
+            origin,
+            base_dir,
+            dim,
+            plan,
+            interval,
+            outputs,
+            step,
+            engine,
+            measurements,
+        ))
+    };
+    let (scenario, origin, base_dir, dim, plan, interval, outputs, step, engine, measurements) =
+        go().map_err(|e| Error::input(format!("checkpoint {}: {e}", path.display())))?;
+    let scenario: Scenario = toml::from_str(&scenario).map_err(|e| {
+        Error::input(format!(
+            "checkpoint {}: its scenario does not parse: {e}",
+            path.display()
+        ))
+    })?;
+    let want = match scenario.dimension {
+        Dimension::Two => 2,
+        Dimension::Three => 3,
+    };
+    if dim != want {
+        return Err(Error::input(format!(
+            "checkpoint {}: state of dimension {dim} for a {want}d scenario",
+            path.display()
+        )));
+    }
+    if plan.0.checked_add(plan.1).is_none() {
+        return Err(Error::input(format!(
+            "checkpoint {}: run length out of range",
+            path.display()
+        )));
+    }
+    Ok(Found {
+        path: path.to_path_buf(),
+        step,
+        loaded: Loaded {
+            scenario,
+            origin,
+            base_dir: PathBuf::from(base_dir),
+        },
+        dim,
+        plan,
+        interval,
+        outputs,
+        engine,
+        measurements,
+    })
+}
+
+/// The checkpoint to resume from `path`: that file, or the newest valid
+/// checkpoint of that run directory. Also returns why newer files were
+/// skipped. Fails (input error) when none is usable, saying why for each.
+pub fn find(path: &Path) -> Result<(Found, Vec<String>)> {
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if meta.is_file() {
+        let payload = super::read(path)?;
+        return Ok((decode(&payload, path)?, Vec::new()));
+    }
+    let files = super::list(path)?;
+    if files.is_empty() {
+        return Err(Error::input(format!(
+            "{}: no checkpoint-*.grck file; checkpoints are written by \
+             `grains run --checkpoint-every T` or when a run is interrupted",
+            path.display()
+        )));
+    }
+    let mut skipped = Vec::new();
+    for f in files {
+        match super::read(&f).and_then(|p| decode(&p, &f)) {
+            Ok(found) => return Ok((found, skipped)),
+            Err(e) => skipped.push(e.to_string()),
+        }
+    }
+    Err(Error::input(format!(
+        "{}: no valid checkpoint:\n  {}",
+        path.display(),
+        skipped.join("\n  ")
+    )))
+}
+
+impl Found {
+    /// The checkpoint's scenario.
+    pub fn loaded(&self) -> &Loaded {
+        &self.loaded
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shipped_scenarios_survive_toml_round_trip() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+        for f in std::fs::read_dir(dir).unwrap() {
+            let p = f.unwrap().path();
+            // scenarios/meshes/ holds the mesh scenarios' STL files.
+            if p.extension().is_none_or(|e| e != "toml") {
+                continue;
+            }
+            let l = crate::scenario::load_file(&p, &[]).unwrap();
+            scenario_text(&l.scenario).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        }
+    }
+}
