@@ -383,7 +383,22 @@ impl Mirror {
         };
     }
 
-    fn finite_check_due(&self) -> bool {
+    /// The checks after a step whose statistics a device computed: the
+    /// overlap, and `non_finite` (a grain's state found not finite).
+    pub fn step_checks(&self, non_finite: bool) -> Result<()> {
+        self.check_overlap()?;
+        if non_finite {
+            return Err(Error::Unstable(format!(
+                "at step {} (t = {:.6e} s) a grain has a non-finite position or velocity; \
+                 dt = {:.3e} s may be too large",
+                self.step, self.time, self.params.dt
+            )));
+        }
+        Ok(())
+    }
+
+    /// Whether this step's checks include the finite-state test.
+    pub fn finite_check_due(&self) -> bool {
         self.step.is_multiple_of(self.params.nan_check_every)
     }
 

@@ -7,6 +7,8 @@
 //! bits as the CPU engine); `cuda` (feature `cuda`) runs the same kernels,
 //! written in CUDA C under `kernels/`, on the device.
 
+#[cfg(feature = "cuda")]
+pub mod cuda;
 pub mod grain_kernels;
 pub mod mirror;
 
