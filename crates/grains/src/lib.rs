@@ -13,6 +13,7 @@ pub mod dim;
 pub mod domain;
 pub mod dsmc;
 pub mod error;
+pub mod gpu;
 pub mod integrate;
 pub mod io;
 pub mod md;

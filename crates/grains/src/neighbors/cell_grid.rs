@@ -24,9 +24,9 @@ const SIDE_MARGIN: f64 = 1e-9;
 pub(crate) struct GridShape {
     /// Cells per axis (1 on axes beyond the dimension).
     pub dims: [usize; 3],
-    lo: [f64; 3],
+    pub lo: [f64; 3],
     /// Cells per unit length (0 on an axis with a single cell).
-    inv_width: [f64; 3],
+    pub inv_width: [f64; 3],
 }
 
 impl GridShape {

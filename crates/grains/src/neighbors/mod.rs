@@ -8,5 +8,6 @@ mod cell_grid;
 mod spatial_sort;
 mod verlet_list;
 
+pub(crate) use cell_grid::GridShape;
 pub use spatial_sort::spatial_sort_order;
 pub use verlet_list::{ListState, NeighborList};

@@ -1,0 +1,73 @@
+//! The GPU engine's pipeline: per-grain kernels over structure-of-arrays
+//! data in cell order, a full neighbour list, no floating-point atomics
+//! (see docs/gpu.md).
+//!
+//! [`grain_kernels`] holds what one thread does for one grain; [`mirror`]
+//! runs the pipeline as plain loops on the CPU (always compiled, the same
+//! bits as the CPU engine); `cuda` (feature `cuda`) runs the same kernels,
+//! written in CUDA C under `kernels/`, on the device.
+
+#[cfg(feature = "cuda")]
+pub mod cuda;
+pub mod grain_kernels;
+pub mod mirror;
+
+use crate::boundary::{Motion, Shape};
+use crate::contact::hooke_history::HookeHistory;
+use crate::dim::D3;
+use crate::error::{Error, Result};
+use crate::integrate::Integrator;
+use crate::md::Md;
+use grain_kernels::Hooke;
+
+/// What the GPU pipeline runs, in one line for messages.
+pub const SUPPORTED: &str = "3D, integrator \"verlet\", the Hooke law with history \
+     (preset \"lammps-hooke-history\" and its variants), fixed plane walls and gravity";
+
+/// Whether the pipeline runs `md`: its law's coefficients, or an error
+/// naming the first thing it does not run.
+pub fn check_supported(md: &Md<D3>) -> Result<Hooke> {
+    let refuse = |what: String| {
+        Err(Error::input(format!(
+            "run.device = \"gpu\": {what} is not supported by the GPU engine (it runs {SUPPORTED})"
+        )))
+    };
+    let s = &md.settings;
+    if s.integrator != Integrator::Verlet {
+        return refuse(format!("run.integrator = \"{}\"", s.integrator.name()));
+    }
+    if s.materials.is_some() {
+        return refuse("contact.model = \"hertz-mindlin\"".into());
+    }
+    if HookeHistory::of(&s.contact).is_none() {
+        return refuse(format!(
+            "the contact law {:?} (not the Hooke-with-history shape: beta = 1, reduced \
+             scaling, rotation, kt > 0, finite mu)",
+            s.contact
+        ));
+    }
+    for w in &md.walls {
+        let plane = matches!(w.shape, Shape::Plane { .. });
+        if !plane || w.motion != Motion::Fixed || w.remove_at.is_some() {
+            let what = if !plane {
+                format!("shape {}", w.shape.kind())
+            } else if w.motion != Motion::Fixed {
+                format!("motion {}", w.motion.kind())
+            } else {
+                "remove_at".into()
+            };
+            return refuse(format!("wall '{}' ({what})", w.name));
+        }
+    }
+    if md.particles.n_owned() != md.particles.len() {
+        return refuse("a decomposed run (ghost grains)".into());
+    }
+    let c = &s.contact;
+    Ok(Hooke {
+        kn: c.kn,
+        gamma_n: c.gamma_n,
+        gamma_t: c.gamma_t,
+        kt: c.kt,
+        mu: c.mu,
+    })
+}
