@@ -61,6 +61,7 @@ setting() {
     m-unit-g10) echo "$fig2" "${curved[@]}" "${unit2[@]}" "${seeddt2[@]}" --set contact.gamma_n=19810 ;;
     m-unit-gs0) echo "$fig2" "${curved[@]}" "${unit2[@]}" --set contact.gamma_t=0 ;;
     m-unit-flat) echo "$fig2" "${flat[@]}" "${unit2[@]}" ;;
+    m-unit-flat-seeddt) echo "$fig2" "${flat[@]}" "${unit2[@]}" "${seeddt2[@]}" ;;
     m-unit-flat-g10) echo "$fig2" "${flat[@]}" "${unit2[@]}" "${seeddt2[@]}" --set contact.gamma_n=19810 ;;
     m-unit-flat-gs0) echo "$fig2" "${flat[@]}" "${unit2[@]}" --set contact.gamma_t=0 ;;
     m-unit-flat-lattice) echo "$fig2" "${flat[@]}" "${unit2[@]}" "${lattice[@]}" ;;
@@ -85,7 +86,7 @@ setting() {
   esac
 }
 all=(m-today m-today-g10 m-today-gs0 m-today-flat m-today-flat-g10 m-today-flat-gs0
-  m-today-lattice m-today-seeddt m-today-seeddt6 m-unit m-unit-seeddt m-unit-g10 m-unit-gs0 m-unit-flat m-unit-flat-g10
+  m-today-lattice m-today-seeddt m-today-seeddt6 m-unit m-unit-seeddt m-unit-g10 m-unit-gs0 m-unit-flat m-unit-flat-seeddt m-unit-flat-g10
   m-unit-flat-gs0 m-unit-flat-lattice m-unit-flat-soft
   w-today-gs0 w-today-gs400 w-today-elastic-gs0 w-today-elastic-gs400
   w-today-elastic-lattice-gs0 w-today-elastic-seeddt-gs0 w-today-elastic-seeddt-gs400
