@@ -10,6 +10,11 @@ the measured cycles (from each run's displacement.csv). Standard library
 only.
 
     python3 tools/seed002_table.py runs/seed002-ensembles [SETTING ...]
+    python3 tools/seed002_table.py runs/seed002-ensembles --ratio A B [--ratio C D ...]
+
+With --ratio, prints instead the ratio of the mean strengths of settings
+A and B with its propagated standard error, and Welch's t of their
+difference (the verdicts' "γ × 10" and "γ_s = 0" comparisons).
 """
 
 import csv
@@ -90,9 +95,32 @@ def row(name, rows, ok, sweep):
     )
 
 
+def strengths(root, name):
+    _, ok = load(root / name / "sweep.csv")
+    return [1e3 * float(r["convection_strength"]) for r in ok]
+
+
+def ratio_line(root, a, b):
+    """Strength of A over that of B, error propagated from the two
+    standard errors (independent ensembles), and Welch's t of A - B."""
+    (am, ase), (bm, bse) = mean_se(strengths(root, a)), mean_se(strengths(root, b))
+    r = am / bm
+    rse = abs(r) * math.hypot(ase / am, bse / bm)
+    t = (am - bm) / math.hypot(ase, bse)
+    return f"{a} / {b}: {am:.1f} ± {ase:.1f} / {bm:.1f} ± {bse:.1f} = {r:.2f} ± {rse:.2f} (Welch t = {t:+.1f})"
+
+
 def main():
     root = Path(sys.argv[1] if len(sys.argv) > 1 else "runs/seed002-ensembles")
-    names = sys.argv[2:] or sorted(p.name for p in root.iterdir() if (p / "sweep.csv").exists())
+    args = sys.argv[2:]
+    if "--ratio" in args:
+        while args:
+            if args[0] != "--ratio" or len(args) < 3:
+                sys.exit("usage: seed002_table.py DIR --ratio A B [--ratio C D ...]")
+            print(ratio_line(root, args[1], args[2]))
+            args = args[3:]
+        return
+    names = args or sorted(p.name for p in root.iterdir() if (p / "sweep.csv").exists())
     print(
         "| setting | runs | strength (mm/s) | centre v_z (mm/s) | edge v_z (mm/s) "
         "| up in centre, down at edges | edge above centre (up at walls) "
