@@ -57,6 +57,14 @@ impl Found {
     /// [`Found::restore_md`] with the scenario's resolved run parameters
     /// from the same build.
     pub(crate) fn restore_built<D: Dim>(&self) -> Result<(Md<D>, Resolved)> {
+        // Refused by name before the scenario is built as MD (a DSMC
+        // scenario has no contact law to build).
+        if crate::checkpoint::dsmc::is_dsmc(&self.engine) {
+            return Err(Error::input(format!(
+                "checkpoint {}: holds a DSMC engine state; it cannot be restored as MD",
+                self.path.display()
+            )));
+        }
         let (mut md, resolved) = build_md::<D>(&self.loaded)?;
         md.import(&self.engine, &self.path.display().to_string())?;
         if md.step != self.step {
