@@ -388,6 +388,14 @@ impl ReachBox {
 }
 
 impl<D: Dim> PlacedWall<'_, D> {
+    /// The wall's angular velocity: a rotating wall's ω, else zero.
+    pub fn spin(&self) -> D::A {
+        match &self.wall.motion {
+            Motion::Rotate { omega, .. } => *omega,
+            _ => D::A::default(),
+        }
+    }
+
     /// Sets `near` (one entry per grain of `pos` and `radius`) for the
     /// grains this wall may touch: those [`PlacedWall::contact`] does not
     /// turn down at once. The wall's [`QuickTest`] runs here over all the

@@ -20,7 +20,7 @@ fn fingerprint<D: Dim>(md: &Md<D>) -> Vec<(&'static str, String)> {
     };
     let lo = D::to_xyz(md.domain.lo);
     let hi = D::to_xyz(md.domain.hi);
-    vec![
+    let mut fp = vec![
         ("dimension", D::NAME.to_string()),
         ("integrator", s.integrator.name().to_string()),
         ("dt", bits(&[s.dt])),
@@ -40,7 +40,11 @@ fn fingerprint<D: Dim>(md: &Md<D>) -> Vec<(&'static str, String)> {
                 .collect::<Vec<_>>()
                 .join("; "),
         ),
-    ]
+    ];
+    if let Some(law) = &s.materials {
+        fp.push(("material law", format!("{law:?}")));
+    }
+    fp
 }
 
 /// The engine's fingerprint and full state.

@@ -41,8 +41,9 @@ pub const MAGIC: &[u8; 8] = b"GRAINSCK";
 /// (the DSMC store itself is kept in cell order) and added the convection
 /// column profile; version 4 added the surface height per column; version
 /// 5 moved a DSMC run's measurement state from the engine field into the
-/// measurement section, as an MD run keeps it.
-pub const VERSION: u32 = 5;
+/// measurement section, as an MD run keeps it; version 6 added the
+/// rolling springs of the MD state.
+pub const VERSION: u32 = 6;
 /// Checkpoints kept in a run directory (older ones are deleted).
 pub const KEEP: usize = 2;
 const HEADER: usize = 8 + 4 + 8 + 4;

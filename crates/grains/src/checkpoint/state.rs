@@ -105,6 +105,8 @@ pub fn encode_md<D: Dim>(e: &mut Enc, s: &MdState<D>) {
     e.bool(l.built);
     e.vecs::<D>(&s.springs);
     e.vecs::<D>(&s.wall_springs);
+    e.vecs::<D>(&s.rolling);
+    e.vecs::<D>(&s.wall_rolling);
     e.u32(s.rebuilds_since_sort);
     e.u64(s.contacts);
     e.f64(s.max_overlap);
@@ -144,6 +146,8 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
         list,
         springs: d.vecs::<D>("tangential springs")?,
         wall_springs: d.vecs::<D>("wall springs")?,
+        rolling: d.vecs::<D>("rolling springs")?,
+        wall_rolling: d.vecs::<D>("wall rolling springs")?,
         rebuilds_since_sort: d.u32("rebuild counter")?,
         contacts: d.u64("contacts")?,
         max_overlap: d.f64("max overlap")?,

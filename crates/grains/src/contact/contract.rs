@@ -24,6 +24,9 @@ pub struct Contact<D: Dim> {
     /// Radii; ∞ for a wall (flat).
     pub ri: f64,
     pub rj: f64,
+    /// ω_i − ω_j (ω_i against a wall); zero without rotation. Read by
+    /// rolling resistance only.
+    pub omega_rel: D::A,
     /// The pair's entry in the law's table of coefficients
     /// ([`ContactModel::pair_index`]); 0 for a law of one pair.
     pub pair: u32,
@@ -47,6 +50,8 @@ pub struct ContactOutcome<D: Dim> {
     pub force: D::V,
     /// The tangential part of `force`, for torques.
     pub tangential: D::V,
+    /// The normal force F_n along the normal (what the Coulomb caps scale).
+    pub normal_force: f64,
 }
 
 /// A contact law.
@@ -54,6 +59,11 @@ pub trait ContactModel: Sync {
     /// Whether the law runs on the batched lanes of the pair loop: written
     /// without branches that keep the compiler from vectorizing it.
     const LANES: bool = false;
+
+    /// Whether the law has a rolling torque ([`ContactModel::rolling`]).
+    const ROLLING: bool = false;
+    /// Whether that torque keeps a rolling spring per contact.
+    const ROLLING_HISTORY: bool = false;
 
     /// Whether grains rotate (torques, ω in the contact-point velocity).
     fn rotation(&self) -> bool;
@@ -79,4 +89,19 @@ pub trait ContactModel: Sync {
     /// displacement of i relative to the partner), advanced when
     /// `step.update`.
     fn evaluate<D: Dim>(&self, c: &Contact<D>, spring: &mut D::V, step: Step) -> ContactOutcome<D>;
+
+    /// The rolling-resistance torque on body i (the partner gets minus
+    /// it), given what [`ContactModel::evaluate`] returned; `spring` is the
+    /// contact's rolling history (used when `ROLLING_HISTORY`). Called
+    /// only when `ROLLING`.
+    #[inline(always)]
+    fn rolling<D: Dim>(
+        &self,
+        _c: &Contact<D>,
+        _out: &ContactOutcome<D>,
+        _spring: &mut D::V,
+        _step: Step,
+    ) -> D::A {
+        D::A::default()
+    }
 }

@@ -20,6 +20,7 @@ use super::contract::{Contact, ContactModel, ContactOutcome, Step};
 use super::cundall_strack::Tangential;
 use super::mass_scaling::MassScaling;
 use super::material::{Material, PairCoefficients, PairOverride};
+use super::rolling::{epsd_damping, rolling_torque, RollingContact, RollingModel};
 use super::tsuji_damping::alpha_for_restitution;
 use crate::dim::Dim;
 
@@ -33,6 +34,8 @@ pub struct HertzPair {
     /// Damping coefficient α.
     alpha: f64,
     mu: f64,
+    /// Rolling friction μ_r.
+    mu_r: f64,
 }
 
 impl HertzPair {
@@ -42,6 +45,7 @@ impl HertzPair {
             eight_g_star: 8.0 * p.g_star,
             alpha: alpha_for_restitution(p.restitution),
             mu: p.friction,
+            mu_r: p.rolling_friction,
         }
     }
 }
@@ -57,6 +61,8 @@ pub struct HertzMindlin {
     /// The material of each wall.
     wall_material: Vec<u32>,
     pub rotation: bool,
+    /// The rolling resistance ([`HertzMindlin::with_rolling`] runs it).
+    pub rolling: RollingModel,
 }
 
 impl HertzMindlin {
@@ -95,12 +101,34 @@ impl HertzMindlin {
             material_of_kind,
             wall_material,
             rotation,
+            rolling: RollingModel::None,
+        }
+    }
+
+    /// The law with its rolling resistance compiled in, handed to `run`
+    /// (one compiled kernel per model; none without rolling).
+    #[inline(always)]
+    pub fn with_rolling<R>(&self, run: impl RunLaw<R>) -> R {
+        match self.rolling {
+            RollingModel::None => run.run(self),
+            RollingModel::Constant => run.run(&Rolled::<1>(self)),
+            RollingModel::Epsd => run.run(&Rolled::<2>(self)),
         }
     }
 
     /// The coefficients of materials `a` and `b`.
     pub fn pair(&self, a: usize, b: usize) -> &HertzPair {
         &self.pairs[a * self.materials + b]
+    }
+
+    /// The coefficients of table entry `pair`.
+    #[inline(always)]
+    fn entry(&self, pair: u32) -> &HertzPair {
+        // SAFETY: `pair` comes from `pair_index`/`wall_pair_index`, whose
+        // materials are below `materials` (checked in `new`), so the entry
+        // exists; unchecked, the lanes need no bounds-check exit.
+        debug_assert!((pair as usize) < self.pairs.len());
+        unsafe { self.pairs.get_unchecked(pair as usize) }
     }
 
     /// The material of grain kind `kind`.
@@ -130,17 +158,9 @@ impl ContactModel for HertzMindlin {
     }
     #[inline(always)]
     fn evaluate<D: Dim>(&self, c: &Contact<D>, spring: &mut D::V, step: Step) -> ContactOutcome<D> {
-        // SAFETY: `c.pair` comes from `pair_index`/`wall_pair_index`, whose
-        // materials are below `materials` (checked in `new`), so the entry
-        // exists; unchecked, the lanes need no bounds-check exit.
-        debug_assert!((c.pair as usize) < self.pairs.len());
-        let p = unsafe { self.pairs.get_unchecked(c.pair as usize) };
+        let p = self.entry(c.pair);
         let n = c.normal;
-        let r_star = if c.rj.is_infinite() {
-            c.ri
-        } else {
-            c.ri * c.rj / (c.ri + c.rj)
-        };
+        let r_star = r_star(c.ri, c.rj);
         let m_star = MassScaling::Reduced.damping_mass(c.mi, c.mj);
         let a = (r_star * c.overlap).sqrt();
         let sn = p.two_e_star * a;
@@ -159,6 +179,78 @@ impl ContactModel for HertzMindlin {
         ContactOutcome {
             force: n * fn_total + tangential,
             tangential,
+            normal_force: fn_total,
         }
+    }
+}
+
+/// R* = R_i R_j / (R_i + R_j); R_i against a wall (R_j infinite).
+#[inline(always)]
+fn r_star(ri: f64, rj: f64) -> f64 {
+    if rj.is_infinite() {
+        ri
+    } else {
+        ri * rj / (ri + rj)
+    }
+}
+
+/// Something to run with a contact law of any compiled type (a closure
+/// cannot be generic over it).
+pub trait RunLaw<R> {
+    fn run<L: ContactModel>(self, law: &L) -> R;
+}
+
+/// The Hertz–Mindlin law with rolling resistance `MODEL` (1 constant, 2
+/// epsd; [`super::rolling`]).
+pub struct Rolled<'a, const MODEL: u8>(&'a HertzMindlin);
+
+impl<const MODEL: u8> ContactModel for Rolled<'_, MODEL> {
+    const LANES: bool = true;
+    const ROLLING: bool = true;
+    const ROLLING_HISTORY: bool = MODEL == 2;
+    #[inline(always)]
+    fn rotation(&self) -> bool {
+        self.0.rotation
+    }
+    #[inline(always)]
+    fn force_factor(&self, _: f64) -> f64 {
+        1.0
+    }
+    #[inline(always)]
+    fn pair_index(&self, kind_i: u32, kind_j: u32) -> u32 {
+        self.0.pair_index(kind_i, kind_j)
+    }
+    #[inline(always)]
+    fn wall_pair_index(&self, kind_i: u32, wall: usize) -> u32 {
+        self.0.wall_pair_index(kind_i, wall)
+    }
+    #[inline(always)]
+    fn evaluate<D: Dim>(&self, c: &Contact<D>, spring: &mut D::V, step: Step) -> ContactOutcome<D> {
+        self.0.evaluate(c, spring, step)
+    }
+    #[inline(always)]
+    fn rolling<D: Dim>(
+        &self,
+        c: &Contact<D>,
+        out: &ContactOutcome<D>,
+        spring: &mut D::V,
+        step: Step,
+    ) -> D::A {
+        let p = self.0.entry(c.pair);
+        let r_star = r_star(c.ri, c.rj);
+        let (k, gamma) = if MODEL == 2 {
+            // Ai's 2.25 μ_r² times the normal stiffness 2 E* a.
+            let k = 2.25 * p.mu_r * p.mu_r * p.two_e_star * (r_star * c.overlap).sqrt();
+            (k, epsd_damping(k, (c.mi, c.ri), (c.mj, c.rj), r_star))
+        } else {
+            (0.0, 0.0)
+        };
+        let rc = RollingContact {
+            r_star,
+            cap: p.mu_r * out.normal_force.abs(),
+            k,
+            gamma,
+        };
+        rolling_torque::<D, MODEL>(c.omega_rel, c.normal, rc, spring, step)
     }
 }

@@ -162,6 +162,7 @@ mod tests {
                     mj,
                     ri: 0.5,
                     rj: 0.5,
+                    omega_rel: Default::default(),
                     pair: 0,
                 };
                 let (mut a, mut b) = (s0, s0);
@@ -189,6 +190,7 @@ mod tests {
                 mj: 1.0,
                 ri: 0.5,
                 rj: 0.5,
+                omega_rel: Default::default(),
                 pair: 0,
             };
             let step = Step {

@@ -32,6 +32,8 @@ pub struct ContactLanes {
     pub v_rel: [Row; 3],
     /// ω_i r_i + ω_j r_j, whose cross product with n is the rolling part.
     pub spin: [Row; 3],
+    /// ω_i − ω_j, filled for laws with rolling resistance only.
+    pub omega_rel: [Row; 3],
     pub ri: Row,
     pub rj: Row,
     /// Masses, ∞ for a frozen grain.
@@ -41,6 +43,8 @@ pub struct ContactLanes {
     pub pair: [u32; LANES],
     /// The tangential spring; the kernel leaves the updated one here.
     pub spring: [Row; 3],
+    /// The rolling spring (laws with rolling history only), likewise.
+    pub rolling: [Row; 3],
     /// Outputs: the force on the first grain, and the torques to subtract
     /// from the first and the second grain's sums.
     pub force: [Row; 3],
@@ -56,12 +60,14 @@ impl Default for ContactLanes {
             del: [row; 3],
             v_rel: [row; 3],
             spin: [row; 3],
+            omega_rel: [row; 3],
             ri: row,
             rj: row,
             mi: row,
             mj: row,
             pair: [0; LANES],
             spring: [row; 3],
+            rolling: [row; 3],
             force: [row; 3],
             torque_i: [row; 3],
             torque_j: [row; 3],
@@ -107,18 +113,35 @@ fn lanes<D: Dim, L: ContactModel>(law: &L, c: &mut ContactLanes, step: Step) {
             mj: c.mj[l],
             ri,
             rj,
+            omega_rel: if L::ROLLING {
+                D::ang_from_xyz(three(&c.omega_rel, l))
+            } else {
+                D::A::default()
+            },
             pair: c.pair[l],
         };
         let out = law.evaluate(&contact, &mut spring, step);
         // Lever arms −r_i n and +r_j n, force on j is −F: both torques are
         // −r (n × F_t) with each grain's own radius.
         let nt = D::torque(n, out.tangential);
-        let (f, s) = (D::to_xyz(out.force), D::to_xyz(spring));
-        let (ti, tj) = (D::ang_to_xyz(nt * ri), D::ang_to_xyz(nt * rj));
+        let (mut ti, mut tj) = (nt * ri, nt * rj);
+        let mut rolling = D::zero();
+        if L::ROLLING {
+            // The rolling torque T on i (−T on j), as amounts to subtract.
+            rolling = D::from_xyz(three(&c.rolling, l));
+            let t = law.rolling(&contact, &out, &mut rolling, step);
+            ti -= t;
+            tj += t;
+        }
+        let (f, s, rs) = (D::to_xyz(out.force), D::to_xyz(spring), D::to_xyz(rolling));
+        let (ti, tj) = (D::ang_to_xyz(ti), D::ang_to_xyz(tj));
         for a in 0..3 {
             if a < D::D {
                 c.force[a][l] = f[a];
                 c.spring[a][l] = s[a];
+                if L::ROLLING_HISTORY {
+                    c.rolling[a][l] = rs[a];
+                }
             }
             if D::D == 3 || a == 2 {
                 c.torque_i[a][l] = ti[a];
@@ -157,18 +180,20 @@ mod tests {
         del: D::V,
         v_rel: D::V,
         spin: D::A,
+        omega_rel: D::A,
         ri: f64,
         rj: f64,
         mi: f64,
         mj: f64,
         spring: D::V,
+        rolling: D::V,
         pair: u32,
     }
 
     /// The scalar pair loop's geometry and `law` (for the Hooke shape, the
     /// general law, not the lanes' compiled one): force, torques on i and
-    /// j (to subtract), spring, overlap.
-    fn scalar<D: Dim, L: ContactModel>(law: &L, c: &Case<D>, step: Step) -> [Vec<u64>; 5] {
+    /// j (to subtract), spring, overlap, rolling spring.
+    fn scalar<D: Dim, L: ContactModel>(law: &L, c: &Case<D>, step: Step) -> [Vec<u64>; 6] {
         let r = D::norm(c.del);
         let overlap = c.ri + c.rj - r;
         let n = c.del * (1.0 / r);
@@ -182,22 +207,35 @@ mod tests {
             mj: c.mj,
             ri: c.ri,
             rj: c.rj,
+            omega_rel: c.omega_rel,
             pair: c.pair,
         };
         let out = law.evaluate(&contact, &mut spring, step);
         let nt = D::torque(n, out.tangential);
+        let mut rolling = c.rolling;
+        let (mut ti, mut tj) = (nt * c.ri, nt * c.rj);
+        if L::ROLLING {
+            let t = law.rolling(&contact, &out, &mut rolling, step);
+            ti -= t;
+            tj += t;
+        }
+        // Lanes of a law without rolling history leave the row as it was.
+        if !L::ROLLING_HISTORY {
+            rolling = c.rolling;
+        }
         let v = |x: D::V| (0..D::D).map(|a| D::get(x, a).to_bits()).collect();
         let a = |x: D::A| D::ang_to_xyz(x).map(f64::to_bits).to_vec();
         [
             v(out.force),
-            a(nt * c.ri),
-            a(nt * c.rj),
+            a(ti),
+            a(tj),
             v(spring),
             vec![overlap.to_bits()],
+            v(rolling),
         ]
     }
 
-    fn lanes_out<D: Dim>(c: &ContactLanes, l: usize) -> [Vec<u64>; 5] {
+    fn lanes_out<D: Dim>(c: &ContactLanes, l: usize) -> [Vec<u64>; 6] {
         let v = |r: &[Row; 3]| (0..D::D).map(|a| r[a][l].to_bits()).collect();
         let a = |r: &[Row; 3]| {
             let x = D::ang_from_xyz([r[0][l], r[1][l], r[2][l]]);
@@ -209,6 +247,7 @@ mod tests {
             a(&c.torque_j),
             v(&c.spring),
             vec![c.overlap[l].to_bits()],
+            v(&c.rolling),
         ]
     }
 
@@ -227,6 +266,7 @@ mod tests {
                     del,
                     v_rel: v3(&mut u) * 3.0,
                     spin: D::ang_from_xyz([u(), u(), u()]) * 2.0,
+                    omega_rel: D::ang_from_xyz([u(), u(), u()]) * 4.0,
                     ri,
                     rj,
                     mi: frozen(1.0 + u().abs(), l % 9 == 4),
@@ -236,6 +276,11 @@ mod tests {
                     } else {
                         v3(&mut u) * 1e-3
                     },
+                    rolling: if l % 3 == 0 {
+                        D::zero()
+                    } else {
+                        v3(&mut u) * 1e-4
+                    },
                     pair: l as u32 % pairs,
                 }
             })
@@ -243,12 +288,15 @@ mod tests {
         let mut c = ContactLanes::default();
         for (l, x) in cases.iter().enumerate() {
             let spin = D::ang_to_xyz(x.spin);
+            let omega_rel = D::ang_to_xyz(x.omega_rel);
             for (a, w) in spin.into_iter().enumerate() {
                 c.spin[a][l] = w;
+                c.omega_rel[a][l] = omega_rel[a];
                 if a < D::D {
                     c.del[a][l] = D::get(x.del, a);
                     c.v_rel[a][l] = D::get(x.v_rel, a);
                     c.spring[a][l] = D::get(x.spring, a);
+                    c.rolling[a][l] = D::get(x.rolling, a);
                 }
             }
             (c.ri[l], c.rj[l], c.mi[l], c.mj[l]) = (x.ri, x.rj, x.mi, x.mj);
@@ -296,8 +344,32 @@ mod tests {
         );
     }
 
-    /// The Hertz–Mindlin law of two materials (four pair entries) on the
-    /// lanes: the same bits as one contact at a time.
+    /// Runs `law` on random batches of pairs among `pairs` entries, through
+    /// the plain and the dispatched kernel, against one contact at a time.
+    struct SameBits<'a, D: Dim>(&'a mut Xoshiro256PlusPlus, u32, PhantomData<D>);
+
+    impl<D: Dim> crate::contact::hertz_mindlin::RunLaw<()> for SameBits<'_, D> {
+        fn run<L: ContactModel>(self, law: &L) {
+            for update in [true, false] {
+                for _ in 0..40 {
+                    let (cases, mut c) = batch::<D>(self.0, self.1);
+                    let mut plain = c.clone();
+                    let step = Step { dt: 1e-4, update };
+                    lanes::<D, _>(law, &mut plain, step);
+                    evaluate_lanes::<D, _>(law, &mut c, step);
+                    for (l, x) in cases.iter().enumerate() {
+                        let want = scalar(law, x, step);
+                        assert_eq!(lanes_out::<D>(&plain, l), want, "plain lane {l}");
+                        assert_eq!(lanes_out::<D>(&c, l), want, "dispatched lane {l}");
+                    }
+                }
+            }
+        }
+    }
+
+    /// The Hertz–Mindlin law of two materials (four pair entries), with
+    /// each rolling resistance, on the lanes: the same bits as one contact
+    /// at a time.
     fn hertz_same_bits<D: Dim>() {
         use crate::contact::hertz_mindlin::HertzMindlin;
         use crate::contact::material::Material;
@@ -308,25 +380,20 @@ mod tests {
             poisson_ratio: 0.25,
             restitution: rest,
             friction: mu,
-            rolling_friction: 0.0,
+            rolling_friction: 0.1,
             surface_energy: 0.0,
         };
         let mats = [mat("a", 2e6, 0.8, 0.5), mat("b", 5e6, 0.6, 0.3)];
-        let law = HertzMindlin::new(&mats, &[], vec![0, 1], vec![], true);
+        let mut law = HertzMindlin::new(&mats, &[], vec![0, 1], vec![], true);
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
-        for update in [true, false] {
-            for _ in 0..40 {
-                let (cases, mut c) = batch::<D>(&mut rng, 4);
-                let mut plain = c.clone();
-                let step = Step { dt: 1e-4, update };
-                lanes::<D, _>(&law, &mut plain, step);
-                evaluate_lanes::<D, _>(&law, &mut c, step);
-                for (l, x) in cases.iter().enumerate() {
-                    let want = scalar(&law, x, step);
-                    assert_eq!(lanes_out::<D>(&plain, l), want, "plain lane {l}");
-                    assert_eq!(lanes_out::<D>(&c, l), want, "dispatched lane {l}");
-                }
-            }
+        use crate::contact::rolling::RollingModel;
+        for model in [
+            RollingModel::None,
+            RollingModel::Constant,
+            RollingModel::Epsd,
+        ] {
+            law.rolling = model;
+            law.with_rolling(SameBits::<D>(&mut rng, 4, PhantomData));
         }
     }
 

@@ -111,6 +111,7 @@ pub(super) fn spring_dashpot<D: Dim, L: SpringDashpot>(
     ContactOutcome {
         force: n * fn_total + tangential,
         tangential,
+        normal_force: fn_total,
     }
 }
 
@@ -189,6 +190,7 @@ mod tests {
             mj: 1.0,
             ri: 0.5,
             rj: 0.5,
+            omega_rel: Default::default(),
             pair: 0,
         };
         let step = Step {

@@ -10,6 +10,8 @@
 //! rules) give the Hertz–Mindlin law ([`hertz_mindlin`], with the damping of
 //! [`tsuji_damping`]).
 //!
+//! [`rolling`] adds rolling resistance to the material law.
+//!
 //! [`mass_scaling`] says how the coefficients meet the masses (the seeds'
 //! "normalized by the mass" or the momentum-conserving reduced mass), and
 //! [`law`] puts the parts together, once. [`contract`] is what every law
@@ -33,6 +35,9 @@ pub mod law;
 pub mod mass_scaling;
 pub mod material;
 pub mod normal_power_law;
+pub mod rolling;
+#[cfg(test)]
+mod rolling_tests;
 pub mod tsuji_damping;
 
 pub use contract::{Contact, ContactModel, ContactOutcome, Step};

@@ -64,6 +64,7 @@ impl<D: Dim> Md<D> {
                 mj: mass(j),
                 ri,
                 rj,
+                omega_rel: p.omega[i] - p.omega[j],
                 pair: law.pair_index(p.kind[i], p.kind[j]),
             };
             let still = Step {

@@ -47,9 +47,11 @@ impl<D: Dim> Md<D> {
         }
         // Springs keyed by grain ids survive the reordering below.
         let saved = self.save_springs();
+        let saved_rolling = self.save_rolling();
         let order = self.id_order();
         self.particles.permute(&order);
         self.wall_springs.permute(&order);
+        self.wall_rolling.permute(&order);
         if let Some(p) = pos {
             self.particles.pos[..n].copy_from_slice(p);
         }
@@ -59,9 +61,11 @@ impl<D: Dim> Md<D> {
         // The list still indexes the old order: let the rebuild carry no
         // spring, then put the saved ones back by id.
         self.springs.iter_mut().for_each(|s| *s = D::zero());
+        self.rolling.iter_mut().for_each(|s| *s = D::zero());
         self.rebuilds_since_sort = 0;
         self.rebuild_neighbors()?;
         self.restore_springs(saved);
+        self.restore_rolling(saved_rolling);
         self.compute_forces(false);
         if self.settings.integrator == Integrator::Gear5 {
             gear5::initialize(&mut self.particles, self.settings.dt);

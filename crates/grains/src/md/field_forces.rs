@@ -8,7 +8,7 @@ use super::wall_loads::WallLoad;
 use super::wall_springs::{ChunkSprings, MeshKey, WallSprings};
 use super::MdStats;
 use crate::boundary::{MeshScratch, PlacedWall, WallContact};
-use crate::contact::hertz_mindlin::HertzMindlin;
+use crate::contact::hertz_mindlin::{HertzMindlin, RunLaw};
 use crate::contact::{Contact, ContactLaw, ContactModel, Step};
 use crate::dim::Dim;
 
@@ -23,6 +23,9 @@ pub struct FieldInput<'a, D: Dim> {
     pub update: bool,
     /// The mesh walls' springs, keyed by (grain, wall, patch).
     pub mesh_springs: &'a WallSprings<D, MeshKey>,
+    /// The rolling springs of grain–wall contacts (a law with rolling
+    /// history only; mesh walls keep none).
+    pub wall_rolling: &'a WallSprings<D>,
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -54,6 +57,7 @@ pub struct FieldPart<D: Dim> {
     stats: PartStats,
     kept: ChunkSprings<D>,
     mesh_kept: ChunkSprings<D, MeshKey>,
+    rolling_kept: ChunkSprings<D>,
     /// Per wall, what this range's grains push on it (mesh walls only;
     /// empty when there is none).
     loads: Vec<WallLoad>,
@@ -82,6 +86,7 @@ pub fn field_part<D: Dim>(
         stats: PartStats::default(),
         kept: ChunkSprings::default(),
         mesh_kept: ChunkSprings::default(),
+        rolling_kept: ChunkSprings::default(),
         loads: Vec::new(),
     };
     let len = force.len().min(g.owned.saturating_sub(first));
@@ -97,7 +102,13 @@ pub fn field_part<D: Dim>(
             // Elastic walls are the spring-dashpot laws' option; a material
             // law gets them from a wall material of restitution 1 (the
             // scenario refuses the key with it).
-            Some(h) => wall_contacts((h, h), input, g, springs_in, first, (force, torque)),
+            Some(h) => h.with_rolling(WallRun {
+                input,
+                g,
+                springs_in,
+                first,
+                sums: (force, torque),
+            }),
             None => {
                 // An elastic wall (`Wall::with_elastic`) meets grains with
                 // their law less its normal damping.
@@ -137,6 +148,8 @@ fn wall_contacts<D: Dim, L: ContactModel>(
     let mut s = PartStats::default();
     let mut kept = ChunkSprings::default();
     let range = first..first + force.len();
+    let mut rolling = input.wall_rolling.cursor(range.clone());
+    let mut rolling_kept = ChunkSprings::default();
     let rotation = law.rotation();
     let step = Step {
         dt: input.dt,
@@ -191,7 +204,8 @@ fn wall_contacts<D: Dim, L: ContactModel>(
                 for &(patch, contact) in &mesh.found {
                     let key = (i as u32, w as u32, patch);
                     let mut spring = mesh.springs.get_key(key);
-                    let (f, t) = push(wall_law, step, (&grain, w), &contact, &mut spring);
+                    let springs = (&mut spring, &mut D::zero());
+                    let (f, t) = push(wall_law, step, (&grain, wall, w), &contact, springs);
                     mesh.kept.keep_key(key, spring);
                     force[k] += f;
                     if rotation {
@@ -207,8 +221,17 @@ fn wall_contacts<D: Dim, L: ContactModel>(
                 continue;
             };
             let mut spring = springs.get(i, w);
-            let (f, t) = push(wall_law, step, (&grain, w), &contact, &mut spring);
+            let mut roll = if L::ROLLING_HISTORY {
+                rolling.get(i, w)
+            } else {
+                D::zero()
+            };
+            let springs = (&mut spring, &mut roll);
+            let (f, t) = push(wall_law, step, (&grain, wall, w), &contact, springs);
             kept.keep(i, w, spring);
+            if L::ROLLING_HISTORY {
+                rolling_kept.keep(i, w, roll);
+            }
             force[k] += f;
             if rotation {
                 torque[k] -= t;
@@ -220,7 +243,32 @@ fn wall_contacts<D: Dim, L: ContactModel>(
         stats: s,
         kept,
         mesh_kept: mesh.kept,
+        rolling_kept,
         loads: mesh.loads,
+    }
+}
+
+/// [`wall_contacts`] for a material law with its rolling resistance
+/// compiled in.
+struct WallRun<'a, 'b, D: Dim> {
+    input: &'a FieldInput<'a, D>,
+    g: &'a GrainView<'a, D>,
+    springs_in: &'a WallSprings<D>,
+    first: usize,
+    sums: (&'b mut [D::V], &'b mut [D::A]),
+}
+
+impl<D: Dim> RunLaw<FieldPart<D>> for WallRun<'_, '_, D> {
+    fn run<L: ContactModel>(self, law: &L) -> FieldPart<D> {
+        let laws = (law, law);
+        wall_contacts(
+            laws,
+            self.input,
+            self.g,
+            self.springs_in,
+            self.first,
+            self.sums,
+        )
     }
 }
 
@@ -248,9 +296,9 @@ struct MeshPass<'a, D: Dim> {
 fn push<D: Dim, L: ContactModel>(
     law: &L,
     step: Step,
-    (g, wall): (&Grain<D>, usize),
+    (g, placed, wall): (&Grain<D>, &PlacedWall<D>, usize),
     contact: &WallContact<D>,
-    spring: &mut D::V,
+    (spring, rolling): (&mut D::V, &mut D::V),
 ) -> (D::V, D::A) {
     let rotation = law.rotation();
     let mut v_rel = g.vel - contact.velocity;
@@ -266,15 +314,23 @@ fn push<D: Dim, L: ContactModel>(
         mj: f64::INFINITY,
         ri: g.radius,
         rj: f64::INFINITY,
+        omega_rel: if L::ROLLING {
+            g.omega - placed.spin()
+        } else {
+            D::A::default()
+        },
         pair: law.wall_pair_index(g.kind, wall),
     };
     let out = law.evaluate(&c, spring, step);
     let fi = law.force_factor(g.mass);
-    let torque = if rotation {
+    let mut torque = if rotation {
         D::torque(contact.normal, out.tangential) * (g.radius * fi)
     } else {
         D::A::default()
     };
+    if L::ROLLING {
+        torque -= law.rolling(&c, &out, rolling, step);
+    }
     (out.force * fi, torque)
 }
 
@@ -306,12 +362,17 @@ fn near_walls<D: Dim>(walls: &[PlacedWall<D>], pos: &[D::V], radius: &[f64]) -> 
 /// statistics.
 pub fn finish_fields<D: Dim>(
     parts: Vec<FieldPart<D>>,
-    (wall_springs, mesh_springs): (&mut WallSprings<D>, &mut WallSprings<D, MeshKey>),
+    (wall_springs, mesh_springs, wall_rolling): (
+        &mut WallSprings<D>,
+        &mut WallSprings<D, MeshKey>,
+        &mut WallSprings<D>,
+    ),
     loads: &mut Vec<WallLoad>,
     stats: &mut MdStats,
 ) {
     let mut part_stats = Vec::with_capacity(parts.len());
     let mut mesh_kept = Vec::new();
+    let mut rolling_kept = Vec::new();
     // Summed part by part in grain order: the same bits on any threads.
     loads.clear();
     wall_springs.assemble(parts.into_iter().map(|part| {
@@ -324,9 +385,11 @@ pub fn finish_fields<D: Dim>(
             sum.moment += l.moment;
         }
         mesh_kept.push(part.mesh_kept);
+        rolling_kept.push(part.rolling_kept);
         part.kept
     }));
     mesh_springs.assemble(mesh_kept);
+    wall_rolling.assemble(rolling_kept);
     for s in &part_stats {
         stats.contacts += s.contacts;
         stats.max_overlap = stats.max_overlap.max(s.max_overlap);

@@ -30,6 +30,7 @@ mod wall_springs;
 
 use crate::boundary::Wall;
 use crate::contact::binary::BinaryContact;
+use crate::contact::rolling::RollingModel;
 use crate::contact::ContactLaw;
 use crate::dim::Dim;
 use crate::domain::Domain;
@@ -119,6 +120,11 @@ pub struct Md<D: Dim> {
     wall_springs: WallSprings<D>,
     /// Those of mesh walls, one per grain, wall and flat patch.
     mesh_springs: WallSprings<D, MeshKey>,
+    /// Rolling springs of the listed pairs, aligned like `springs`, and of
+    /// the grain–wall contacts; empty unless the rolling resistance keeps
+    /// them (`contact.rolling = "epsd"`).
+    rolling: Vec<D::V>,
+    wall_rolling: WallSprings<D>,
     /// What the grains put on each wall at the last force evaluation
     /// (empty unless a wall is a mesh), and its time.
     wall_loads: (Vec<WallLoad>, f64),
@@ -167,6 +173,8 @@ impl<D: Dim> Md<D> {
             springs: Vec::new(),
             wall_springs: WallSprings::default(),
             mesh_springs: WallSprings::default(),
+            rolling: Vec::new(),
+            wall_rolling: WallSprings::default(),
             wall_loads: (Vec::new(), 0.0),
             blocks: PairBlocks::default(),
             deferred: Deferred::default(),
@@ -198,6 +206,12 @@ impl<D: Dim> Md<D> {
             list: self.neighbors.export_state(),
             springs: self.springs.clone(),
             wall_springs: self.wall_springs.to_dense(p.len(), self.walls.len().max(1)),
+            rolling: self.rolling.clone(),
+            wall_rolling: if self.rolling_history() {
+                self.wall_rolling.to_dense(p.len(), self.walls.len().max(1))
+            } else {
+                Vec::new()
+            },
             rebuilds_since_sort: self.rebuilds_since_sort,
             contacts: self.stats.contacts as u64,
             max_overlap: self.stats.max_overlap,
@@ -278,6 +292,18 @@ impl<D: Dim> Md<D> {
                 n * nw
             ));
         }
+        let history = self.rolling_history();
+        let want = |len: usize| if history { len } else { 0 };
+        if s.rolling.len() != want(s.list.pairs.len()) || s.wall_rolling.len() != want(n * nw) {
+            return bad(format!(
+                "{} pair and {} wall rolling springs, but contact.rolling = \"{}\" keeps {} and {}",
+                s.rolling.len(),
+                s.wall_rolling.len(),
+                self.rolling_model().name(),
+                want(s.list.pairs.len()),
+                want(n * nw)
+            ));
+        }
         let mut list = self.neighbors.clone();
         list.import_state(s.list, n)
             .map_err(|e| Error::input(format!("checkpoint state: {e}")))?;
@@ -287,6 +313,8 @@ impl<D: Dim> Md<D> {
         self.step = s.step;
         self.springs = s.springs;
         self.wall_springs = WallSprings::from_dense(&s.wall_springs, nw);
+        self.rolling = s.rolling;
+        self.wall_rolling = WallSprings::from_dense(&s.wall_rolling, nw);
         self.rebuilds_since_sort = s.rebuilds_since_sort;
         self.stats = MdStats {
             contacts: s.contacts as usize,
@@ -504,6 +532,7 @@ impl<D: Dim> Md<D> {
             .with_min_len(crate::parallel::min_len(1))
             .for_each(|x| *x = domain.wrap(*x));
         let saved = self.save_springs();
+        let saved_rolling = self.save_rolling();
         let sort_every = self.settings.sort_every;
         if sort_every > 0 && self.rebuilds_since_sort.is_multiple_of(sort_every) {
             let cell = 2.0 * self.particles.max_radius() + self.settings.skin;
@@ -511,6 +540,7 @@ impl<D: Dim> Md<D> {
             self.particles.permute(&order);
             self.wall_springs.permute(&order);
             self.mesh_springs.permute(&order);
+            self.wall_rolling.permute(&order);
         }
         self.rebuilds_since_sort = self.rebuilds_since_sort.wrapping_add(1);
         let p = &self.particles;
@@ -518,18 +548,59 @@ impl<D: Dim> Md<D> {
             .build(&p.pos, &p.radius, &p.frozen, &self.domain)?;
         self.blocks = PairBlocks::build(&self.neighbors.pairs, p.len());
         self.restore_springs(saved);
+        self.restore_rolling(saved_rolling);
         Ok(())
+    }
+
+    /// The rolling resistance of the contact law.
+    fn rolling_model(&self) -> RollingModel {
+        self.settings
+            .materials
+            .as_ref()
+            .map_or(RollingModel::None, |h| h.rolling)
+    }
+
+    /// Whether contacts keep rolling springs.
+    pub(crate) fn rolling_history(&self) -> bool {
+        self.rolling_model().has_history()
+    }
+
+    /// Drops every rolling spring (a test's way of showing they matter).
+    #[cfg(test)]
+    pub(crate) fn forget_rolling_springs(&mut self) {
+        self.rolling.iter_mut().for_each(|s| *s = D::zero());
+        self.wall_rolling = WallSprings::default();
     }
 
     /// The stretched springs, keyed by the ids of their pair (smaller first)
     /// and oriented as the displacement of the smaller id.
     fn save_springs(&self) -> HashMap<(u64, u64), D::V, PairHash> {
+        self.save_keyed(&self.springs)
+    }
+
+    /// The stretched rolling springs, as [`Md::save_springs`] keys them.
+    fn save_rolling(&self) -> HashMap<(u64, u64), D::V, PairHash> {
+        self.save_keyed(&self.rolling)
+    }
+
+    /// Puts the rolling springs back after a rebuild (none unless the law
+    /// keeps them).
+    fn restore_rolling(&mut self, saved: HashMap<(u64, u64), D::V, PairHash>) {
+        let mut rolling = std::mem::take(&mut self.rolling);
+        if self.rolling_history() {
+            self.restore_keyed(saved, &mut rolling);
+        }
+        self.rolling = rolling;
+    }
+
+    /// `springs` (aligned with the pair list) keyed by pair ids.
+    fn save_keyed(&self, springs: &[D::V]) -> HashMap<(u64, u64), D::V, PairHash> {
         let id = &self.particles.id;
         let stretched: Vec<((u64, u64), D::V)> = self
             .neighbors
             .pairs
             .par_iter()
-            .zip(self.springs.par_iter())
+            .zip(springs.par_iter())
             .with_min_len(crate::parallel::min_len(1))
             .filter(|(_, &s)| s != D::zero())
             .map(|(&[i, j], &s)| {
@@ -547,13 +618,20 @@ impl<D: Dim> Md<D> {
     }
 
     fn restore_springs(&mut self, saved: HashMap<(u64, u64), D::V, PairHash>) {
-        self.springs.clear();
-        self.springs.resize(self.neighbors.pairs.len(), D::zero());
+        let mut springs = std::mem::take(&mut self.springs);
+        self.restore_keyed(saved, &mut springs);
+        self.springs = springs;
+    }
+
+    /// `springs` aligned with the pair list again, from `saved`.
+    fn restore_keyed(&self, saved: HashMap<(u64, u64), D::V, PairHash>, springs: &mut Vec<D::V>) {
+        springs.clear();
+        springs.resize(self.neighbors.pairs.len(), D::zero());
         if saved.is_empty() {
             return;
         }
         let id = &self.particles.id;
-        self.springs
+        springs
             .par_iter_mut()
             .zip(self.neighbors.pairs.par_iter())
             .with_min_len(crate::parallel::min_len(1))
@@ -595,17 +673,22 @@ impl<D: Dim> Md<D> {
             dt: s.dt,
             update: update_history,
             mesh_springs: &self.mesh_springs,
+            wall_rolling: &self.wall_rolling,
         };
         // Walls and gravity are added block by block after the contacts.
         let (parts, fields_start) = pair_forces(
             &pairs,
             &mut self.particles,
-            &mut self.springs,
+            (&mut self.springs, &mut self.rolling),
             &mut self.deferred,
             (&mut self.stats, &mut self.timing.contacts),
             (&fields, &self.wall_springs),
         );
-        let springs = (&mut self.wall_springs, &mut self.mesh_springs);
+        let springs = (
+            &mut self.wall_springs,
+            &mut self.mesh_springs,
+            &mut self.wall_rolling,
+        );
         finish_fields(parts, springs, &mut self.wall_loads.0, &mut self.stats);
         self.wall_loads.1 = self.time;
         add_since(&mut self.timing.fields, fields_start);

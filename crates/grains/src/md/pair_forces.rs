@@ -144,6 +144,9 @@ struct Block<'a, D: Dim> {
     force: &'a mut [D::V],
     torque: &'a mut [D::A],
     springs: &'a mut [D::V],
+    /// The rolling springs, aligned with `springs` (empty unless the law
+    /// keeps them).
+    rolling: &'a mut [D::V],
     pairs: std::ops::Range<usize>,
     outbox: &'a mut [Vec<Share<D>>],
     /// The pairs in contact: now, and at the previous evaluation when
@@ -173,7 +176,7 @@ fn split_ranges<T>(mut v: &mut [T], lengths: impl Iterator<Item = usize>) -> Vec
 pub fn pair_forces<D: Dim>(
     input: &PairInput<D>,
     p: &mut Particles<D>,
-    springs: &mut [D::V],
+    (springs, rolling): (&mut [D::V], &mut [D::V]),
     deferred: &mut Deferred<D>,
     (stats, contacts_time): (&mut MdStats, &mut Duration),
     fields: (&FieldInput<D>, &WallSprings<D>),
@@ -206,21 +209,26 @@ pub fn pair_forces<D: Dim>(
     let pair_lens = (0..nb).map(|b| blocks.pair_start[b + 1] - blocks.pair_start[b]);
     let forces = split_ranges(&mut p.force, grain_lens.clone());
     let torques = split_ranges(&mut p.torque, grain_lens);
-    let spring_parts = split_ranges(springs, pair_lens);
+    let spring_parts = split_ranges(springs, pair_lens.clone());
+    // No rolling springs: an empty slice for every block.
+    let has_rolling = !rolling.is_empty();
+    let rolling_lens = pair_lens.map(|l| if has_rolling { l } else { 0 });
+    let rolling_parts = split_ranges(rolling, rolling_lens);
     let scratch = deferred.contacts.iter_mut();
     let mut tasks: Vec<Block<D>> = forces
         .into_iter()
         .zip(torques)
-        .zip(spring_parts)
+        .zip(spring_parts.into_iter().zip(rolling_parts))
         .zip(deferred.outbox.iter_mut())
         .zip(scratch)
         .enumerate()
         .map(
-            |(b, ((((force, torque), springs), outbox), contacts))| Block {
+            |(b, ((((force, torque), (springs, rolling)), outbox), contacts))| Block {
                 first: (blocks.block * b).min(n),
                 force,
                 torque,
                 springs,
+                rolling,
                 pairs: blocks.pair_start[b]..blocks.pair_start[b + 1],
                 outbox,
                 contacts,
@@ -249,7 +257,11 @@ pub fn pair_forces<D: Dim>(
         .map(|t| {
             // The LAMMPS-shaped law gets its own compiled loop.
             let mut s = match (input.hertz, hooke) {
-                (Some(law), _) => kernels::run_block(law, input, &grains, t),
+                (Some(law), _) => law.with_rolling(kernels::BlockRun {
+                    input,
+                    grains: &grains,
+                    block: t,
+                }),
                 (None, Some(h)) => kernels::run_block(&h, input, &grains, t),
                 (None, None) => kernels::run_block(input.law, input, &grains, t),
             };

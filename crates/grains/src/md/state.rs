@@ -21,6 +21,10 @@ pub struct MdState<D: Dim> {
     pub springs: Vec<D::V>,
     /// Grain–wall springs, `walls.max(1)` per grain in store order.
     pub wall_springs: Vec<D::V>,
+    /// Rolling springs aligned with `list.pairs`, and the grain–wall ones
+    /// laid out as `wall_springs`; both empty unless the law keeps them.
+    pub rolling: Vec<D::V>,
+    pub wall_rolling: Vec<D::V>,
     pub rebuilds_since_sort: u32,
     /// Statistics of the last force evaluation (reported in thermo rows).
     pub contacts: u64,

@@ -5,9 +5,10 @@
 //! Grains are matched to materials by kind (the LAMMPS type): every grain of
 //! one kind has one material, as in LAMMPS's `pair_coeff` per type pair.
 
-use super::schema::{ContactModelKind, ContactSpec, GrainSpec, Scenario};
+use super::schema::{ContactModelKind, ContactSpec, GrainSpec, Scenario, ShapeSpec};
 use crate::contact::hertz_mindlin::HertzMindlin;
 use crate::contact::material::{Material, PairCoefficients, PairOverride};
+use crate::contact::rolling::RollingModel;
 use crate::contact::{ContactLaw, MassScaling};
 use crate::error::{Error, Result};
 use std::collections::BTreeMap;
@@ -92,6 +93,7 @@ fn find(materials: &[Material], name: &str, key: &str) -> Result<usize> {
 /// The `material` keys used without `contact.model = "hertz-mindlin"`, or
 /// the coefficient keys used with it: both are mistakes.
 pub fn check_contact_keys(s: &Scenario) -> Result<()> {
+    check_rolling(s)?;
     if !uses_materials(s) {
         let named = s.particles.material.is_some()
             || s.particles.add.iter().any(|a| a.material.is_some())
@@ -126,6 +128,43 @@ pub fn check_contact_keys(s: &Scenario) -> Result<()> {
         return Err(Error::input(
             "contact.model = \"hertz-mindlin\" needs at least one [[materials]] entry",
         ));
+    }
+    Ok(())
+}
+
+/// Rolling resistance needs the material law, rotation, and (with a
+/// rolling spring) walls that keep springs of their own.
+fn check_rolling(s: &Scenario) -> Result<()> {
+    let model = s.contact.rolling.unwrap_or_default();
+    if model == RollingModel::None {
+        return Ok(());
+    }
+    let name = model.name();
+    if !uses_materials(s) {
+        return Err(Error::input(format!(
+            "contact.rolling = \"{name}\" needs contact.model = \"hertz-mindlin\" (the \
+             [[materials]]' rolling_friction gives μ_r); allowed with the spring-dashpot law: \"none\""
+        )));
+    }
+    if s.contact.rotation == Some(false) {
+        return Err(Error::input(format!(
+            "contact.rolling = \"{name}\" with contact.rotation = false: rolling resistance is a \
+             torque; set contact.rotation = true or contact.rolling = \"none\""
+        )));
+    }
+    if model.has_history() {
+        if let Some((k, w)) = s
+            .walls
+            .iter()
+            .enumerate()
+            .find(|(_, w)| matches!(w.shape, ShapeSpec::Mesh { .. }))
+        {
+            return Err(Error::input(format!(
+                "contact.rolling = \"epsd\" with the mesh wall walls[{k}] (\"{}\"): mesh walls keep \
+                 no rolling springs yet; use contact.rolling = \"constant\" or \"none\"",
+                w.name
+            )));
+        }
     }
     Ok(())
 }
@@ -272,13 +311,9 @@ pub fn hertz_law(s: &Scenario, kinds: &[u32]) -> Result<Option<HertzMindlin>> {
         overrides.push(((a, b), over));
     }
     let rotation = s.contact.rotation.unwrap_or(true);
-    Ok(Some(HertzMindlin::new(
-        &all,
-        &overrides,
-        material_of_kind,
-        wall_material,
-        rotation,
-    )))
+    let mut law = HertzMindlin::new(&all, &overrides, material_of_kind, wall_material, rotation);
+    law.rolling = s.contact.rolling.unwrap_or_default();
+    Ok(Some(law))
 }
 
 /// A power-law stand-in for the time step and the run's summary: Hertz's
@@ -371,6 +406,21 @@ duration = 1.0e-4
         for w in words {
             assert!(e.contains(w), "{w:?} not in: {e}");
         }
+    }
+
+    #[test]
+    fn rolling_needs_rotation_and_the_material_law() {
+        build("", &["contact.rolling=\"epsd\""]).unwrap();
+        refused(
+            "",
+            &["contact.rolling=\"constant\"", "contact.rotation=false"],
+            &["contact.rolling", "contact.rotation"],
+        );
+        refused(
+            "",
+            &["contact.rolling=\"sticky\""],
+            &["rolling", "none", "constant", "epsd"],
+        );
     }
 
     #[test]

@@ -222,6 +222,9 @@ pub struct ContactSpec {
     pub mu: Option<f64>,
     pub scaling: Option<MassScaling>,
     pub rotation: Option<bool>,
+    /// Rolling resistance ("none", "constant", "epsd"; hertz-mindlin only,
+    /// needs rotation; `contact::rolling`).
+    pub rolling: Option<crate::contact::rolling::RollingModel>,
     /// Names of walls whose contacts have no normal damping (γ_n = 0, the
     /// grains' γ_t kept): elastic side walls beside a dissipative bulk.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

@@ -118,6 +118,13 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
                 w.name
             )));
         }
+        if full.rolling_history() && comm.size() > 1 {
+            // Rolling springs do not migrate between ranks.
+            return Err(Error::input(
+                "contact.rolling = \"epsd\" does not run over several ranks yet; run on one \
+                 process (--threads N) or use contact.rolling = \"constant\"",
+            ));
+        }
         let global = full.domain.clone();
         let reach = 2.0 * full.particles.max_radius() + full.settings.skin;
         let n = full.particles.n_owned();

@@ -5,6 +5,7 @@
 
 use super::super::field_forces::GrainView;
 use super::{Block, BlockContacts, BlockStats, PairInput, Share};
+use crate::contact::hertz_mindlin::RunLaw;
 use crate::contact::lanes::{evaluate_lanes, ContactLanes, LANES};
 use crate::contact::{Contact, ContactModel, Step};
 use crate::dim::Dim;
@@ -83,22 +84,9 @@ pub(super) fn run_block<D: Dim, L: ContactModel>(
     // Contacts that opened drop their spring: the bits set in the previous
     // word and clear in this one. After a rebuild, every stretched spring
     // outside the contacts is dropped instead.
-    if t.was_valid {
-        for (w, (&now, &was)) in words.iter().zip(was_words.iter()).enumerate() {
-            let mut opened = was & !now;
-            while opened != 0 {
-                t.springs[64 * w + opened.trailing_zeros() as usize] = D::zero();
-                opened &= opened - 1;
-            }
-        }
-    } else {
-        for (&now, springs) in words.iter().zip(t.springs.chunks_mut(64)) {
-            for (b, spring) in springs.iter_mut().enumerate() {
-                if (now >> b) & 1 == 0 && *spring != D::zero() {
-                    *spring = D::zero();
-                }
-            }
-        }
+    drop_opened(t.springs, words, was_words, t.was_valid);
+    if L::ROLLING_HISTORY {
+        drop_opened(t.rolling, words, was_words, t.was_valid);
     }
     for out in t.outbox.iter_mut() {
         out.clear();
@@ -120,12 +108,56 @@ pub(super) fn run_block<D: Dim, L: ContactModel>(
         rotation,
         stats: BlockStats::default(),
     };
+    let springs = (&mut *t.springs, &mut *t.rolling);
     if L::LANES {
-        contacts_in_lanes(law, input, g, &ctx, t.springs, dep);
+        contacts_in_lanes(law, input, g, &ctx, springs, dep);
     } else {
-        contacts_one_by_one(law, input, g, &ctx, t.springs, dep);
+        contacts_one_by_one(law, input, g, &ctx, springs, dep);
     }
     dep.stats
+}
+
+/// [`run_block`] for a law chosen at run time
+/// ([`crate::contact::hertz_mindlin::HertzMindlin::with_rolling`]).
+pub(super) struct BlockRun<'a, 'b, D: Dim> {
+    pub input: &'a PairInput<'a, D>,
+    pub grains: &'a GrainView<'a, D>,
+    pub block: &'a mut Block<'b, D>,
+}
+
+impl<D: Dim> RunLaw<BlockStats> for BlockRun<'_, '_, D> {
+    #[inline(always)]
+    fn run<L: ContactModel>(self, law: &L) -> BlockStats {
+        run_block(law, self.input, self.grains, self.block)
+    }
+}
+
+/// Contacts that opened drop their spring: the bits set in the previous
+/// word and clear in this one. After a rebuild (`was_valid` false), every
+/// stretched spring outside the contacts is dropped instead.
+fn drop_opened<V: Copy + PartialEq + Default>(
+    springs: &mut [V],
+    words: &[u64],
+    was_words: &[u64],
+    was_valid: bool,
+) {
+    if was_valid {
+        for (w, (&now, &was)) in words.iter().zip(was_words.iter()).enumerate() {
+            let mut opened = was & !now;
+            while opened != 0 {
+                springs[64 * w + opened.trailing_zeros() as usize] = V::default();
+                opened &= opened - 1;
+            }
+        }
+    } else {
+        for (&now, springs) in words.iter().zip(springs.chunks_mut(64)) {
+            for (b, spring) in springs.iter_mut().enumerate() {
+                if (now >> b) & 1 == 0 && *spring != V::default() {
+                    *spring = V::default();
+                }
+            }
+        }
+    }
 }
 
 /// What the second pass reads about the block's pairs.
@@ -204,7 +236,7 @@ fn contacts_one_by_one<D: Dim, L: ContactModel>(
     input: &PairInput<D>,
     g: &GrainView<D>,
     c: &Pass2<D>,
-    springs: &mut [D::V],
+    (springs, rolling): (&mut [D::V], &mut [D::V]),
     dep: &mut Deposit<D>,
 ) {
     let rotation = law.rotation();
@@ -236,6 +268,11 @@ fn contacts_one_by_one<D: Dim, L: ContactModel>(
             mj: effective_mass(g, j),
             ri,
             rj,
+            omega_rel: if L::ROLLING {
+                at(g.omega, i) - at(g.omega, j)
+            } else {
+                D::A::default()
+            },
             pair: law.pair_index(at(g.kind, i), at(g.kind, j)),
         };
         let out = law.evaluate(&contact, &mut springs[k], step);
@@ -247,13 +284,21 @@ fn contacts_one_by_one<D: Dim, L: ContactModel>(
         } else {
             D::A::default()
         };
-        dep.add(
-            [i, j],
-            out.force * fi,
-            -(out.force * fj),
-            nt * (ri * fi),
-            nt * (rj * fj),
-        );
+        let (mut ti, mut tj) = (nt * (ri * fi), nt * (rj * fj));
+        if L::ROLLING {
+            // The rolling torque T on i, −T on j (a law with rolling has
+            // no mass factor).
+            let mut none = D::zero();
+            let spring = if L::ROLLING_HISTORY {
+                &mut rolling[k]
+            } else {
+                &mut none
+            };
+            let t = law.rolling(&contact, &out, spring, step);
+            ti -= t;
+            tj += t;
+        }
+        dep.add([i, j], out.force * fi, -(out.force * fj), ti, tj);
         dep.count([i, j], overlap, ri, rj);
     }
 }
@@ -276,7 +321,7 @@ fn contacts_in_lanes<D: Dim, L: ContactModel>(
     input: &PairInput<D>,
     g: &GrainView<D>,
     c: &Pass2<D>,
-    springs: &mut [D::V],
+    (springs, rolling): (&mut [D::V], &mut [D::V]),
     dep: &mut Deposit<D>,
 ) {
     let lanes = &mut ContactLanes::default();
@@ -289,6 +334,7 @@ fn contacts_in_lanes<D: Dim, L: ContactModel>(
     // checked once against it, not once per array. Lanes are counted up
     // to LANES so that the rows need no check either.
     assert!(c.pairs.len() == springs.len() && c.images.len() == springs.len());
+    assert!(!L::ROLLING_HISTORY || rolling.len() == springs.len());
     for batch in c.touching.chunks(LANES) {
         for (l, &k) in (0..LANES).zip(batch) {
             let k = k as usize;
@@ -310,6 +356,18 @@ fn contacts_in_lanes<D: Dim, L: ContactModel>(
             for (a, w) in spin.into_iter().enumerate() {
                 lanes.spin[a][l] = w;
             }
+            if L::ROLLING {
+                let w = D::ang_to_xyz(at(g.omega, i) - at(g.omega, j));
+                for (a, w) in w.into_iter().enumerate() {
+                    lanes.omega_rel[a][l] = w;
+                }
+            }
+            if L::ROLLING_HISTORY {
+                let r = rolling[k];
+                for a in 0..D::D {
+                    lanes.rolling[a][l] = D::get(r, a);
+                }
+            }
             lanes.ri[l] = ri;
             lanes.rj[l] = rj;
             lanes.mi[l] = effective_mass(g, i);
@@ -322,6 +380,9 @@ fn contacts_in_lanes<D: Dim, L: ContactModel>(
             let row = |r: &[[f64; LANES]; 3]| D::from_xyz([r[0][l], r[1][l], r[2][l]]);
             let ang = |r: &[[f64; LANES]; 3]| D::ang_from_xyz([r[0][l], r[1][l], r[2][l]]);
             springs[k] = row(&lanes.spring);
+            if L::ROLLING_HISTORY {
+                rolling[k] = row(&lanes.rolling);
+            }
             let force = row(&lanes.force);
             let pair = c.pairs[k];
             dep.add(
