@@ -25,10 +25,10 @@ use std::time::Instant;
 #[derive(Args)]
 pub struct BenchArgs {
     /// chute, vib2d, bed3d, gas2d or gas3d.
-    workload: String,
+    pub(crate) workload: String,
     /// Steps to time [default: chute 1000, vib2d 10000, bed3d 1000, gas 300].
     #[arg(long)]
-    steps: Option<u64>,
+    pub(crate) steps: Option<u64>,
     /// Untimed steps of the gas workloads before the timed ones [default:
     /// 30, as SPARTA's input].
     #[arg(long)]
@@ -41,10 +41,18 @@ pub struct BenchArgs {
     integrator: Option<String>,
     /// Grains in the synthetic workloads [default: bed3d 20000, gas 1000000].
     #[arg(long)]
-    particles: Option<usize>,
+    pub(crate) particles: Option<usize>,
     /// One JSON line instead of text.
     #[arg(long)]
-    json: bool,
+    pub(crate) json: bool,
+    /// cpu, gpu (the CUDA engine, feature cuda) or mirror (the GPU
+    /// pipeline as CPU loops) [default: cpu]; chute and bed3d only.
+    #[arg(long, value_parser = ["cpu", "gpu", "mirror"])]
+    pub(crate) device: Option<String>,
+    /// With --device gpu: also run the mirror and compare every grain's
+    /// bits with the GPU's.
+    #[arg(long)]
+    pub(crate) verify: bool,
 }
 
 /// Finds `scenarios/<file>` from the working directory or the source tree.
@@ -194,6 +202,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     let (loaded, default_steps) = md_workload(&args)?;
     let steps = args.steps.unwrap_or(default_steps);
+    match args.device.as_deref() {
+        Some("gpu") | Some("mirror") => return crate::bench_gpu::run(&args, &loaded, steps),
+        _ if args.verify => return Err(Error::input("--verify goes with --device gpu")),
+        _ => {}
+    }
     let (particles, integrator, narrow, (wall, cpu, timing)) =
         if loaded.scenario.dimension.axes() == 2 {
             let (mut md, _) = build_md::<D2>(&loaded)?;

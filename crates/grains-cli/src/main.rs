@@ -3,6 +3,7 @@
 //! 1 anything else.
 
 mod bench;
+mod bench_gpu;
 mod launch;
 mod movie;
 mod progress;

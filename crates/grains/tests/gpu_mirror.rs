@@ -222,3 +222,37 @@ fn refuses_what_it_does_not_run() {
     let e = Mirror::from_md(&md).unwrap_err().to_string();
     assert!(e.contains("wall 'post' (shape obstacle)"), "{e}");
 }
+
+/// `run.device = "gpu"` is refused before the run: naming the feature in a
+/// build without it, naming what the GPU engine does not run with it.
+#[test]
+fn scenario_device_gpu_is_refused_by_name() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/bench-chute.toml");
+    let sets = ["run.device=gpu".to_string()];
+    let loaded = load_file(&path, &sets).unwrap();
+    let e = grains::gpu::check_scenario_device(&loaded)
+        .unwrap_err()
+        .to_string();
+    if cfg!(feature = "cuda") {
+        assert!(e.contains("not wired"), "{e}");
+        let sets = [
+            "run.device=gpu".to_string(),
+            "run.integrator=gear5".to_string(),
+        ];
+        let loaded = load_file(&path, &sets).unwrap();
+        let e = grains::gpu::check_scenario_device(&loaded)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("run.integrator = \"gear5\""), "{e}");
+    } else {
+        assert!(e.contains("--features cuda"), "{e}");
+    }
+    let plain = load_file(&path, &[]).unwrap();
+    assert!(grains::gpu::check_scenario_device(&plain).is_ok());
+    let bad = load_file(&path, &["run.device=tpu".to_string()]);
+    let e = match bad {
+        Ok(_) => panic!("device tpu accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert!(e.contains("gpu"), "{e}");
+}

@@ -194,6 +194,48 @@ pub struct Cuda {
     identity: CudaSlice<u32>,
 }
 
+/// Loads one PTX file. NVRTC 13.5 writes PTX ISA 9.5, which a driver older
+/// than CUDA 13.5 refuses; the kernels use nothing newer than ISA 8.0
+/// (CUDA 12.0), so on refusal the file is loaded again with its `.version`
+/// lowered to what the driver reads (8.0 for 12.x, 9.0 for 13.x), with a
+/// note on stderr.
+fn load_ptx(
+    ctx: &Arc<CudaContext>,
+    name: &str,
+    ptx: &str,
+) -> Result<Arc<cudarc::driver::CudaModule>> {
+    let first = match ctx.load_module(Ptx::from_src(ptx)) {
+        Ok(m) => return Ok(m),
+        Err(e) => e,
+    };
+    let mut driver = 0;
+    // SAFETY: writes one int; the driver library is loaded (the context exists).
+    unsafe { cudarc::driver::sys::cuDriverGetVersion(&mut driver) };
+    let isa = if driver >= 13000 { "9.0" } else { "8.0" };
+    let lowered: String = ptx
+        .lines()
+        .map(|l| {
+            if l.starts_with(".version ") {
+                format!(".version {isa}\n")
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    eprintln!(
+        "grains: {name}.ptx refused by driver {driver} ({first:?}); loading it as PTX ISA {isa}"
+    );
+    ctx.load_module(Ptx::from_src(lowered)).map_err(|e| {
+        gpu_err(
+            &format!(
+                "loading {name}.ptx (driver {driver}; also as PTX ISA {isa}): rebuild the PTX \
+                 with an NVRTC no newer than the driver (tools/make_ptx.py)"
+            ),
+            e,
+        )
+    })
+}
+
 fn cfg(n: usize, threads: u32) -> LaunchConfig {
     LaunchConfig {
         grid_dim: ((n as u32).div_ceil(threads).max(1), 1, 1),
@@ -218,10 +260,7 @@ impl Cuda {
         let stream = ctx.default_stream();
         let mut modules = Vec::new();
         for (name, ptx) in PTX {
-            let module = ctx
-                .load_module(Ptx::from_src(ptx))
-                .map_err(|e| gpu_err(&format!("loading {name}.ptx (driver too old?)"), e))?;
-            modules.push(module);
+            modules.push(load_ptx(&ctx, name, ptx)?);
         }
         let f = |m: usize, name: &str| {
             modules[m]

@@ -214,6 +214,30 @@ impl Mirror {
         self.id.len()
     }
 
+    /// How many grains differ from `other`'s in identity (order), position,
+    /// velocity or spin bits, and whether the lists and springs differ.
+    pub fn differences(&self, other: &Mirror) -> (usize, bool) {
+        let grains = (0..self.len().max(other.len()))
+            .filter(|&i| {
+                i >= self.len()
+                    || i >= other.len()
+                    || self.id[i] != other.id[i]
+                    || [
+                        (&self.pos, &other.pos),
+                        (&self.vel, &other.vel),
+                        (&self.omega, &other.omega),
+                    ]
+                    .iter()
+                    .any(|(a, b)| a.get(i).map(f64::to_bits) != b.get(i).map(f64::to_bits))
+            })
+            .count();
+        let bits = |s: &Soa3| {
+            [&s.x, &s.y, &s.z].map(|c| c.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+        };
+        let list = self.list != other.list || bits(&self.springs) != bits(&other.springs);
+        (grains, list)
+    }
+
     pub fn is_empty(&self) -> bool {
         self.id.is_empty()
     }

@@ -437,6 +437,19 @@ pub struct RunSpec {
     /// Run events: settle, then remove a wall or tilt gravity.
     #[serde(default)]
     pub events: Option<EventsSpec>,
+    /// Where the MD steps run: "cpu" (default) or "gpu" (docs/gpu.md).
+    #[serde(default)]
+    pub device: Device,
+}
+
+/// The processor an MD run steps on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Device {
+    #[default]
+    Cpu,
+    /// The CUDA engine (feature `cuda`).
+    Gpu,
 }
 
 fn default_safety() -> f64 {

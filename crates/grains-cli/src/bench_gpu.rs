@@ -1,0 +1,112 @@
+//! `grains bench chute|bed3d --device gpu|mirror`: the GPU pipeline timed
+//! on the CUDA engine (feature `cuda`) or on its CPU mirror, in
+//! particle-steps per second; `--verify` runs the mirror too and compares
+//! every grain's bits (docs/gpu.md).
+
+use crate::bench::BenchArgs;
+use grains::gpu::mirror::Mirror;
+use grains::scenario::{build_md, Loaded};
+use grains::{Error, Result, D3};
+use serde_json::json;
+use std::time::Instant;
+
+/// Wall seconds, device memory (used, total), whether the bits matched
+/// the mirror's (when checked).
+type Timed = (f64, Option<(usize, usize)>, Option<bool>);
+
+pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
+    let device = args.device.as_deref().unwrap_or("cpu");
+    if !matches!(args.workload.as_str(), "chute" | "bed3d") {
+        return Err(Error::input(format!(
+            "--device {device}: the GPU pipeline runs chute and bed3d, not {}",
+            args.workload
+        )));
+    }
+    if device == "gpu" && !cfg!(feature = "cuda") {
+        return Err(Error::input(grains::gpu::NO_FEATURE));
+    }
+    let setup = Instant::now();
+    let (md, _) = build_md::<D3>(loaded)?;
+    let mirror = Mirror::from_md(&md)?;
+    let mobile = md.particles.n_mobile();
+    drop(md);
+    let (wall, memory, verified) = if device == "mirror" {
+        let mut m = mirror;
+        let start = Instant::now();
+        m.advance(steps)?;
+        (start.elapsed().as_secs_f64(), None, None)
+    } else {
+        gpu(mirror, steps, args.verify)?
+    };
+    let setup = setup.elapsed().as_secs_f64() - wall;
+    let rate = steps as f64 * mobile.max(1) as f64 / wall;
+    let ns = 1e9 / rate;
+    if args.json {
+        println!(
+            "{}",
+            json!({
+                "workload": args.workload, "device": device, "particles": mobile,
+                "steps": steps, "wall_seconds": wall, "ns_per_particle_step": ns,
+                "particle_steps_per_second": rate, "setup_seconds": setup,
+                "device_memory_bytes": memory.map(|m: (usize, usize)| m.0),
+                "device_memory_total_bytes": memory.map(|m: (usize, usize)| m.1),
+                "same_bits_as_mirror": verified,
+            })
+        );
+    } else {
+        let mem = memory.map_or(String::new(), |(used, total)| {
+            format!(
+                ", device memory {:.1} of {:.1} GiB",
+                used as f64 / 1073741824.0,
+                total as f64 / 1073741824.0
+            )
+        });
+        let check = match verified {
+            Some(true) => ", same bits as the mirror",
+            Some(false) => ", BITS DIFFER from the mirror",
+            None => "",
+        };
+        println!(
+            "{}: {mobile} mobile particles, {steps} steps, device {device}: {wall:.3} s, {ns:.3} ns per particle-step ({rate:.3e} particle-steps/s){mem}{check}",
+            args.workload
+        );
+    }
+    if verified == Some(false) {
+        return Err(Error::input(
+            "--verify: the GPU's bits differ from the mirror's",
+        ));
+    }
+    Ok(())
+}
+
+/// Steps on the GPU: wall seconds, device memory (used, total), and with
+/// `verify` whether the mirror gives the same bits.
+#[cfg(feature = "cuda")]
+fn gpu(mirror: Mirror, steps: u64, verify: bool) -> Result<Timed> {
+    let reference = verify.then(|| mirror.clone());
+    let mut engine = grains::gpu::cuda::Cuda::new(mirror)?;
+    // One step first: the driver's JIT and first launches are not timed.
+    engine.advance(1)?;
+    let start = Instant::now();
+    engine.advance(steps)?;
+    let wall = start.elapsed().as_secs_f64();
+    let memory = engine.memory()?;
+    let verified = match reference {
+        Some(mut m) => {
+            m.advance(1)?;
+            m.advance(steps)?;
+            let (grains, list) = engine.host()?.differences(&m);
+            if grains > 0 || list {
+                eprintln!("grains: {grains} grains differ; lists or springs differ: {list}");
+            }
+            Some(grains == 0 && !list)
+        }
+        None => None,
+    };
+    Ok((wall, Some(memory), verified))
+}
+
+#[cfg(not(feature = "cuda"))]
+fn gpu(_: Mirror, _: u64, _: bool) -> Result<Timed> {
+    Err(Error::input(grains::gpu::NO_FEATURE))
+}
