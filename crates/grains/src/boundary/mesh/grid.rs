@@ -140,13 +140,16 @@ impl TriGrid {
     /// triangle listed in several cells is reported from the first cell of
     /// the overlap of its box with the query's, so no list of seen
     /// triangles is kept; and from the middle cell, which is read first
-    /// and whole (so at most twice: the caller must allow that).
+    /// and whole (so at most twice: the caller must allow that). In the
+    /// middle cell the triangles that `leads` picks (by group and box) come
+    /// first: a caller that can guess where its answer lies, and that skips
+    /// a group once answered, then reads the rest of the cell for little.
     #[inline]
     pub(crate) fn visit(
         &self,
-        lo: DVec3,
-        hi: DVec3,
+        (lo, hi): (DVec3, DVec3),
         skip: &mut Vec<u32>,
+        mut leads: impl FnMut(u32, (DVec3, DVec3)) -> bool,
         mut f: impl FnMut(usize, &mut Vec<u32>),
     ) {
         let (l, h) = self.range(lo, hi);
@@ -156,15 +159,19 @@ impl TriGrid {
         // at a corner shared by cells, rounding may put a triangle that
         // holds the middle in the cell below.
         let mid = self.cell_index(self.cell_of(0.5 * (lo + hi)));
-        self.visit_cell(mid, (lo, hi), skip, &mut f, false);
+        for lead in [true, false] {
+            self.visit_cell(mid, (lo, hi), skip, &mut f, |g, b| leads(g, b) == lead);
+        }
         for_cells(l, h, self.dims, |c| {
             if c != mid {
-                self.visit_cell(c, (lo, hi), skip, &mut f, true);
+                self.visit_cell(c, (lo, hi), skip, &mut f, |_, (tl, _)| {
+                    self.cell_index(self.cell_of(tl.max(lo))) == c
+                });
             }
         });
     }
 
-    /// [`Self::visit`] in cell `c` only.
+    /// [`Self::visit`] in cell `c` only, of the triangles `pick` takes.
     #[inline]
     fn visit_cell(
         &self,
@@ -172,7 +179,7 @@ impl TriGrid {
         (lo, hi): (DVec3, DVec3),
         skip: &mut Vec<u32>,
         f: &mut impl FnMut(usize, &mut Vec<u32>),
-        first_only: bool,
+        mut pick: impl FnMut(u32, (DVec3, DVec3)) -> bool,
     ) {
         if skip.contains(&self.cell_group[c]) {
             return;
@@ -183,7 +190,7 @@ impl TriGrid {
             if skip.contains(&group) || tl.cmpgt(hi).any() || th.cmplt(lo).any() {
                 continue;
             }
-            if !first_only || self.cell_index(self.cell_of(tl.max(lo))) == c {
+            if pick(group, (tl, th)) {
                 f(t as usize, skip);
             }
         }
@@ -223,7 +230,12 @@ mod tests {
         let grid = TriGrid::new(&boxes, &[0; 400], DVec3::ZERO, DVec3::new(20.0, 20.0, 0.0));
         let (qlo, qhi) = (DVec3::new(3.5, 7.2, -0.4), DVec3::new(6.1, 9.0, 0.4));
         let mut seen = Vec::new();
-        grid.visit(qlo, qhi, &mut Vec::new(), |t, _| seen.push(t));
+        grid.visit(
+            (qlo, qhi),
+            &mut Vec::new(),
+            |_, _| false,
+            |t, _| seen.push(t),
+        );
         seen.sort_unstable();
         seen.dedup();
         let mut want: Vec<usize> = (0..400)

@@ -139,6 +139,8 @@ struct Candidate {
     rank: u8,
     /// The feature's vertices (an edge's two, a corner's one twice).
     ends: [u32; 2],
+    /// The triangle it came from.
+    tri: u32,
     touch: Touch,
 }
 
@@ -313,15 +315,28 @@ impl Mesh {
         done.clear();
         let reach = DVec3::splat(r * (1.0 + 1e-9));
         // A patch met at its face is met at its nearest point (every point
-        // of it is in that plane): its other triangles are passed over.
-        self.grid.visit(p - reach, p + reach, done, |t, done| {
-            if let Some(c) = self.candidate(t, p, r) {
-                if c.rank == 0 {
-                    done.push(c.patch);
-                }
-                candidates.push(c);
+        // of it is in that plane): its other triangles are passed over. So
+        // the middle cell's triangles whose box holds the grain's foot on
+        // their patch's plane are read first: one of them is most often
+        // that face.
+        let mut foot = (u32::MAX, DVec3::ZERO);
+        let slack = DVec3::splat(1e-9 * r);
+        let leads = |patch: u32, (bl, bh): (DVec3, DVec3)| {
+            if foot.0 != patch {
+                let (point, n) = self.planes[patch as usize];
+                foot = (patch, p - n * (p - point).dot(n));
             }
-        });
+            foot.1.cmpge(bl - slack).all() && foot.1.cmple(bh + slack).all()
+        };
+        self.grid
+            .visit((p - reach, p + reach), done, leads, |t, done| {
+                if let Some(c) = self.candidate(t, p, r) {
+                    if c.rank == 0 {
+                        done.push(c.patch);
+                    }
+                    candidates.push(c);
+                }
+            });
         if candidates.is_empty() {
             return;
         }
@@ -332,9 +347,20 @@ impl Mesh {
                 .then(a.patch.cmp(&b.patch))
                 .then(a.ends.cmp(&b.ends))
         };
-        // Each patch's nearest, then the patches nearest first.
-        candidates.sort_unstable_by(|a, b| a.patch.cmp(&b.patch).then(order(a, b)));
+        // Each patch's contact: its face when one triangle is met at its
+        // face (whatever an edge of it gave, nearer by rounding or by the
+        // patch's slight bend), else its nearest edge or corner; the
+        // triangle's number settles ties, so that the order the triangles
+        // were read in never matters.
+        candidates.sort_unstable_by(|a, b| {
+            a.patch
+                .cmp(&b.patch)
+                .then((a.rank > 0).cmp(&(b.rank > 0)))
+                .then(order(a, b))
+                .then(a.tri.cmp(&b.tri))
+        });
         candidates.dedup_by_key(|c| c.patch);
+        // Then the patches nearest first.
         candidates.sort_unstable_by(order);
         for c in candidates.iter() {
             let shadowed = c.rank > 0
@@ -394,6 +420,7 @@ impl Mesh {
             dist: r - touch.overlap,
             rank,
             ends,
+            tri: t as u32,
             touch,
         })
     }

@@ -173,7 +173,8 @@ fn the_grid_finds_what_a_scan_of_all_triangles_finds() {
         let mut seen = Vec::new();
         let none = &mut Vec::new();
         let (lo, hi) = (p - DVec3::splat(r), p + DVec3::splat(r));
-        m.grid.visit(lo, hi, none, |t, _| seen.push(t));
+        m.grid
+            .visit((lo, hi), none, |_, _| false, |t, _| seen.push(t));
         seen.sort_unstable();
         seen.dedup();
         let all: Vec<usize> = (0..m.triangles())
@@ -182,5 +183,86 @@ fn the_grid_finds_what_a_scan_of_all_triangles_finds() {
         for t in &all {
             assert!(seen.binary_search(t).is_ok(), "triangle {t} missed");
         }
+    }
+}
+
+/// The contacts by the rule the module states, from a scan of every
+/// triangle: per patch its face when one triangle is met at its face, else
+/// its nearest edge or corner; then nearest first, less the edges and
+/// corners of patches already counted; in patch order.
+fn touches_by_scan(m: &Mesh, p: DVec3, r: f64) -> Vec<MeshTouch> {
+    let all: Vec<Candidate> = (0..m.triangles())
+        .filter_map(|t| m.candidate(t, p, r))
+        .collect();
+    let mut best: Vec<Candidate> = Vec::new();
+    for c in all {
+        let key = |c: &Candidate| (c.rank > 0, c.dist, c.rank, c.ends, c.tri);
+        match best.iter_mut().find(|b| b.patch == c.patch) {
+            Some(b) if key(&c).partial_cmp(&key(b)) == Some(std::cmp::Ordering::Less) => *b = c,
+            Some(_) => {}
+            None => best.push(c),
+        }
+    }
+    best.sort_by(|a, b| {
+        (a.dist, a.rank, a.patch, a.ends)
+            .partial_cmp(&(b.dist, b.rank, b.patch, b.ends))
+            .unwrap()
+    });
+    let mut out: Vec<MeshTouch> = Vec::new();
+    for c in best {
+        let on = |a: &MeshTouch| m.on_patch(c.ends[0], a.patch) && m.on_patch(c.ends[1], a.patch);
+        if c.rank == 0 || !out.iter().any(on) {
+            out.push(MeshTouch {
+                patch: c.patch,
+                touch: c.touch,
+            });
+        }
+    }
+    out.sort_by_key(|t| t.patch);
+    out
+}
+
+#[test]
+fn contacts_do_not_depend_on_the_order_triangles_are_read_in() {
+    // Half flat (one patch of 144 triangles), half bumpy (many patches).
+    let mut tris = flat_sheet(12, 1.0, 0.0);
+    let bump = |x: f64, y: f64| {
+        if x > 0.5 {
+            0.03 * ((7.0 * x).sin() - 3.5f64.sin()) * (1.0 + 0.5 * (5.0 * y).cos())
+        } else {
+            0.0
+        }
+    };
+    for t in &mut tris {
+        for v in t.iter_mut() {
+            v[2] = bump(v[0], v[1]);
+        }
+    }
+    let m = mesh(&tris);
+    assert!(m.patches() > 20, "{} patches", m.patches());
+    let mut rnd = stream(11);
+    let h = 1.0 / 12.0;
+    let bits = |v: &[MeshTouch]| -> Vec<(u32, [u64; 7])> {
+        v.iter()
+            .map(|t| {
+                let (n, q) = (t.touch.normal, t.touch.point);
+                let b = [t.touch.overlap, n.x, n.y, n.z, q.x, q.y, q.z].map(f64::to_bits);
+                (t.patch, b)
+            })
+            .collect()
+    };
+    for k in 0..3000 {
+        let mut p = DVec3::new(rnd(), rnd(), 0.08 * rnd() - 0.02);
+        // Every third point on a triangle's edge or corner in plan view,
+        // where the triangles that meet there tie.
+        if k % 3 == 0 {
+            p.x = (p.x / h).round() * h;
+        }
+        if k % 6 == 0 {
+            p.y = (p.y / h).round() * h;
+        }
+        let r = 0.02 + 0.1 * rnd();
+        let (got, want) = (touches(&m, p, r), touches_by_scan(&m, p, r));
+        assert_eq!(bits(&got), bits(&want), "at {p} with r = {r}");
     }
 }
