@@ -253,6 +253,12 @@ impl Cuda {
                 m.params.walls.len()
             )));
         }
+        // SAFETY: only tries to open the driver library.
+        if !unsafe { cudarc::driver::sys::is_culib_present() } {
+            return Err(Error::input(
+                "GPU engine: no CUDA driver (libcuda) on this machine",
+            ));
+        }
         let ctx = CudaContext::new(0).map_err(|e| gpu_err("no CUDA device", e))?;
         // One stream, launches in order: cudarc's per-buffer events would
         // only cost time.

@@ -438,7 +438,9 @@ pub struct RunSpec {
     #[serde(default)]
     pub events: Option<EventsSpec>,
     /// Where the MD steps run: "cpu" (default) or "gpu" (docs/gpu.md).
-    #[serde(default)]
+    /// Left out when written (checkpoints) if "cpu", so that files read as
+    /// they did before the key.
+    #[serde(default, skip_serializing_if = "Device::is_cpu")]
     pub device: Device,
 }
 
@@ -450,6 +452,12 @@ pub enum Device {
     Cpu,
     /// The CUDA engine (feature `cuda`).
     Gpu,
+}
+
+impl Device {
+    pub fn is_cpu(&self) -> bool {
+        *self == Device::Cpu
+    }
 }
 
 fn default_safety() -> f64 {
