@@ -284,6 +284,9 @@ impl Mirror {
             },
             springs,
             wall_springs,
+            // The mirror runs the Hooke law, which keeps no rolling springs.
+            rolling: Vec::new(),
+            wall_rolling: Vec::new(),
             rebuilds_since_sort: self.rebuilds_since_sort,
             contacts: self.stats.contacts,
             max_overlap: t.max_overlap,
