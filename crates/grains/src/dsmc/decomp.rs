@@ -174,7 +174,11 @@ impl<'c, D: GasDim> Decomposed<'c, D> {
             // Each cell lists its particles in serial order and the slabs
             // are runs of cells in rank order, so this is the serial
             // re-sort's slice.
-            gather_in_place(&mut self.sim.store.p, &mut self.sim.order);
+            gather_in_place(
+                &mut self.sim.store.p,
+                &mut self.sim.order,
+                &mut self.sim.aside,
+            );
             self.moved.clear();
             self.renumber();
             self.imbalance = self.measure_imbalance();

@@ -26,7 +26,7 @@ use super::collide::{collide_cell, CellState, GasDim, Selection, Tally};
 use super::dense::{Correction, DenseGas};
 pub use super::haff::haff_time;
 use super::rng::{StepStreams, Stream};
-use super::sort::{gather_in_place, sort_indices, CellGrid, RESORT_EVERY};
+use super::sort::{gather_in_place, sort_indices, Aside, CellGrid, RESORT_EVERY};
 use super::store::Particle;
 use super::store::{cross_section, Store};
 use super::stream::Flight;
@@ -91,6 +91,8 @@ pub struct Dsmc<D: GasDim> {
     /// First entry of each cell in `order` (length cells + 1).
     pub start: Vec<u32>,
     fill: Vec<u32>,
+    /// Scratch of the physical re-sorts.
+    pub(super) aside: Aside<Particle<D>>,
     pub cells: Vec<CellState>,
     selection: Selection,
     /// Candidates and collisions since the start.
@@ -153,6 +155,7 @@ impl<D: GasDim> Dsmc<D> {
             order: vec![0; n],
             start: vec![0; ncell + 1],
             fill: vec![0; ncell],
+            aside: Aside::default(),
             cells: vec![
                 CellState {
                     vmax: vmax0,
@@ -189,7 +192,7 @@ impl<D: GasDim> Dsmc<D> {
     /// Puts the records in cell order (keys follow), for locality.
     fn gather(&mut self) {
         sort_indices(&self.key, &mut self.start, &mut self.fill, &mut self.order);
-        gather_in_place(&mut self.store.p, &mut self.order);
+        gather_in_place(&mut self.store.p, &mut self.order, &mut self.aside);
         self.sort_now();
     }
 
@@ -234,7 +237,7 @@ impl<D: GasDim> Dsmc<D> {
         self.sort_cells();
         if self.resort_due() {
             // The keys are rewritten by streaming before they are read.
-            gather_in_place(&mut self.store.p, &mut self.order);
+            gather_in_place(&mut self.store.p, &mut self.order, &mut self.aside);
         }
         let t = self.collide_and_stream();
         self.time += self.settings.dt;
