@@ -290,7 +290,7 @@ fn run_ok(ranks: usize, scenario: &Path, steps: &str, name: &str, sets: &[&str])
     dir
 }
 
-/// The small silo of `grains/tests/distributed_md.rs` (150 grains over a
+/// The small silo of `grains/tests/parallel/distributed_md.rs` (150 grains over a
 /// wide outlet, recycled just below the floor) for 1000 steps on `ranks`.
 fn hopper(ranks: usize, extra: &[&str]) -> (PathBuf, Output) {
     let dir = scratch(&format!("hopper-{ranks}"));

@@ -6,7 +6,7 @@
 pub mod vtk;
 
 /// The `--set` overrides of the small silo of the library's thread-rank
-/// tests (`grains/tests/distributed_md.rs`: 150 grains over a wide outlet,
+/// tests (`grains/tests/parallel/distributed_md.rs`: 150 grains over a wide outlet,
 /// recycled just below the floor), then `extra`.
 pub fn small_hopper_sets<'a>(extra: &[&'a str]) -> Vec<&'a str> {
     let file = include_str!("../../../grains/tests/data/small-hopper.sets");

@@ -1,6 +1,6 @@
 //! Seed 002 Fig. 4 at reduced length: transport on a vibrating conveyor.
 
-mod common;
+use crate::common;
 
 use common::runs::{num, run_scenario};
 

@@ -2,7 +2,7 @@
 //! many triangles is a plane, a mesh box's corner is two planes, and
 //! grazing impacts on a mesh never gain energy.
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::DVec3;

@@ -1,7 +1,7 @@
 //! Coulomb friction on an incline, and walls behaving like a grain of
 //! diameter d0 at the contact point.
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::{DVec2, DVec3};

@@ -9,7 +9,7 @@
 //! energy to O((dt/t_c)²) over a contact entered between two steps: with
 //! t_c/dt = 200, 2.5e-5 (measured: 3e-7 head-on, 2e-6 grazing).
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::{DVec2, DVec3};

@@ -2,7 +2,7 @@
 //! straight run of many segments is a line, an L is two lines, and a convex
 //! corner pushes once.
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::{DVec2, DVec3};

@@ -5,7 +5,7 @@
 //! spread), not on one run; the spreads quoted are those of the 20-seed
 //! sweeps in docs/seed-figures.md (`tools/seed002_ensembles.sh`).
 
-mod common;
+use crate::common;
 
 use common::runs::{num, read_csv, run_scenario_kept};
 use grains::runner::{RunOptions, Silent};

@@ -208,7 +208,7 @@ fn fuzz_scenario_parser_and_set_paths() {
         .unwrap();
 }
 
-const DATA: &str = include_str!("data/small_sphere.data");
+const DATA: &str = include_str!("../data/small_sphere.data");
 
 const TOKENS: &[&str] = &[
     "0",

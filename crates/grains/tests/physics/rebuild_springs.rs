@@ -3,7 +3,7 @@
 //! periodic image, keep their spring (sign and length), checked against
 //! the spring integrated by hand along the known straight-line motion.
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::DVec2;

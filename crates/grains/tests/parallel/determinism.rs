@@ -1,6 +1,6 @@
 //! Same inputs → bitwise the same state.
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::DVec2;

@@ -16,7 +16,7 @@
 //! Speeds are high enough that grains cross slab boundaries and the
 //! neighbour list is rebuilt many times.
 
-mod common;
+use crate::common;
 
 use grains::comm::{Comm, ThreadComm};
 use grains::md::decomp::{index_by_id, DecomposedMd};
@@ -527,7 +527,7 @@ fn scenario_with(file: &str, sets: &[&str], extra: &[&str]) -> Loaded {
 /// grains leave and are recycled within 1000 steps (`data/small-hopper.sets`,
 /// shared with the mpirun test); `extra` adds keys.
 fn small_hopper(extra: &[&str]) -> Loaded {
-    let sets = include_str!("data/small-hopper.sets");
+    let sets = include_str!("../data/small-hopper.sets");
     scenario_with("hopper-2d.toml", &sets.lines().collect::<Vec<_>>(), extra)
 }
 
@@ -648,7 +648,7 @@ fn hopper_recycling_on_two_ranks_matches_the_serial_run() {
 /// `data/small-repose.sets`, shared with the mpirun test), the sink just
 /// below the floor; `extra` adds keys.
 fn small_repose(extra: &[&str]) -> Loaded {
-    let mut sets: Vec<&str> = include_str!("data/small-repose.sets").lines().collect();
+    let mut sets: Vec<&str> = include_str!("../data/small-repose.sets").lines().collect();
     sets.push("run.events.sink=-0.0005");
     scenario_with("repose-2d.toml", &sets, extra)
 }

@@ -2,7 +2,7 @@
 //! incline, angular momentum in a frictional gas, and the order of
 //! Gear-5's spin corrector.
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::{DVec2, DVec3};

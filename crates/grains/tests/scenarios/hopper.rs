@@ -1,7 +1,7 @@
 //! Silo discharge in 2D, reduced to fit CI: no steady flow through an
 //! outlet below about 2 d (an arch forms), and the flow rate grows with D.
 
-mod common;
+use crate::common;
 
 use common::runs::run_scenario;
 use serde_json::Value;

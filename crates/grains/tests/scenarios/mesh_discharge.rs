@@ -4,9 +4,9 @@
 //! core, so ignored by default; docs/validation.md ("Mesh walls") quotes
 //! the figures of a run.
 //!
-//!     cargo test --profile opt-test -p grains --test mesh_discharge -- --ignored --nocapture
+//!     cargo test --profile opt-test -p grains --test scenarios mesh_discharge -- --ignored --nocapture
 
-mod common;
+use crate::common;
 
 use common::runs::{num, run_scenario};
 

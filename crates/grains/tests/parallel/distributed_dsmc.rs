@@ -13,7 +13,7 @@
 //! serial run's, byte for byte, and that frames written in pieces hold
 //! every particle of the gathered frame exactly once, with the same bits.
 
-mod common;
+use crate::common;
 
 use common::runs::run_on_threads;
 use common::vtk::{pvtp_sources, vtk_tokens};

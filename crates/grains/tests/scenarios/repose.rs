@@ -4,7 +4,7 @@
 //! θ_r by several degrees), so every figure is a mean over three seeds and the
 //! assertions keep margins far wider than that spread.
 
-mod common;
+use crate::common;
 
 use common::runs::run_scenario;
 use glam::DVec2;

@@ -5,7 +5,7 @@
 //! linearly between steps); the restitution coefficient is the ratio of the
 //! separating to the approaching normal speed.
 
-mod common;
+use crate::common;
 
 use common::*;
 use grains::contact::binary::BinaryContact;

@@ -1,6 +1,6 @@
 //! Conservation laws of the contact model.
 
-mod common;
+use crate::common;
 
 use common::*;
 use glam::{DVec2, DVec3};

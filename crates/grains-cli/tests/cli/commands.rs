@@ -3,7 +3,7 @@
 //! a good run writes every output file. Each test works in its own
 //! temporary directory with small scenarios (30 grains, 50 steps).
 
-mod common;
+use crate::common;
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};

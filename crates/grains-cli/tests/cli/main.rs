@@ -1,0 +1,12 @@
+//! End-to-end tests of the `grains` binary.
+//!
+//! One test binary per topic, so that `cargo test` links a few binaries
+//! rather than one per file; each module holds the tests of one subject.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod commands;
+mod mesh_input;
+mod resume;
+mod view_movie;

@@ -1,0 +1,13 @@
+//! Contact physics against closed forms and conservation laws.
+//!
+//! One test binary per topic, so that `cargo test` links a few binaries
+//! rather than one per file; each module holds the tests of one subject.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod binary_collision;
+mod conservation;
+mod friction_and_walls;
+mod rebuild_springs;
+mod rotation;

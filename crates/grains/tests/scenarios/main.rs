@@ -1,0 +1,12 @@
+//! The shipped flow scenarios: hopper, repose, mesh discharge, `check`.
+//!
+//! One test binary per topic, so that `cargo test` links a few binaries
+//! rather than one per file; each module holds the tests of one subject.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod hopper;
+mod mesh_discharge;
+mod repose;
+mod shipped_check;
