@@ -13,8 +13,8 @@ fi
 cargo clippy -p grains -p grains-cli --all-targets --features cuda -- -D warnings
 cargo build --release -p grains-cli --features cuda
 python3 tools/make_ptx.py --check
-cargo test --profile opt-test -p grains --test gpu_ptx --test gpu_mirror
-cargo test --profile opt-test -p grains --features cuda --test gpu_device  # skips without a device
+cargo test --profile opt-test -p grains --test gpu
+cargo test --profile opt-test -p grains --features cuda --test gpu device::  # skips without a device
 # Without the feature, --device gpu is refused with the feature's name.
 cargo build --release -p grains-cli
 if "${CARGO_TARGET_DIR:-target}"/release/grains bench chute --device gpu --steps 1 2>err.txt; then

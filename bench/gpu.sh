@@ -33,7 +33,7 @@ step() {
 }
 
 # 1. Same bits as the mirror (which matches the CPU engine bit for bit:
-#    tests/gpu_mirror.rs): the chute over 1000 steps, a bed with a floor.
+#    tests/gpu/mirror.rs): the chute over 1000 steps, a bed with a floor.
 step 120 chute --device gpu --steps 1000 --verify
 step 60 bed3d --device gpu --particles 20000 --steps 300 --verify
 

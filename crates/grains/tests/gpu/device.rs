@@ -1,6 +1,5 @@
 //! The CUDA engine against the CPU mirror, bit for bit (feature `cuda`;
 //! skipped, with a message, where no CUDA device or driver is present).
-#![cfg(feature = "cuda")]
 
 use grains::gpu::cuda::Cuda;
 use grains::gpu::mirror::Mirror;
