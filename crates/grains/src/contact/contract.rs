@@ -50,7 +50,8 @@ pub struct ContactOutcome<D: Dim> {
     pub force: D::V,
     /// The tangential part of `force`, for torques.
     pub tangential: D::V,
-    /// The normal force F_n along the normal (what the Coulomb caps scale).
+    /// The normal load the Coulomb caps scale: F_n along the normal, plus
+    /// twice the pull-off force under cohesion (LAMMPS's `Fncrit`).
     pub normal_force: f64,
 }
 

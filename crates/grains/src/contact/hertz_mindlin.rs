@@ -16,6 +16,7 @@
 //! material) and by the wall's index. Written without branches, the law
 //! runs on the batched lanes of the pair loop.
 
+use super::cohesion::{dmt_pull_off, CohesionModel};
 use super::contract::{Contact, ContactModel, ContactOutcome, Step};
 use super::cundall_strack::Tangential;
 use super::mass_scaling::MassScaling;
@@ -36,6 +37,10 @@ pub struct HertzPair {
     mu: f64,
     /// Rolling friction μ_r.
     mu_r: f64,
+    /// 2π Γ: the DMT pull-off force per unit R* (0 without cohesion).
+    two_pi_gamma: f64,
+    /// Γ, kept for [`HertzMindlin::with_cohesion`].
+    surface_energy: f64,
 }
 
 impl HertzPair {
@@ -46,6 +51,8 @@ impl HertzPair {
             alpha: alpha_for_restitution(p.restitution),
             mu: p.friction,
             mu_r: p.rolling_friction,
+            two_pi_gamma: 0.0,
+            surface_energy: p.surface_energy,
         }
     }
 }
@@ -63,6 +70,8 @@ pub struct HertzMindlin {
     pub rotation: bool,
     /// The rolling resistance ([`HertzMindlin::with_rolling`] runs it).
     pub rolling: RollingModel,
+    /// The cohesion ([`HertzMindlin::with_cohesion`] sets it).
+    cohesion: CohesionModel,
 }
 
 impl HertzMindlin {
@@ -102,7 +111,20 @@ impl HertzMindlin {
             wall_material,
             rotation,
             rolling: RollingModel::None,
+            cohesion: CohesionModel::None,
         }
+    }
+
+    /// The law with cohesion `model` from the pairs' surface energy.
+    pub fn with_cohesion(mut self, model: CohesionModel) -> Self {
+        self.cohesion = model;
+        for p in &mut self.pairs {
+            p.two_pi_gamma = match model {
+                CohesionModel::None => 0.0,
+                CohesionModel::Dmt => dmt_pull_off(p.surface_energy, 1.0),
+            };
+        }
+        self
     }
 
     /// The law with its rolling resistance compiled in, handed to `run`
@@ -167,7 +189,11 @@ impl ContactModel for HertzMindlin {
         // (4/3) E* √R* ξ^{3/2} = (2/3) S_n ξ.
         let elastic = 2.0 / 3.0 * sn * c.overlap;
         let vn = D::dot(c.v_rel, n);
-        let fn_total = elastic - p.alpha * (m_star * sn).sqrt() * vn;
+        // DMT's pull 2π Γ R* (zero without cohesion: the same bits).
+        let pull = p.two_pi_gamma * r_star;
+        let fn_total = elastic - p.alpha * (m_star * sn).sqrt() * vn - pull;
+        // The load the caps scale: F_n + 2 F_po (LAMMPS's Fncrit).
+        let load = fn_total + 2.0 * pull;
         let vt = c.v_rel - n * vn;
         let kt = p.eight_g_star * a;
         let tangential = Tangential {
@@ -175,11 +201,11 @@ impl ContactModel for HertzMindlin {
             gamma: p.alpha * (m_star * kt).sqrt(),
             mu: p.mu,
         }
-        .force::<D>(spring, vt, n, fn_total.abs(), step, true);
+        .force::<D>(spring, vt, n, load.abs(), step, true);
         ContactOutcome {
             force: n * fn_total + tangential,
             tangential,
-            normal_force: fn_total,
+            normal_force: load,
         }
     }
 }

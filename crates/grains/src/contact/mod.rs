@@ -10,7 +10,8 @@
 //! rules) give the Hertz–Mindlin law ([`hertz_mindlin`], with the damping of
 //! [`tsuji_damping`]).
 //!
-//! [`rolling`] adds rolling resistance to the material law.
+//! [`rolling`] adds rolling resistance to the material law, [`cohesion`]
+//! the DMT pull.
 //!
 //! [`mass_scaling`] says how the coefficients meet the masses (the seeds'
 //! "normalized by the mass" or the momentum-conserving reduced mass), and
@@ -25,6 +26,7 @@
 pub mod binary;
 #[cfg(test)]
 mod chung_ooi;
+pub mod cohesion;
 pub mod contract;
 pub mod cundall_strack;
 pub mod damping;

@@ -6,6 +6,7 @@
 //! one kind has one material, as in LAMMPS's `pair_coeff` per type pair.
 
 use super::schema::{ContactModelKind, ContactSpec, GrainSpec, Scenario, ShapeSpec};
+use crate::contact::cohesion::CohesionModel;
 use crate::contact::hertz_mindlin::HertzMindlin;
 use crate::contact::material::{Material, PairCoefficients, PairOverride};
 use crate::contact::rolling::RollingModel;
@@ -94,6 +95,15 @@ fn find(materials: &[Material], name: &str, key: &str) -> Result<usize> {
 /// the coefficient keys used with it: both are mistakes.
 pub fn check_contact_keys(s: &Scenario) -> Result<()> {
     check_rolling(s)?;
+    let cohesion = s.contact.cohesion.unwrap_or_default();
+    if cohesion != CohesionModel::None && !uses_materials(s) {
+        return Err(Error::input(format!(
+            "contact.cohesion = \"{}\" needs contact.model = \"hertz-mindlin\" (the [[materials]]' \
+             surface_energy gives Γ); the spring-dashpot law, under the seed or the reduced scaling, \
+             has no cohesion: allowed there: \"none\"",
+            cohesion.name()
+        )));
+    }
     if !uses_materials(s) {
         let named = s.particles.material.is_some()
             || s.particles.add.iter().any(|a| a.material.is_some())
@@ -313,7 +323,9 @@ pub fn hertz_law(s: &Scenario, kinds: &[u32]) -> Result<Option<HertzMindlin>> {
     let rotation = s.contact.rotation.unwrap_or(true);
     let mut law = HertzMindlin::new(&all, &overrides, material_of_kind, wall_material, rotation);
     law.rolling = s.contact.rolling.unwrap_or_default();
-    Ok(Some(law))
+    Ok(Some(
+        law.with_cohesion(s.contact.cohesion.unwrap_or_default()),
+    ))
 }
 
 /// A power-law stand-in for the time step and the run's summary: Hertz's
@@ -406,6 +418,20 @@ duration = 1.0e-4
         for w in words {
             assert!(e.contains(w), "{w:?} not in: {e}");
         }
+    }
+
+    #[test]
+    fn cohesion_needs_the_material_law() {
+        build("", &["contact.cohesion=\"dmt\""]).unwrap();
+        refused(
+            "",
+            &[
+                "contact.model=\"spring-dashpot\"",
+                "contact.preset=\"seed\"",
+                "contact.cohesion=\"dmt\"",
+            ],
+            &["contact.cohesion", "seed", "hertz-mindlin"],
+        );
     }
 
     #[test]

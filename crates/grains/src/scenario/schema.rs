@@ -225,6 +225,8 @@ pub struct ContactSpec {
     /// Rolling resistance ("none", "constant", "epsd"; hertz-mindlin only,
     /// needs rotation; `contact::rolling`).
     pub rolling: Option<crate::contact::rolling::RollingModel>,
+    /// Cohesion ("none", "dmt"; hertz-mindlin only; `contact::cohesion`).
+    pub cohesion: Option<crate::contact::cohesion::CohesionModel>,
     /// Names of walls whose contacts have no normal damping (γ_n = 0, the
     /// grains' γ_t kept): elastic side walls beside a dissipative bulk.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
