@@ -334,7 +334,7 @@ mod tests {
         let key: Vec<u32> = p.iter().map(|q| grid.cell_of::<D2>(q.x)).collect();
         let mut start = vec![0; 9];
         let mut order = vec![0; 5];
-        sort_indices(&key, &mut start, &mut vec![0; 8], &mut order);
+        sort_indices(&key, &mut start, &mut [0; 8], &mut order);
         assert_eq!(order, vec![1, 4, 3, 0, 2]);
         gather_in_place(&mut p, &mut order, &mut Aside::default());
         assert_eq!(start, vec![0, 2, 3, 3, 3, 3, 3, 3, 5]);
