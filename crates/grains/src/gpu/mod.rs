@@ -24,36 +24,6 @@ use grain_kernels::Hooke;
 pub const NO_FEATURE: &str = "run.device = \"gpu\" (or --device gpu) needs grains built with \
      the cuda feature: cargo build --release --features cuda (docs/gpu.md)";
 
-/// A scenario run asking for `run.device = "gpu"`: refused before the
-/// run, naming what stops it (the build's feature, what the GPU engine
-/// does not run, or that scenario runs are not wired to it yet).
-pub fn check_scenario_device(loaded: &crate::scenario::Loaded) -> Result<()> {
-    use crate::scenario::schema::{Device, Dimension};
-    let s = &loaded.scenario;
-    if s.run.device != Device::Gpu {
-        return Ok(());
-    }
-    if !cfg!(feature = "cuda") {
-        return Err(Error::input(NO_FEATURE));
-    }
-    if s.method == crate::dsmc::Method::Dsmc {
-        return Err(Error::input(format!(
-            "run.device = \"gpu\": method = \"dsmc\" is not supported by the GPU engine (it runs {SUPPORTED})"
-        )));
-    }
-    if s.dimension != Dimension::Three {
-        return Err(Error::input(format!(
-            "run.device = \"gpu\": dimension = \"2d\" is not supported by the GPU engine (it runs {SUPPORTED})"
-        )));
-    }
-    let (md, _) = crate::scenario::build_md::<D3>(loaded)?;
-    check_supported(&md)?;
-    Err(Error::input(
-        "run.device = \"gpu\": scenario runs (outputs, measurements, checkpoints) are not \
-         wired to the GPU engine yet; time it with `grains bench chute|bed3d --device gpu`",
-    ))
-}
-
 /// What the GPU pipeline runs, in one line for messages.
 pub const SUPPORTED: &str = "3D, integrator \"verlet\", the Hooke law with history \
      (preset \"lammps-hooke-history\" and its variants), fixed plane walls and gravity";

@@ -50,7 +50,7 @@ pub fn run(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) -> R
 }
 
 fn run_on_pool(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) -> Result<Value> {
-    crate::gpu::check_scenario_device(loaded)?;
+    crate::scenario::device::check_device(loaded)?;
     if loaded.scenario.method == crate::dsmc::Method::Dsmc {
         return dsmc::run(loaded, opts, progress);
     }

@@ -2,6 +2,7 @@
 //! builders that turn a scenario into a ready MD or DSMC engine.
 
 pub mod build;
+pub mod device;
 pub mod dsmc;
 pub mod flow;
 pub mod hopper;

@@ -230,7 +230,7 @@ fn scenario_device_gpu_is_refused_by_name() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/bench-chute.toml");
     let sets = ["run.device=gpu".to_string()];
     let loaded = load_file(&path, &sets).unwrap();
-    let e = grains::gpu::check_scenario_device(&loaded)
+    let e = grains::scenario::device::check_device(&loaded)
         .unwrap_err()
         .to_string();
     if cfg!(feature = "cuda") {
@@ -240,7 +240,7 @@ fn scenario_device_gpu_is_refused_by_name() {
             "run.integrator=gear5".to_string(),
         ];
         let loaded = load_file(&path, &sets).unwrap();
-        let e = grains::gpu::check_scenario_device(&loaded)
+        let e = grains::scenario::device::check_device(&loaded)
             .unwrap_err()
             .to_string();
         assert!(e.contains("run.integrator = \"gear5\""), "{e}");
@@ -248,7 +248,7 @@ fn scenario_device_gpu_is_refused_by_name() {
         assert!(e.contains("--features cuda"), "{e}");
     }
     let plain = load_file(&path, &[]).unwrap();
-    assert!(grains::gpu::check_scenario_device(&plain).is_ok());
+    assert!(grains::scenario::device::check_device(&plain).is_ok());
     let bad = load_file(&path, &["run.device=tpu".to_string()]);
     let e = match bad {
         Ok(_) => panic!("device tpu accepted"),
