@@ -13,8 +13,8 @@ use crate::dsmc::collide::GasDim;
 use crate::dsmc::engine::{Dsmc, DsmcSettings, PlaneWall};
 use crate::dsmc::spec::DsmcSpec;
 use crate::dsmc::store::{particle_volume, Store};
-use crate::scenario::placement::{gas_in_cell_order, GasDraw, GasVelocity};
 use crate::error::{Error, Result};
+use crate::scenario::placement::{gas_in_cell_order, GasDraw, GasVelocity};
 
 /// Step counts of a run.
 #[derive(Clone, Copy, Debug)]
