@@ -276,3 +276,224 @@ mod tests {
         assert!(check_polygon(&rep).unwrap_err().contains("coincide"));
     }
 }
+
+#[cfg(test)]
+mod wall_tests {
+    //! Wall contacts of planes, segments and polygons, through `Wall`.
+
+    use crate::boundary::tests::{fixed2, fixed3, near, near2, near3};
+    use crate::boundary::*;
+    use glam::{DQuat, DVec2, DVec3};
+    use std::f64::consts::FRAC_1_SQRT_2;
+
+    #[test]
+    fn plane_2d_arbitrary_orientation() {
+        let w = fixed2(Shape::Plane {
+            point: DVec2::new(1.0, 0.0),
+            normal: DVec2::new(1.0, 1.0),
+        });
+        let c = w.contact(DVec2::new(2.0, 0.5), 1.2, 0.0).unwrap();
+        assert!(near(c.overlap, 1.2 - 1.5 / 2f64.sqrt()));
+        assert!(near2(c.normal, DVec2::new(FRAC_1_SQRT_2, FRAC_1_SQRT_2)));
+        assert!(near2(c.point, DVec2::new(1.25, -0.25)));
+        assert_eq!(c.velocity, DVec2::ZERO);
+        assert!(w.contact(DVec2::new(2.0, 0.5), 1.0, 0.0).is_none());
+    }
+
+    #[test]
+    fn plane_3d_arbitrary_orientation() {
+        let w = fixed3(Shape::Plane {
+            point: DVec3::new(0.0, 0.0, 1.0),
+            normal: DVec3::new(1.0, 2.0, 2.0),
+        });
+        let c = w.contact(DVec3::new(1.0, 1.0, 2.0), 2.0, 0.0).unwrap();
+        assert!(near(c.overlap, 1.0 / 3.0));
+        assert!(near3(c.normal, DVec3::new(1.0, 2.0, 2.0) / 3.0));
+        assert!(near3(c.point, DVec3::new(4.0, -1.0, 8.0) / 9.0));
+        // Behind the plane (centre crossed by 0.5 < r): pushed back along n.
+        let n = DVec3::new(1.0, 2.0, 2.0) / 3.0;
+        let p = DVec3::new(0.0, 0.0, 1.0) - n * 0.5;
+        let c = w.contact(p, 2.0, 0.0).unwrap();
+        assert!(near(c.overlap, 2.5));
+        assert!(near3(c.normal, n));
+        // Deeply behind (more than r): lost, no contact.
+        assert!(w
+            .contact(DVec3::new(0.0, 0.0, 1.0) - n * 2.5, 2.0, 0.0)
+            .is_none());
+    }
+
+    #[test]
+    fn exactly_touching_is_no_contact() {
+        let w = fixed2(Shape::Plane {
+            point: DVec2::ZERO,
+            normal: DVec2::Y,
+        });
+        assert!(w.contact(DVec2::new(0.3, 0.5), 0.5, 0.0).is_none());
+        assert!(near(
+            w.contact(DVec2::new(0.3, 0.25), 0.5, 0.0).unwrap().overlap,
+            0.25
+        ));
+        let o = fixed3(Shape::Obstacle {
+            center: DVec3::ZERO,
+            diameter: 1.0,
+        });
+        assert!(o.contact(DVec3::new(0.0, 0.75, 0.0), 0.25, 0.0).is_none());
+        let s = fixed2(Shape::Segment {
+            a: DVec2::ZERO,
+            b: DVec2::X,
+        });
+        assert!(s.contact(DVec2::new(0.5, -0.5), 0.5, 0.0).is_none());
+    }
+
+    #[test]
+    fn segment_interior_and_end_caps() {
+        let w = fixed2(Shape::Segment {
+            a: DVec2::new(0.0, 0.0),
+            b: DVec2::new(4.0, 0.0),
+        });
+        let c = w.contact(DVec2::new(1.0, 0.3), 0.5, 0.0).unwrap();
+        assert!(near(c.overlap, 0.2));
+        assert!(near2(c.normal, DVec2::Y));
+        assert!(near2(c.point, DVec2::new(1.0, 0.0)));
+        // Two-sided: from below the normal points down.
+        let c = w.contact(DVec2::new(2.0, -0.1), 0.5, 0.0).unwrap();
+        assert!(near(c.overlap, 0.4));
+        assert!(near2(c.normal, -DVec2::Y));
+        // End cap at b.
+        let c = w.contact(DVec2::new(4.3, 0.4), 0.6, 0.0).unwrap();
+        assert!(near(c.overlap, 0.1));
+        assert!(near2(c.normal, DVec2::new(0.6, 0.8)));
+        assert!(near2(c.point, DVec2::new(4.0, 0.0)));
+        // End cap at a.
+        let c = w.contact(DVec2::new(-0.3, -0.4), 0.6, 0.0).unwrap();
+        assert!(near(c.overlap, 0.1));
+        assert!(near2(c.normal, DVec2::new(-0.6, -0.8)));
+        assert!(near2(c.point, DVec2::ZERO));
+        // Beyond the cap: nothing.
+        assert!(w.contact(DVec2::new(4.5, 0.1), 0.4, 0.0).is_none());
+        // Centre on the segment: pushed along the left normal.
+        let c = w.contact(DVec2::new(2.0, 0.0), 0.5, 0.0).unwrap();
+        assert!(near(c.overlap, 0.5));
+        assert!(near2(c.normal, DVec2::Y));
+    }
+
+    #[test]
+    fn polygon_interior_edge_and_vertex() {
+        let w = fixed3(Shape::Polygon {
+            vertices: vec![
+                DVec3::new(0.0, 0.0, 1.0),
+                DVec3::new(2.0, 0.0, 1.0),
+                DVec3::new(2.0, 2.0, 1.0),
+                DVec3::new(0.0, 2.0, 1.0),
+            ],
+            seams: vec![],
+        });
+        // Interior, both sides.
+        let c = w.contact(DVec3::new(1.0, 1.0, 1.3), 0.5, 0.0).unwrap();
+        assert!(near(c.overlap, 0.2));
+        assert!(near3(c.normal, DVec3::Z));
+        assert!(near3(c.point, DVec3::new(1.0, 1.0, 1.0)));
+        let c = w.contact(DVec3::new(0.5, 1.5, 0.8), 0.5, 0.0).unwrap();
+        assert!(near(c.overlap, 0.3));
+        assert!(near3(c.normal, -DVec3::Z));
+        assert!(near3(c.point, DVec3::new(0.5, 1.5, 1.0)));
+        // Edge region (beyond x = 2).
+        let c = w.contact(DVec3::new(2.3, 1.0, 1.4), 0.6, 0.0).unwrap();
+        assert!(near(c.overlap, 0.1));
+        assert!(near3(c.normal, DVec3::new(0.6, 0.0, 0.8)));
+        assert!(near3(c.point, DVec3::new(2.0, 1.0, 1.0)));
+        // Vertex region (beyond the corner (2, 2)).
+        let c = w.contact(DVec3::new(2.2, 2.2, 1.1), 0.5, 0.0).unwrap();
+        assert!(near(c.overlap, 0.2));
+        assert!(near3(c.normal, DVec3::new(2.0, 2.0, 1.0) / 3.0));
+        assert!(near3(c.point, DVec3::new(2.0, 2.0, 1.0)));
+        // Beside the polygon, in its plane, out of reach.
+        assert!(w.contact(DVec3::new(3.0, 1.0, 1.0), 0.5, 0.0).is_none());
+        assert!(w.contact(DVec3::new(1.0, 1.0, 1.5), 0.5, 0.0).is_none());
+    }
+
+    #[test]
+    fn tilted_polygon() {
+        // A triangle rotated about an arbitrary axis: the interior normal is the
+        // rotated z, the distance the rotated height.
+        let q = DQuat::from_axis_angle(DVec3::new(1.0, -2.0, 0.5).normalize(), 0.7);
+        let o = DVec3::new(0.3, -1.0, 2.0);
+        let tri = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(3.0, 0.0, 0.0),
+            DVec3::new(0.0, 3.0, 0.0),
+        ];
+        let w = fixed3(Shape::Polygon {
+            vertices: tri.iter().map(|v| o + q * *v).collect(),
+            seams: vec![],
+        });
+        let c = w
+            .contact(o + q * DVec3::new(1.0, 1.0, 0.35), 0.5, 0.0)
+            .unwrap();
+        assert!(near(c.overlap, 0.15));
+        assert!(near3(c.normal, q * DVec3::Z));
+        assert!(near3(c.point, o + q * DVec3::new(1.0, 1.0, 0.0)));
+        // Near the hypotenuse x + y = 3, outside it, in the plane.
+        let c = w
+            .contact(o + q * DVec3::new(1.7, 1.7, 0.0), 0.5, 0.0)
+            .unwrap();
+        assert!(near(c.overlap, 0.5 - 0.4 / 2f64.sqrt()));
+        assert!(near3(
+            c.normal,
+            q * DVec3::new(FRAC_1_SQRT_2, FRAC_1_SQRT_2, 0.0)
+        ));
+    }
+
+    /// Two coplanar squares that share an edge marked as a seam on both act as
+    /// one rectangle: a sphere anywhere across the seam (and exactly on it) feels
+    /// the single-face overlap once, never an edge contact.
+    #[test]
+    fn polygon_seam_pushes_once() {
+        let sq = |x0: f64, seams: Vec<usize>| {
+            fixed3(Shape::Polygon {
+                vertices: vec![
+                    DVec3::new(x0, 0.0, 0.0),
+                    DVec3::new(x0 + 1.0, 0.0, 0.0),
+                    DVec3::new(x0 + 1.0, 1.0, 0.0),
+                    DVec3::new(x0, 1.0, 0.0),
+                ],
+                seams,
+            })
+        };
+        // Edge 1 of the left square (x = 1, going +y) meets edge 3 of the right
+        // one (x = 1, going −y).
+        let (left, right) = (sq(0.0, vec![1]), sq(1.0, vec![3]));
+        for x in [0.7, 0.95, 1.0 - 1e-12, 1.0, 1.0 + 1e-12, 1.05, 1.3] {
+            let p = DVec3::new(x, 0.5, 0.3);
+            let touches: Vec<_> = [&left, &right]
+                .iter()
+                .filter_map(|w| w.contact(p, 0.5, 0.0))
+                .collect();
+            assert_eq!(touches.len(), 1, "x = {x}: {} contacts", touches.len());
+            assert!(near(touches[0].overlap, 0.2), "x = {x}");
+            assert!(near3(touches[0].normal, DVec3::Z), "x = {x}");
+        }
+        // Without seams both squares push a sphere near the shared edge.
+        let (l, r) = (sq(0.0, vec![]), sq(1.0, vec![]));
+        let p = DVec3::new(1.05, 0.5, 0.3);
+        assert!(l.contact(p, 0.5, 0.0).is_some() && r.contact(p, 0.5, 0.0).is_some());
+        // A real edge (not a seam) still acts: beyond x = 2 the right square's rim.
+        let c = right.contact(DVec3::new(2.2, 0.5, 0.3), 0.5, 0.0).unwrap();
+        assert!(c.overlap > 0.0 && c.normal.x > 0.0);
+        // A rim collinear with a seam (an orifice beside a joint): x = 1 is a seam
+        // for y < 1 and a real edge for 1 < y < 2.
+        let piece = fixed3(Shape::Polygon {
+            vertices: vec![
+                DVec3::new(0.0, 0.0, 0.0),
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(1.0, 1.0, 0.0),
+                DVec3::new(1.0, 2.0, 0.0),
+                DVec3::new(0.0, 2.0, 0.0),
+            ],
+            seams: vec![1],
+        });
+        let c = piece.contact(DVec3::new(1.2, 1.5, 0.1), 0.5, 0.0).unwrap();
+        assert!(near(c.overlap, 0.5 - 0.05_f64.sqrt()) && c.normal.x > 0.0);
+        assert!(piece.contact(DVec3::new(1.2, 0.5, 0.1), 0.5, 0.0).is_none());
+    }
+}

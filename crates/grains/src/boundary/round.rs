@@ -109,3 +109,93 @@ mod tests {
         assert_eq!(t.point, DVec3::new(0.0, 0.0, 0.5));
     }
 }
+
+#[cfg(test)]
+mod wall_tests {
+    //! Wall contacts of cylinders and obstacles, through `Wall`.
+
+    use crate::boundary::tests::{fixed2, fixed3, near, near2, near3};
+    use crate::boundary::*;
+    use glam::{DVec2, DVec3};
+
+    #[test]
+    fn cylinder_2d_inside_and_outside() {
+        let drum = fixed2(Shape::Cylinder {
+            point: DVec2::new(1.0, 1.0),
+            axis: DVec2::ZERO,
+            radius: 3.0,
+            inside: true,
+        });
+        let c = drum.contact(DVec2::new(3.8, 1.0), 0.5, 0.0).unwrap();
+        assert!(near(c.overlap, 0.3));
+        assert!(near2(c.normal, -DVec2::X));
+        assert!(near2(c.point, DVec2::new(4.0, 1.0)));
+        assert!(drum.contact(DVec2::new(1.0, 1.0), 0.5, 0.0).is_none());
+        let post = fixed2(Shape::Cylinder {
+            point: DVec2::new(1.0, 1.0),
+            axis: DVec2::ZERO,
+            radius: 1.0,
+            inside: false,
+        });
+        let c = post.contact(DVec2::new(1.0, 2.3), 0.5, 0.0).unwrap();
+        assert!(near(c.overlap, 0.2));
+        assert!(near2(c.normal, DVec2::Y));
+        assert!(near2(c.point, DVec2::new(1.0, 2.0)));
+        assert!(post.contact(DVec2::new(1.0, 2.5), 0.5, 0.0).is_none());
+    }
+
+    #[test]
+    fn cylinder_3d_arbitrary_axis() {
+        let axis = DVec3::new(1.0, 1.0, 0.0);
+        let along = axis.normalize() * 5.0;
+        let pipe = fixed3(Shape::Cylinder {
+            point: DVec3::ZERO,
+            axis,
+            radius: 2.0,
+            inside: true,
+        });
+        let c = pipe
+            .contact(along + DVec3::new(0.0, 0.0, 1.8), 0.5, 0.0)
+            .unwrap();
+        assert!(near(c.overlap, 0.3));
+        assert!(near3(c.normal, -DVec3::Z));
+        assert!(near3(c.point, along + DVec3::new(0.0, 0.0, 2.0)));
+        // Radial direction not along a coordinate axis.
+        let radial = DVec3::new(1.0, -1.0, 0.0).normalize();
+        let c = pipe.contact(along + radial * 1.9, 0.25, 0.0).unwrap();
+        assert!(near(c.overlap, 0.15));
+        assert!(near3(c.normal, -radial));
+        let post = fixed3(Shape::Cylinder {
+            point: DVec3::ZERO,
+            axis,
+            radius: 1.0,
+            inside: false,
+        });
+        let c = post
+            .contact(along + DVec3::new(0.0, 0.0, 1.2), 0.5, 0.0)
+            .unwrap();
+        assert!(near(c.overlap, 0.3));
+        assert!(near3(c.normal, DVec3::Z));
+        assert!(near3(c.point, along + DVec3::Z));
+    }
+
+    #[test]
+    fn obstacle_2d_and_3d() {
+        let w = fixed2(Shape::Obstacle {
+            center: DVec2::new(5.0, 1.0),
+            diameter: 1.0,
+        });
+        let c = w.contact(DVec2::new(5.6, 1.8), 0.6, 0.0).unwrap();
+        assert!(near(c.overlap, 0.1));
+        assert!(near2(c.normal, DVec2::new(0.6, 0.8)));
+        assert!(near2(c.point, DVec2::new(5.3, 1.4)));
+        let w = fixed3(Shape::Obstacle {
+            center: DVec3::new(1.0, 2.0, 3.0),
+            diameter: 2.0,
+        });
+        let c = w.contact(DVec3::new(1.0, 3.2, 4.6), 1.5, 0.0).unwrap();
+        assert!(near(c.overlap, 0.5));
+        assert!(near3(c.normal, DVec3::new(0.0, 0.6, 0.8)));
+        assert!(near3(c.point, DVec3::new(1.0, 2.6, 3.8)));
+    }
+}

@@ -251,3 +251,229 @@ impl<D: Dim> Shape<D> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! Wall construction: normalisation, the errors, serde.
+
+    use crate::boundary::tests::{fixed2, fixed3, plate};
+    use crate::boundary::*;
+    use crate::dim::{D2, D3};
+    use glam::{DVec2, DVec3};
+
+    #[test]
+    fn constructor_normalizes() {
+        let w = fixed2(Shape::Plane {
+            point: DVec2::ZERO,
+            normal: DVec2::new(0.0, 2.0),
+        });
+        assert_eq!(
+            w.shape,
+            Shape::Plane {
+                point: DVec2::ZERO,
+                normal: DVec2::Y
+            }
+        );
+        let w = fixed3(Shape::Cylinder {
+            point: DVec3::ZERO,
+            axis: DVec3::new(0.0, 0.0, -4.0),
+            radius: 1.0,
+            inside: true,
+        });
+        match w.shape {
+            Shape::Cylinder { axis, .. } => assert_eq!(axis, -DVec3::Z),
+            _ => unreachable!(),
+        }
+    }
+
+    fn err<D: Dim>(shape: Shape<D>, motion: Motion<D>) -> String {
+        Wall::new("left", shape, motion).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn constructor_errors() {
+        let plane2 = || Shape::<D2>::Plane {
+            point: DVec2::ZERO,
+            normal: DVec2::Y,
+        };
+        let e = err(
+            Shape::<D2>::Plane {
+                point: DVec2::ZERO,
+                normal: DVec2::ZERO,
+            },
+            Motion::Fixed,
+        );
+        assert!(
+            e.contains("wall 'left'") && e.contains("plane normal"),
+            "{e}"
+        );
+        let e = err(
+            Shape::<D3>::Segment {
+                a: DVec3::ZERO,
+                b: DVec3::X,
+            },
+            Motion::Fixed,
+        );
+        assert!(e.contains("'left'") && e.contains("2D"), "{e}");
+        let e = err(
+            Shape::<D2>::Segment {
+                a: DVec2::X,
+                b: DVec2::X,
+            },
+            Motion::Fixed,
+        );
+        assert!(e.contains("zero length"), "{e}");
+        let e = err(
+            Shape::<D2>::Polygon {
+                vertices: vec![DVec2::ZERO, DVec2::X, DVec2::Y],
+                seams: vec![],
+            },
+            Motion::Fixed,
+        );
+        assert!(e.contains("3D"), "{e}");
+        let e = err(
+            Shape::<D3>::Polygon {
+                vertices: vec![DVec3::ZERO, DVec3::X],
+                seams: vec![],
+            },
+            Motion::Fixed,
+        );
+        assert!(e.contains("at least 3"), "{e}");
+        let e = err(
+            Shape::<D3>::Polygon {
+                vertices: vec![DVec3::ZERO, DVec3::X, DVec3::new(0.2, 0.2, 0.0), DVec3::Y],
+                seams: vec![],
+            },
+            Motion::Fixed,
+        );
+        assert!(e.contains("convex"), "{e}");
+        let e = err(
+            Shape::<D3>::Polygon {
+                vertices: vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.5), DVec3::Y],
+                seams: vec![],
+            },
+            Motion::Fixed,
+        );
+        assert!(e.contains("coplanar"), "{e}");
+        let e = err(
+            Shape::<D3>::Polygon {
+                vertices: vec![DVec3::ZERO, DVec3::X, DVec3::Y],
+                seams: vec![3],
+            },
+            Motion::Fixed,
+        );
+        assert!(e.contains("seam 3 is not an edge"), "{e}");
+        let e = err(
+            Shape::<D2>::Cylinder {
+                point: DVec2::ZERO,
+                axis: DVec2::ZERO,
+                radius: -1.0,
+                inside: true,
+            },
+            Motion::Fixed,
+        );
+        assert!(e.contains("cylinder radius"), "{e}");
+        let e = err(
+            Shape::<D3>::Cylinder {
+                point: DVec3::ZERO,
+                axis: DVec3::ZERO,
+                radius: 1.0,
+                inside: true,
+            },
+            Motion::Fixed,
+        );
+        assert!(e.contains("cylinder axis"), "{e}");
+        let e = err(
+            Shape::<D3>::Obstacle {
+                center: DVec3::ZERO,
+                diameter: 0.0,
+            },
+            Motion::Fixed,
+        );
+        assert!(e.contains("obstacle diameter"), "{e}");
+        let e = err(
+            Shape::<D2>::Plane {
+                point: DVec2::new(f64::NAN, 0.0),
+                normal: DVec2::Y,
+            },
+            Motion::Fixed,
+        );
+        assert!(e.contains("not finite"), "{e}");
+        let e = err(
+            plane2(),
+            Motion::Vibrate {
+                direction: DVec2::Y,
+                amplitude: 1e-3,
+                modulation: 0.0,
+                wavelength: 0.0,
+                frequency: -1.0,
+                phase: 0.0,
+            },
+        );
+        assert!(e.contains("'left'") && e.contains("frequency"), "{e}");
+        let e = err(
+            plane2(),
+            Motion::Vibrate {
+                direction: DVec2::ZERO,
+                amplitude: 1e-3,
+                modulation: 0.0,
+                wavelength: 0.0,
+                frequency: 1.0,
+                phase: 0.0,
+            },
+        );
+        assert!(e.contains("direction"), "{e}");
+        let e = err(
+            plane2(),
+            Motion::Vibrate {
+                direction: DVec2::Y,
+                amplitude: 1e-3,
+                modulation: 0.5,
+                wavelength: 0.0,
+                frequency: 1.0,
+                phase: 0.0,
+            },
+        );
+        assert!(e.contains("wavelength"), "{e}");
+        let e = err(
+            plane2(),
+            Motion::Oscillate {
+                amplitude: DVec2::X,
+                frequency: f64::INFINITY,
+                phase: 0.0,
+            },
+        );
+        assert!(e.contains("frequency"), "{e}");
+        let e = Wall::<D2>::new("x", plane2(), Motion::Fixed)
+            .unwrap()
+            .with_remove_at(f64::NAN)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("removal time"), "{e}");
+    }
+
+    #[test]
+    fn serde_round_trip() {
+        let w = plate(0.5).with_remove_at(2.0).unwrap();
+        let s = serde_json::to_string(&w).unwrap();
+        assert!(s.contains("\"type\":\"vibrate\""), "{s}");
+        let back: Wall<D2> = serde_json::from_str(&s).unwrap();
+        assert_eq!(back, w);
+        let d = Wall::<D3>::new(
+            "drum",
+            Shape::Cylinder {
+                point: DVec3::ZERO,
+                axis: DVec3::Y,
+                radius: 1.0,
+                inside: true,
+            },
+            Motion::Rotate {
+                center: DVec3::ZERO,
+                omega: DVec3::new(0.0, 2.0, 0.0),
+            },
+        )
+        .unwrap();
+        let back: Wall<D3> = serde_json::from_str(&serde_json::to_string(&d).unwrap()).unwrap();
+        assert_eq!(back, d);
+    }
+}
