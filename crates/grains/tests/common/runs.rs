@@ -29,7 +29,14 @@ pub fn run_scenario_kept(
     ];
     all.extend(sets.iter().map(|s| s.to_string()));
     let loaded = grains::scenario::load_file(&path, &all).expect("scenario loads");
-    let out = std::env::temp_dir().join(format!("grains-test-{name}-{tag}-{}", std::process::id()));
+    // The modules of one test binary share a process: each run its own
+    // directory.
+    static RUNS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let k = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let out = std::env::temp_dir().join(format!(
+        "grains-test-{name}-{tag}-{}-{k}",
+        std::process::id()
+    ));
     let opts = RunOptions {
         out_dir: out.clone(),
         steps: None,

@@ -22,7 +22,14 @@ fn try_run(name: &str, tag: &str, sets: &[String]) -> Option<serde_json::Value> 
         .collect();
     all.extend(sets.iter().cloned());
     let loaded = grains::scenario::load_file(&path, &all).expect("scenario loads");
-    let out = std::env::temp_dir().join(format!("grains-test-{name}-{tag}-{}", std::process::id()));
+    // Tests run on threads of one process and two may run the same
+    // setting: each run its own directory.
+    static RUNS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let k = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let out = std::env::temp_dir().join(format!(
+        "grains-test-{name}-{tag}-{}-{k}",
+        std::process::id()
+    ));
     let opts = RunOptions {
         out_dir: out.clone(),
         ..Default::default()
