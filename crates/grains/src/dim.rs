@@ -35,38 +35,34 @@ impl Linear for DVec3 {}
 
 /// A value made of `N` consecutive `f64` and nothing else, so that a slice
 /// of them can be read as a slice of numbers (loops over components
-/// vectorize where loops over vectors do not).
-///
-/// # Safety
-/// The type must be `N` `f64` fields in `repr(C)` order, without padding.
-pub unsafe trait Components: Copy {
+/// vectorize where loops over vectors do not). `bytemuck` checks the
+/// layout: glam's `DVec2` and `DVec3` are plain-old-data `repr(C)` structs.
+pub trait Components: bytemuck::Pod {
     const N: usize;
 }
 
-// SAFETY: a number is one f64; glam's DVec2 and DVec3 are `repr(C)` structs
-// of two and three f64 (their sizes are checked below).
-unsafe impl Components for f64 {
+impl Components for f64 {
     const N: usize = 1;
 }
-unsafe impl Components for DVec2 {
+impl Components for DVec2 {
     const N: usize = 2;
 }
-unsafe impl Components for DVec3 {
+impl Components for DVec3 {
     const N: usize = 3;
 }
-const _: () = assert!(std::mem::size_of::<DVec2>() == 16 && std::mem::align_of::<DVec2>() <= 8);
-const _: () = assert!(std::mem::size_of::<DVec3>() == 24 && std::mem::align_of::<DVec3>() <= 8);
+const _: () =
+    assert!(std::mem::size_of::<DVec2>() == 2 * 8 && std::mem::size_of::<DVec3>() == 3 * 8);
 
 /// The components of `s`, in order.
+#[inline(always)]
 pub fn components<T: Components>(s: &[T]) -> &[f64] {
-    // SAFETY: `T` is `T::N` f64 without padding (the trait's contract).
-    unsafe { std::slice::from_raw_parts(s.as_ptr().cast(), s.len() * T::N) }
+    bytemuck::cast_slice(s)
 }
 
 /// The components of `s`, in order, writable.
+#[inline(always)]
 pub fn components_mut<T: Components>(s: &mut [T]) -> &mut [f64] {
-    // SAFETY: as in `components`; any f64 written is a valid component.
-    unsafe { std::slice::from_raw_parts_mut(s.as_mut_ptr().cast(), s.len() * T::N) }
+    bytemuck::cast_slice_mut(s)
 }
 
 /// A dimension of space.
