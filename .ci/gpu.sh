@@ -15,9 +15,10 @@ fi
 cargo clippy -p grains -p grains-cli --all-targets --features cuda -- -D warnings
 python3 tools/make_ptx.py --check
 # Without the feature, --device gpu is refused with the feature's name.
-if "${CARGO_TARGET_DIR:-target}"/release/grains bench chute --device gpu --steps 1 2>err.txt; then
+err=$(mktemp)
+trap 'rm -f "$err"' EXIT
+if "${CARGO_TARGET_DIR:-target}"/release/grains bench chute --device gpu --steps 1 2>"$err"; then
     echo "--device gpu ran without the cuda feature" >&2
     exit 1
 fi
-grep -q "features cuda" err.txt
-rm -f err.txt
+grep -q "features cuda" "$err"

@@ -139,7 +139,8 @@ fn hertz(m: f64, r: f64, e: f64, v: f64) -> (f64, f64, f64) {
     (delta, force, 2.94327 * delta / v)
 }
 
-fn close(got: f64, want: f64, tol: f64, what: &str) {
+/// Asserts `got` within relative `tol` of `want`, naming `what`.
+pub(super) fn close(got: f64, want: f64, tol: f64, what: &str) {
     assert!(
         (got / want - 1.0).abs() < tol,
         "{what}: {got:e} against {want:e} ({:+.3}%)",

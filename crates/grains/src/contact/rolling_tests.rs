@@ -10,6 +10,7 @@
 //!   μ_r r m g cos θ, so the ball stays put when tan θ < μ_r and otherwise
 //!   rolls with a = (5/7) g (sin θ − μ_r cos θ), the torque at its limit.
 
+use super::chung_ooi::close;
 use super::hertz_mindlin::HertzMindlin;
 use super::material::Material;
 use super::rolling::RollingModel;
@@ -86,14 +87,6 @@ fn ball_on_plane(model: RollingModel, mu_r: f64, g_vec: DVec3, v0: f64) -> Md<D3
         [false; 3],
     );
     Md::new(p, domain, walls, s).unwrap()
-}
-
-fn close(got: f64, want: f64, tol: f64, what: &str) {
-    assert!(
-        (got / want - 1.0).abs() < tol,
-        "{what}: {got:e} against {want:e} ({:+.3}%)",
-        100.0 * (got / want - 1.0)
-    );
 }
 
 /// The constant torque stops a ball rolling at 0.1 m/s after
