@@ -42,8 +42,9 @@ pub const MAGIC: &[u8; 8] = b"GRAINSCK";
 /// column profile; version 4 added the surface height per column; version
 /// 5 moved a DSMC run's measurement state from the engine field into the
 /// measurement section, as an MD run keeps it; version 6 added the
-/// rolling springs of the MD state.
-pub const VERSION: u32 = 6;
+/// rolling springs of the MD state; version 7 added mesh walls' springs
+/// and loads.
+pub const VERSION: u32 = 7;
 /// Checkpoints kept in a run directory (older ones are deleted).
 pub const KEEP: usize = 2;
 const HEADER: usize = 8 + 4 + 8 + 4;

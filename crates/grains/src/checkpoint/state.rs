@@ -6,6 +6,7 @@ use crate::dim::Dim;
 pub use crate::md::state::MdState;
 pub use crate::neighbors::ListState;
 use crate::particles::{ParticleRecord, Particles};
+use glam::DVec3;
 
 /// Largest number of Gear derivative arrays a file may declare.
 const MAX_GEAR: usize = 8;
@@ -107,6 +108,20 @@ pub fn encode_md<D: Dim>(e: &mut Enc, s: &MdState<D>) {
     e.vecs::<D>(&s.wall_springs);
     e.vecs::<D>(&s.rolling);
     e.vecs::<D>(&s.wall_rolling);
+    e.len(s.mesh_springs.len());
+    for &((g, w, patch), v) in &s.mesh_springs {
+        e.u32(g);
+        e.u32(w);
+        e.u32(patch);
+        e.vec::<D>(v);
+    }
+    e.len(s.wall_loads.0.len());
+    for load in &s.wall_loads.0 {
+        for x in load.iter().flat_map(|v| v.to_array()) {
+            e.f64(x);
+        }
+    }
+    e.f64(s.wall_loads.1);
     e.u32(s.rebuilds_since_sort);
     e.u64(s.contacts);
     e.f64(s.max_overlap);
@@ -139,15 +154,41 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
         builds: d.u64("list builds")?,
         built: d.bool("list built flag")?,
     };
+    let springs = d.vecs::<D>("tangential springs")?;
+    let wall_springs = d.vecs::<D>("wall springs")?;
+    let rolling = d.vecs::<D>("rolling springs")?;
+    let wall_rolling = d.vecs::<D>("wall rolling springs")?;
+    let nm = d.len(12 + 8 * D::D, "mesh spring count")?;
+    let mut mesh_springs = Vec::with_capacity(nm);
+    for _ in 0..nm {
+        let key = (
+            d.u32("mesh spring grain")?,
+            d.u32("mesh spring wall")?,
+            d.u32("mesh spring patch")?,
+        );
+        mesh_springs.push((key, d.vec::<D>("mesh spring")?));
+    }
+    let nl = d.len(48, "wall load count")?;
+    let mut loads = Vec::with_capacity(nl);
+    for _ in 0..nl {
+        let mut x = [0.0; 6];
+        for v in &mut x {
+            *v = d.f64("wall load")?;
+        }
+        loads.push([DVec3::new(x[0], x[1], x[2]), DVec3::new(x[3], x[4], x[5])]);
+    }
+    let wall_loads = (loads, d.f64("wall load time")?);
     Ok(MdState {
         time,
         step,
         particles,
         list,
-        springs: d.vecs::<D>("tangential springs")?,
-        wall_springs: d.vecs::<D>("wall springs")?,
-        rolling: d.vecs::<D>("rolling springs")?,
-        wall_rolling: d.vecs::<D>("wall rolling springs")?,
+        springs,
+        wall_springs,
+        rolling,
+        wall_rolling,
+        mesh_springs,
+        wall_loads,
         rebuilds_since_sort: d.u32("rebuild counter")?,
         contacts: d.u64("contacts")?,
         max_overlap: d.f64("max overlap")?,

@@ -287,6 +287,9 @@ impl Mirror {
             // The mirror runs the Hooke law, which keeps no rolling springs.
             rolling: Vec::new(),
             wall_rolling: Vec::new(),
+            // The device runs no mesh walls.
+            mesh_springs: Vec::new(),
+            wall_loads: (Vec::new(), 0.0),
             rebuilds_since_sort: self.rebuilds_since_sort,
             contacts: self.stats.contacts,
             max_overlap: t.max_overlap,

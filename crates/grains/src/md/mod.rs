@@ -211,6 +211,15 @@ impl<D: Dim> Md<D> {
             } else {
                 Vec::new()
             },
+            mesh_springs: self.mesh_springs.entries().collect(),
+            wall_loads: (
+                self.wall_loads
+                    .0
+                    .iter()
+                    .map(|l| [l.force, l.moment])
+                    .collect(),
+                self.wall_loads.1,
+            ),
             rebuilds_since_sort: self.rebuilds_since_sort,
             contacts: self.stats.contacts as u64,
             max_overlap: self.stats.max_overlap,
@@ -303,6 +312,36 @@ impl<D: Dim> Md<D> {
                 want(n * nw)
             ));
         }
+        let mut last = None;
+        for &((g, w, patch), _) in &s.mesh_springs {
+            let patches = self
+                .walls
+                .get(w as usize)
+                .and_then(|wall| match &wall.shape {
+                    crate::boundary::Shape::Mesh(m) => Some(m.patches()),
+                    _ => None,
+                });
+            let Some(patches) = patches else {
+                return bad(format!("a mesh spring on wall {w}, which is not a mesh"));
+            };
+            if g as usize >= n || patch as usize >= patches {
+                return bad(format!(
+                    "a mesh spring of grain {g} on patch {patch} of wall {w}, \
+                     but there are {n} grains and {patches} patches"
+                ));
+            }
+            if last.is_some_and(|l| l >= (g, w, patch)) {
+                return bad("mesh springs out of order".into());
+            }
+            last = Some((g, w, patch));
+        }
+        if !s.wall_loads.0.is_empty() && s.wall_loads.0.len() != self.walls.len() {
+            return bad(format!(
+                "{} wall loads for {} walls",
+                s.wall_loads.0.len(),
+                self.walls.len()
+            ));
+        }
         let mut list = self.neighbors.clone();
         list.import_state(s.list, n)
             .map_err(|e| Error::input(format!("checkpoint state: {e}")))?;
@@ -314,6 +353,15 @@ impl<D: Dim> Md<D> {
         self.wall_springs = WallSprings::from_dense(&s.wall_springs, nw);
         self.rolling = s.rolling;
         self.wall_rolling = WallSprings::from_dense(&s.wall_rolling, nw);
+        self.mesh_springs = WallSprings::from_entries(s.mesh_springs);
+        self.wall_loads = (
+            s.wall_loads
+                .0
+                .iter()
+                .map(|&[force, moment]| WallLoad { force, moment })
+                .collect(),
+            s.wall_loads.1,
+        );
         self.rebuilds_since_sort = s.rebuilds_since_sort;
         self.stats = MdStats {
             contacts: s.contacts as usize,

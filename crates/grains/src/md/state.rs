@@ -5,11 +5,12 @@
 use crate::dim::Dim;
 use crate::neighbors::ListState;
 use crate::particles::Particles;
+use glam::DVec3;
 
 /// The complete dynamic state of an [`super::Md`]: with the same scenario
 /// (settings, walls, domain) it continues bit for bit like the run it came
-/// from. Walls need no state of their own: their motion, phase and removal
-/// are functions of `time`.
+/// from. Walls need no state of their own: their motion (a mesh's pose
+/// included), phase and removal are functions of `time`.
 #[derive(Clone, Debug)]
 pub struct MdState<D: Dim> {
     pub time: f64,
@@ -25,6 +26,13 @@ pub struct MdState<D: Dim> {
     /// laid out as `wall_springs`; both empty unless the law keeps them.
     pub rolling: Vec<D::V>,
     pub wall_rolling: Vec<D::V>,
+    /// Mesh walls' tangential springs, one per (grain in store order,
+    /// wall, flat patch) that is stretched, in key order.
+    pub mesh_springs: Vec<((u32, u32, u32), D::V)>,
+    /// Each wall's load (force, moment about the origin) at the last force
+    /// evaluation, and that evaluation's time; empty unless a wall is a
+    /// mesh (what `walls.csv` reports).
+    pub wall_loads: (Vec<[DVec3; 2]>, f64),
     pub rebuilds_since_sort: u32,
     /// Statistics of the last force evaluation (reported in thermo rows).
     pub contacts: u64,

@@ -135,6 +135,20 @@ impl<D: Dim, K: SpringKey> WallSprings<D, K> {
         }
     }
 
+    /// Every stretched spring as (key, spring), in key order.
+    pub fn entries(&self) -> impl Iterator<Item = (K, D::V)> + '_ {
+        self.keys.iter().copied().zip(self.springs.iter().copied())
+    }
+
+    /// From (key, spring) entries in any order (distinct keys).
+    pub fn from_entries(mut entries: Vec<(K, D::V)>) -> Self {
+        entries.sort_unstable_by_key(|e| e.0);
+        Self {
+            keys: entries.iter().map(|e| e.0).collect(),
+            springs: entries.iter().map(|e| e.1).collect(),
+        }
+    }
+
     /// Follows a reordering of the grains (`order[k]` = old index of new
     /// grain k).
     pub fn permute(&mut self, order: &[u32]) {
@@ -158,20 +172,6 @@ impl<D: Dim, K: SpringKey> WallSprings<D, K> {
 }
 
 impl<D: Dim> WallSprings<D> {
-    /// Every stretched spring as ((grain, wall), spring), in key order.
-    pub fn entries(&self) -> impl Iterator<Item = ((u32, u32), D::V)> + '_ {
-        self.keys.iter().copied().zip(self.springs.iter().copied())
-    }
-
-    /// From ((grain, wall), spring) entries in any order (distinct keys).
-    pub fn from_entries(mut entries: Vec<((u32, u32), D::V)>) -> Self {
-        entries.sort_unstable_by_key(|e| e.0);
-        Self {
-            keys: entries.iter().map(|e| e.0).collect(),
-            springs: entries.iter().map(|e| e.1).collect(),
-        }
-    }
-
     /// The dense layout of checkpoints: `dense[i * slots + w]` is grain i's
     /// spring against wall w, `slots` per grain.
     pub fn to_dense(&self, grains: usize, slots: usize) -> Vec<D::V> {

@@ -31,8 +31,26 @@ impl WallTable {
             }
         }
         let columns: Vec<&str> = columns.iter().map(String::as_str).collect();
+        let path = dir.join("walls.csv");
+        // A run resumed from a checkpoint keeps the rows written up to its
+        // step (numbers in shortest round-trip form: read and written
+        // again, the same text) and drops any an interrupted run wrote
+        // after it.
+        let earlier: Vec<Vec<f64>> = match (md.step, std::fs::read_to_string(&path)) {
+            (1.., Ok(text)) => text
+                .lines()
+                .skip(1)
+                .filter_map(|l| l.split(',').map(|x| x.parse().ok()).collect())
+                .filter(|row: &Vec<f64>| row.len() == columns.len() && row[0] <= md.step as f64)
+                .collect(),
+            _ => Vec::new(),
+        };
+        let mut writer = ThermoWriter::create(&path, &columns)?;
+        for row in &earlier {
+            writer.write_row(row)?;
+        }
         Ok(Some(Self {
-            writer: ThermoWriter::create(&dir.join("walls.csv"), &columns)?,
+            writer,
             last_step: None,
         }))
     }

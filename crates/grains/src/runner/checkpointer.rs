@@ -27,16 +27,6 @@ pub(crate) struct Saved {
 /// flow events (settling, recycling) and the measurements the flow run keeps
 /// (repose, surface_angle, spacetime) are not part of a checkpoint.
 fn blocker(scenario: &Scenario) -> Option<String> {
-    let mesh = |w: &&crate::scenario::schema::WallSpec| {
-        matches!(w.shape, crate::scenario::schema::ShapeSpec::Mesh { .. })
-    };
-    if let Some(w) = scenario.walls.iter().find(mesh) {
-        return Some(format!(
-            "checkpoints do not carry the tangential springs of mesh walls yet (wall '{}'); \
-             run this scenario without --checkpoint-every",
-            w.name
-        ));
-    }
     if scenario.hopper.is_some() || scenario.run.events.is_some() {
         return Some(
             "checkpoints do not carry the state of [hopper] recycling or run.events yet; \

@@ -7,7 +7,7 @@ use crate::common;
 use common::*;
 use glam::DVec3;
 use grains::boundary::{Mesh, MeshPlacement, Motion, Shape, Wall};
-use grains::contact::{ContactLaw, MassScaling};
+use grains::contact::ContactLaw;
 use grains::integrate::Integrator;
 use grains::md::{Md, MdSettings};
 use grains::{ParticleRecord, Particles, D3};
@@ -42,18 +42,6 @@ fn mesh_wall(name: &str, tris: &[Tri], place: &MeshPlacement, motion: Motion<D3>
 
 fn plane(name: &str, point: DVec3, normal: DVec3) -> Wall<D3> {
     Wall::new(name, Shape::Plane { point, normal }, Motion::Fixed).unwrap()
-}
-
-/// The law of these tests: Hooke with damping, a tangential spring capped
-/// at `mu` (no spring when `mu` is 0), rotation on.
-fn law(mu: f64) -> ContactLaw {
-    ContactLaw {
-        kt: if mu > 0.0 { 2.0 / 7.0 * 1.0e6 } else { 0.0 },
-        gamma_t: if mu > 0.0 { 100.0 } else { 0.0 },
-        mu: if mu > 0.0 { mu } else { f64::INFINITY },
-        rotation: true,
-        ..hooke(1.0e6, 300.0, MassScaling::Reduced)
-    }
 }
 
 fn md(grains: Vec<ParticleRecord<D3>>, walls: Vec<Wall<D3>>, law: ContactLaw, g: DVec3) -> Md<D3> {
@@ -94,11 +82,11 @@ fn a_flat_mesh_of_many_triangles_is_a_plane_for_a_rolling_sphere() {
         g.omega = DVec3::new(0.0, 0.0, 3.0);
         let gravity = DVec3::new(0.0, 0.0, -9.81);
         let flat = mesh_wall("sheet", &tris, &MeshPlacement::default(), Motion::Fixed);
-        let mut a = md(vec![g.clone()], vec![flat], law(mu), gravity);
+        let mut a = md(vec![g.clone()], vec![flat], wall_law::<D3>(mu), gravity);
         let mut b = md(
             vec![g],
             vec![plane("floor", DVec3::ZERO, DVec3::Z)],
-            law(mu),
+            wall_law::<D3>(mu),
             gravity,
         );
         let x0 = a.particles.pos[0];
@@ -167,8 +155,8 @@ fn a_grain_in_a_concave_corner_of_a_mesh_box_feels_two_plane_walls() {
         plane("x0", DVec3::ZERO, DVec3::X),
         plane("z0", DVec3::ZERO, DVec3::Z),
     ];
-    let mut a = md(vec![g0.clone()], vec![boxed], law(0.5), gravity);
-    let mut b = md(vec![g0], walls, law(0.5), gravity);
+    let mut a = md(vec![g0.clone()], vec![boxed], wall_law::<D3>(0.5), gravity);
+    let mut b = md(vec![g0], walls, wall_law::<D3>(0.5), gravity);
     for _ in 0..20 {
         a.run(1000).unwrap();
         b.run(1000).unwrap();
@@ -217,7 +205,7 @@ fn grazing_impacts_with_friction_never_gain_energy() {
     let normal = place.apply([0.0, 0.0, 1.0]) - origin;
     let along = place.apply([1.0, 0.0, 0.0]) - origin;
     // Restitution about 0.9: what is left to gain or lose is friction's.
-    let mut law = law(0.5);
+    let mut law = wall_law::<D3>(0.5);
     law.gamma_n = 60.0;
     for deg in [0.0, 30.0, 60.0, 75.0, 80.0, 85.0] {
         let theta = f64::to_radians(deg);
@@ -285,8 +273,8 @@ fn a_moving_mesh_pushes_like_the_moving_plane_it_stands_for() {
     .unwrap();
     let g = grain::<D3>(0, DVec3::new(0.0, 0.0, 0.4999), 1.0);
     let gravity = DVec3::new(0.0, 0.0, -9.81);
-    let mut a = md(vec![g.clone()], vec![mesh], law(0.5), gravity);
-    let mut b = md(vec![g], vec![flat], law(0.5), gravity);
+    let mut a = md(vec![g.clone()], vec![mesh], wall_law::<D3>(0.5), gravity);
+    let mut b = md(vec![g], vec![flat], wall_law::<D3>(0.5), gravity);
     for _ in 0..10 {
         a.run(1000).unwrap();
         b.run(1000).unwrap();

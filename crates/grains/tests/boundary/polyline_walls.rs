@@ -7,7 +7,6 @@ use crate::common;
 use common::*;
 use glam::{DVec2, DVec3};
 use grains::boundary::{Mesh, MeshPlacement, Motion, Shape, Wall};
-use grains::contact::{ContactLaw, MassScaling};
 use grains::integrate::Integrator;
 use grains::md::{Md, MdSettings};
 use grains::{Particles, D2};
@@ -22,20 +21,8 @@ fn line(name: &str, point: DVec2, normal: DVec2) -> Wall<D2> {
     Wall::new(name, Shape::Plane { point, normal }, Motion::Fixed).unwrap()
 }
 
-/// Hooke with damping, a tangential spring capped at `mu` (none when `mu`
-/// is 0), rotation on.
-fn law(mu: f64) -> ContactLaw {
-    ContactLaw {
-        kt: if mu > 0.0 { 1.0 / 3.0 * 1.0e6 } else { 0.0 },
-        gamma_t: if mu > 0.0 { 100.0 } else { 0.0 },
-        mu: if mu > 0.0 { mu } else { f64::INFINITY },
-        rotation: true,
-        ..hooke(1.0e6, 300.0, MassScaling::Reduced)
-    }
-}
-
 fn md(pos: DVec2, vel: DVec2, omega: f64, walls: Vec<Wall<D2>>, mu: f64, g: DVec2) -> Md<D2> {
-    let mut s = MdSettings::<D2>::new(2e-5, law(mu), 0.1);
+    let mut s = MdSettings::<D2>::new(2e-5, wall_law::<D2>(mu), 0.1);
     s.integrator = Integrator::Verlet;
     s.gravity = g;
     let mut gr = grain::<D2>(0, pos, 1.0);

@@ -6,3 +6,4 @@
 mod dsmc;
 mod fuzz;
 mod md;
+mod mesh;

@@ -21,6 +21,23 @@ pub fn hooke(kn: f64, gamma_n: f64, scaling: MassScaling) -> ContactLaw {
     }
 }
 
+/// Hooke with damping (kn = 1e6, γn = 300), a tangential spring capped at
+/// `mu` (none when `mu` is 0) and rotation on: the wall tests' law. The
+/// spring's stiffness is kt = 2/7 kn for spheres and 1/3 kn for disks, so
+/// that a grain's tangential and normal oscillations at a contact keep in
+/// step (the ratio of the inverse effective masses of a rolling sphere or
+/// disk).
+pub fn wall_law<D: Dim>(mu: f64) -> ContactLaw {
+    let ratio = if D::D == 3 { 2.0 / 7.0 } else { 1.0 / 3.0 };
+    ContactLaw {
+        kt: if mu > 0.0 { ratio * 1.0e6 } else { 0.0 },
+        gamma_t: if mu > 0.0 { 100.0 } else { 0.0 },
+        mu: if mu > 0.0 { mu } else { f64::INFINITY },
+        rotation: true,
+        ..hooke(1.0e6, 300.0, MassScaling::Reduced)
+    }
+}
+
 /// A grain of diameter `d` and density 1 (sphere mass), at rest.
 pub fn grain<D: Dim>(id: u64, pos: D::V, d: f64) -> ParticleRecord<D> {
     let m = grains::MassModel::Sphere.mass(1.0, d);

@@ -109,16 +109,21 @@ pub struct Mesh {
     centroid: DVec3,
     /// The point torques on the mesh are taken about (reference frame).
     load_point: DVec3,
+    /// A hash of the vertices' bits and the triangles: a checkpoint's
+    /// fingerprint holds it (through `Debug`), so that a run is not resumed
+    /// over a mesh file changed since.
+    digest: u64,
 }
 
 impl std::fmt::Debug for Mesh {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "Mesh({}: {} triangles, {} patches)",
+            "Mesh({}: {} triangles, {} patches, digest {:016x})",
             self.source,
             self.tris.len(),
-            self.planes.len()
+            self.planes.len(),
+            self.digest
         )
     }
 }
@@ -227,6 +232,15 @@ impl Mesh {
             area += w;
             moment += (a + b + c) * (w / 3.0);
         }
+        let digest = {
+            use std::hash::{Hash, Hasher};
+            let mut h = rustc_hash::FxHasher::default();
+            for v in &vertices {
+                v.to_array().map(f64::to_bits).hash(&mut h);
+            }
+            tris.hash(&mut h);
+            h.finish()
+        };
         let grid = TriGrid::new(&boxes, &patch, lo, hi);
         Self {
             source: source.to_string(),
@@ -243,6 +257,7 @@ impl Mesh {
             hi,
             centroid: moment / area,
             load_point: moment / area,
+            digest,
         }
     }
 

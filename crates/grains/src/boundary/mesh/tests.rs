@@ -266,3 +266,92 @@ fn contacts_do_not_depend_on_the_order_triangles_are_read_in() {
         assert_eq!(bits(&got), bits(&want), "at {p} with r = {r}");
     }
 }
+
+#[test]
+fn a_patch_bent_within_tolerance_pushes_with_its_face_where_an_edge_is_nearer() {
+    // Two rectangles of two triangles meeting along x = 0 in a valley bent
+    // by 5e-6 rad each side (within the 1e-5 rad of one patch):
+    // z = ε|x|. The right side is wider, so its plane (that of the patch's
+    // largest triangle) is the patch's; over the left side it runs below
+    // the surface, by 2εX at X from the crease. A grain at height h over
+    // the middle of the left side (X = 1/2), just beside the diagonal of
+    // the left rectangle: one left triangle meets it at its face, measured
+    // from the patch's plane (h + εX, about); the other at the diagonal,
+    // nearer (h − εX plus a little). One face contact all the same,
+    // whatever order the triangles come in and whichever way they are
+    // wound.
+    let eps = 5e-6;
+    let z = |x: f64| eps * x.abs();
+    let v = |x: f64, y: f64| [x, y, z(x)];
+    let left = [
+        [v(-1.0, -1.0), v(0.0, -1.0), v(0.0, 1.0)],
+        [v(-1.0, -1.0), v(0.0, 1.0), v(-1.0, 1.0)],
+    ];
+    let right = [
+        [v(0.0, -1.0), v(2.0, -1.0), v(2.0, 1.0)],
+        [v(0.0, -1.0), v(2.0, 1.0), v(0.0, 1.0)],
+    ];
+    let all: Vec<[[f64; 3]; 3]> = left.iter().chain(&right).copied().collect();
+    // The left diagonal runs y = 2x + 1: this is 4.5e-4 from it in plan.
+    let p = DVec3::new(-0.5, 0.001, 0.5);
+    let r = 0.5 * (1.0 + 1e-5);
+    let bits = |t: &MeshTouch| {
+        let (n, q) = (t.touch.normal, t.touch.point);
+        [t.touch.overlap, n.x, n.y, n.z, q.x, q.y, q.z].map(f64::to_bits)
+    };
+    let mut seen = [None; 2];
+    let mut first = None;
+    let mut orders = 0;
+    // All 24 orders of the four triangles, each wound both ways.
+    for a in 0..4 {
+        for b in (0..4).filter(|&b| b != a) {
+            for c in (0..4).filter(|&c| c != a && c != b) {
+                let d = 6 - a - b - c;
+                for flip in [false, true] {
+                    let tris: Vec<_> = [a, b, c, d]
+                        .iter()
+                        .map(|&k| {
+                            let [x, y, w] = all[k];
+                            if flip {
+                                [x, w, y]
+                            } else {
+                                [x, y, w]
+                            }
+                        })
+                        .collect();
+                    let m = mesh(&tris);
+                    assert_eq!(m.patches(), 1);
+                    // An edge of the patch is nearer than its face.
+                    let cands: Vec<Candidate> =
+                        (0..4).filter_map(|t| m.candidate(t, p, r)).collect();
+                    let face = cands.iter().find(|c| c.rank == 0).expect("a face").dist;
+                    assert!(
+                        cands.iter().any(|c| c.rank == 1 && c.dist < face),
+                        "no edge nearer than the face: {cands:?}"
+                    );
+                    let got = touches(&m, p, r);
+                    assert_eq!(got.len(), 1, "{got:?}");
+                    assert_eq!(bits(&got[0]), bits(&touches_by_scan(&m, p, r)[0]));
+                    // The face: along the patch's normal, from its plane.
+                    let (point, n) = m.planes[0];
+                    let s = (p - point).dot(n);
+                    let want = if s < 0.0 { -n } else { n };
+                    assert_eq!(got[0].touch.normal, want);
+                    assert_eq!(got[0].touch.overlap, r - s.abs());
+                    // Bit for bit whatever the order; across windings the
+                    // same numbers (a zero component may change its sign).
+                    match seen[flip as usize] {
+                        None => seen[flip as usize] = Some(bits(&got[0])),
+                        Some(s) => assert_eq!(s, bits(&got[0]), "order {a}{b}{c}{d} {flip}"),
+                    }
+                    match first {
+                        None => first = Some(got[0].touch),
+                        Some(t) => assert_eq!(t, got[0].touch),
+                    }
+                    orders += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(orders, 48);
+}
