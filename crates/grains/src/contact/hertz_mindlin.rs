@@ -158,9 +158,9 @@ impl HertzMindlin {
     pub fn with_rolling<R>(&self, run: impl RunLaw<R>) -> R {
         if let Some(table) = &self.granular {
             return if table.rolling.is_some() {
-                run.run(&LammpsGranular::<true> { law: self, table })
+                run.run(&LammpsGranular::<_, true> { law: self, table })
             } else {
-                run.run(&LammpsGranular::<false> { law: self, table })
+                run.run(&LammpsGranular::<_, false> { law: self, table })
             };
         }
         match self.rolling {

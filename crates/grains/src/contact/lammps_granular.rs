@@ -24,7 +24,6 @@
 //! for non-cohesive normal models), as the other laws do.
 
 use super::contract::{Contact, ContactModel, ContactOutcome, Step};
-use super::hertz_mindlin::HertzMindlin;
 use super::mass_scaling::MassScaling;
 use super::material::{Material, PairOverride};
 use crate::dim::Dim;
@@ -102,7 +101,8 @@ impl GranularPair {
     }
 }
 
-/// The table of a scenario's pairs, indexed as [`HertzMindlin`]'s.
+/// The table of a scenario's pairs, indexed as the material law's
+/// ([`super::hertz_mindlin::HertzMindlin`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct GranularTable {
     pub pairs: Vec<GranularPair>,
@@ -136,14 +136,16 @@ impl GranularTable {
     }
 }
 
-/// The law: [`HertzMindlin`]'s material lookup with LAMMPS's forces;
+/// The law: the material law's lookup (`law`, a
+/// [`super::hertz_mindlin::HertzMindlin`]: which table entry a pair or a
+/// wall contact takes, and whether grains turn) with LAMMPS's forces;
 /// `ROLL` compiles `rolling sds` in.
-pub struct LammpsGranular<'a, const ROLL: bool> {
-    pub law: &'a HertzMindlin,
+pub struct LammpsGranular<'a, L, const ROLL: bool> {
+    pub law: &'a L,
     pub table: &'a GranularTable,
 }
 
-impl<const ROLL: bool> LammpsGranular<'_, ROLL> {
+impl<L, const ROLL: bool> LammpsGranular<'_, L, ROLL> {
     #[inline(always)]
     fn entry(&self, pair: u32) -> &GranularPair {
         // SAFETY: `pair` comes from the material law's `pair_index` /
@@ -198,13 +200,13 @@ fn spring_force<D: Dim>(
     }
 }
 
-impl<const ROLL: bool> ContactModel for LammpsGranular<'_, ROLL> {
+impl<L: ContactModel, const ROLL: bool> ContactModel for LammpsGranular<'_, L, ROLL> {
     const LANES: bool = true;
     const ROLLING: bool = ROLL;
     const ROLLING_HISTORY: bool = ROLL;
     #[inline(always)]
     fn rotation(&self) -> bool {
-        self.law.rotation
+        self.law.rotation()
     }
     #[inline(always)]
     fn force_factor(&self, _: f64) -> f64 {
