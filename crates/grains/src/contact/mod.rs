@@ -11,7 +11,9 @@
 //! [`tsuji_damping`]).
 //!
 //! [`rolling`] adds rolling resistance to the material law, [`cohesion`]
-//! the DMT pull.
+//! the DMT pull. [`lammps_granular`] is LAMMPS's `pair granular` with
+//! `hertz/material`, `tsuji`, `mindlin` and `rolling sds` on the same
+//! materials (`contact.preset = "lammps-granular"`).
 //!
 //! [`mass_scaling`] says how the coefficients meet the masses (the seeds'
 //! "normalized by the mass" or the momentum-conserving reduced mass), and
@@ -32,6 +34,9 @@ pub mod cundall_strack;
 pub mod damping;
 pub mod hertz_mindlin;
 pub mod hooke_history;
+pub mod lammps_granular;
+#[cfg(test)]
+mod lammps_granular_tests;
 pub mod lanes;
 pub mod law;
 pub mod mass_scaling;

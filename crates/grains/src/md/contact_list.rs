@@ -2,6 +2,7 @@
 //! normal, force), for analysis from outside the engine.
 
 use super::Md;
+use crate::contact::hertz_mindlin::RunLaw;
 use crate::contact::{Contact, ContactModel, Step};
 use crate::dim::Dim;
 
@@ -27,7 +28,9 @@ impl<D: Dim> Md<D> {
     /// listed.
     pub fn contact_list(&self) -> ContactList<D> {
         match &self.settings.materials {
-            Some(law) => self.contacts_under(law),
+            // The material law as compiled for the run (LAMMPS's forces
+            // under the `lammps-granular` preset).
+            Some(law) => law.with_rolling(ListRun(self)),
             None => self.contacts_under(&self.settings.contact),
         }
     }
@@ -78,6 +81,15 @@ impl<D: Dim> Md<D> {
             out.force.push(f.force * law.force_factor(p.mass[i]));
         }
         out
+    }
+}
+
+/// [`Md::contacts_under`] for a material law as compiled.
+struct ListRun<'a, D: Dim>(&'a Md<D>);
+
+impl<D: Dim> RunLaw<ContactList<D>> for ListRun<'_, D> {
+    fn run<L: ContactModel>(self, law: &L) -> ContactList<D> {
+        self.0.contacts_under(law)
     }
 }
 
