@@ -225,7 +225,8 @@ pub struct ContactSpec {
     /// Rolling resistance ("none", "constant", "epsd"; hertz-mindlin only,
     /// needs rotation; `contact::rolling`).
     pub rolling: Option<crate::contact::rolling::RollingModel>,
-    /// Cohesion ("none", "dmt"; hertz-mindlin only; `contact::cohesion`).
+    /// Cohesion ("none", "dmt", "jkr"; hertz-mindlin only, from the
+    /// materials' surface_energy; `contact::cohesion`, `contact::jkr`).
     pub cohesion: Option<crate::contact::cohesion::CohesionModel>,
     /// Names of walls whose contacts have no normal damping (γ_n = 0, the
     /// grains' γ_t kept): elastic side walls beside a dissipative bulk.
