@@ -599,6 +599,11 @@ pub struct MeasureSpec {
     /// on a grid, averaged over time: flow_field.csv/png.
     #[serde(default)]
     pub flow_field: Option<FlowFieldSpec>,
+    /// Per collision of two bodies (two grains, or a grain and a wall): the
+    /// largest overlap, peak normal force, duration, restitution and
+    /// rebound angle: impacts.csv and `impact_*` (`measure::impact`).
+    #[serde(default)]
+    pub impact: bool,
 }
 
 /// `measure.flow_field`: `cells` = [along x, along the vertical axis] over
