@@ -440,7 +440,8 @@ pub struct RunSpec {
     /// Run events: settle, then remove a wall or tilt gravity.
     #[serde(default)]
     pub events: Option<EventsSpec>,
-    /// Where the MD steps run: "cpu" (default) or "gpu" (docs/gpu.md).
+    /// Where the MD steps run: "cpu" (default), "gpu" or "mirror" (the
+    /// GPU pipeline as loops on the CPU; docs/gpu.md).
     /// Left out when written (checkpoints) if "cpu", so that files read as
     /// they did before the key.
     #[serde(default, skip_serializing_if = "Device::is_cpu")]
@@ -455,6 +456,9 @@ pub enum Device {
     Cpu,
     /// The CUDA engine (feature `cuda`).
     Gpu,
+    /// The GPU pipeline run as loops on the CPU: the same arrays, kernels
+    /// and bits, slowly; for checking a GPU run's set-up without a GPU.
+    Mirror,
 }
 
 impl Device {
