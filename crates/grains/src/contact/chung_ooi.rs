@@ -19,7 +19,7 @@ use crate::md::{Md, MdSettings};
 use crate::particles::{ParticleRecord, Particles};
 use glam::DVec3;
 
-fn material(name: &str, e: f64, nu: f64, rho: f64, rest: f64, mu: f64) -> Material {
+pub(super) fn material(name: &str, e: f64, nu: f64, rho: f64, rest: f64, mu: f64) -> Material {
     Material {
         name: name.into(),
         density: rho,
@@ -34,19 +34,19 @@ fn material(name: &str, e: f64, nu: f64, rho: f64, rest: f64, mu: f64) -> Materi
 
 /// The rigid plane of the tests: restitution and friction 1 so that the
 /// grain's material decides (the mixing rules take the smaller).
-fn rigid() -> Material {
+pub(super) fn rigid() -> Material {
     material("rigid", 1e30, 0.3, 1.0, 1.0, 1.0)
 }
 
 /// What one collision did.
 #[derive(Debug)]
-struct Impact {
-    max_overlap: f64,
-    peak_force: f64,
-    duration: f64,
-    vel: DVec3,
-    omega: DVec3,
-    pos: DVec3,
+pub(super) struct Impact {
+    pub max_overlap: f64,
+    pub peak_force: f64,
+    pub duration: f64,
+    pub vel: DVec3,
+    pub omega: DVec3,
+    pub pos: DVec3,
 }
 
 /// Runs one collision: grain 0 of material 0 (radius `r`) moving at `v0`
@@ -54,6 +54,19 @@ struct Impact {
 /// −v0) or, with `partner = None`, against the plane z = 0 of material 1.
 /// `dt` is `t_c / 2000`.
 fn collide(mats: &[Material], r: f64, v0: DVec3, two_grains: bool, t_c: f64) -> Impact {
+    let law = HertzMindlin::new(mats, &[], vec![0, 0], vec![1], true);
+    collide_under(law, mats, r, v0, two_grains, t_c)
+}
+
+/// [`collide`] under `law` (of `mats`, grains kind 0, the plane wall 0).
+pub(super) fn collide_under(
+    law: HertzMindlin,
+    mats: &[Material],
+    r: f64,
+    v0: DVec3,
+    two_grains: bool,
+    t_c: f64,
+) -> Impact {
     let dt = t_c / 2000.0;
     let m = mats[0].density * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
     let mut p = Particles::<D3>::new();
@@ -75,7 +88,6 @@ fn collide(mats: &[Material], r: f64, v0: DVec3, two_grains: bool, t_c: f64) -> 
         };
         walls.push(Wall::new("plane", plane, Motion::Fixed).unwrap());
     }
-    let law = HertzMindlin::new(mats, &[], vec![0, 0], vec![1], true);
     // The coefficient law only carries the rotation switch here.
     let stand_in = ContactLaw {
         kn: 1.0,
@@ -135,7 +147,7 @@ fn collide(mats: &[Material], r: f64, v0: DVec3, two_grains: bool, t_c: f64) -> 
 }
 
 /// Hertz's closed forms for reduced mass `m`, radius `r`, modulus `e`, speed `v`.
-fn hertz(m: f64, r: f64, e: f64, v: f64) -> (f64, f64, f64) {
+pub(super) fn hertz(m: f64, r: f64, e: f64, v: f64) -> (f64, f64, f64) {
     let delta = (15.0 * m * v * v / (16.0 * e * r.sqrt())).powf(0.4);
     let force = 4.0 / 3.0 * e * r.sqrt() * delta.powf(1.5);
     (delta, force, 2.94327 * delta / v)

@@ -101,6 +101,14 @@ pub trait ContactModel: Sync {
         0
     }
 
+    /// The lever arm of the tangential force's torque on a body of radius
+    /// `r` at overlap `overlap`: r (the default), or LAMMPS `pair
+    /// granular`'s r − ξ/2.
+    #[inline(always)]
+    fn lever(&self, r: f64, _overlap: f64) -> f64 {
+        r
+    }
+
     /// Evaluates one contact; `spring` is its tangential history (the
     /// displacement of i relative to the partner), advanced when
     /// `step.update`.

@@ -20,6 +20,7 @@ use super::cohesion::{dmt_pull_off, CohesionModel};
 use super::contract::{Contact, ContactModel, ContactOutcome, Step};
 use super::cundall_strack::Tangential;
 use super::jkr;
+use super::lammps_granular::{GranularTable, LammpsGranular};
 use super::mass_scaling::MassScaling;
 use super::material::{Material, PairCoefficients, PairOverride};
 use super::rolling::{epsd_damping, rolling_torque, RollingContact, RollingModel};
@@ -77,6 +78,9 @@ pub struct HertzMindlin {
     pub rolling: RollingModel,
     /// The cohesion ([`HertzMindlin::with_cohesion`] sets it).
     cohesion: CohesionModel,
+    /// LAMMPS's `pair granular` forces instead of these
+    /// ([`HertzMindlin::with_lammps_granular`]).
+    granular: Option<GranularTable>,
 }
 
 impl HertzMindlin {
@@ -117,7 +121,28 @@ impl HertzMindlin {
             rotation,
             rolling: RollingModel::None,
             cohesion: CohesionModel::None,
+            granular: None,
         }
+    }
+
+    /// The law with LAMMPS's `pair granular` forces
+    /// ([`super::lammps_granular`]) for the same materials, grain kinds and
+    /// walls: `contact.preset = "lammps-granular"`. Its rolling resistance
+    /// is `table.rolling` (`rolling sds`), which sets [`Self::rolling`].
+    pub fn with_lammps_granular(mut self, table: GranularTable) -> Self {
+        assert_eq!(table.pairs.len(), self.pairs.len(), "one entry per pair");
+        self.rolling = if table.rolling.is_some() {
+            RollingModel::Epsd
+        } else {
+            RollingModel::None
+        };
+        self.granular = Some(table);
+        self
+    }
+
+    /// Whether the law is LAMMPS's `pair granular` preset.
+    pub fn is_lammps_granular(&self) -> bool {
+        self.granular.is_some()
     }
 
     /// The law with cohesion `model` from the pairs' surface energy.
@@ -137,6 +162,13 @@ impl HertzMindlin {
     /// (one compiled kernel per model; none without rolling).
     #[inline(always)]
     pub fn with_rolling<R>(&self, run: impl RunLaw<R>) -> R {
+        if let Some(table) = &self.granular {
+            return if table.rolling.is_some() {
+                run.run(&LammpsGranular::<_, true> { law: self, table })
+            } else {
+                run.run(&LammpsGranular::<_, false> { law: self, table })
+            };
+        }
         let jkr = self.cohesion == CohesionModel::Jkr;
         match (self.rolling, jkr) {
             (RollingModel::None, false) => run.run(self),

@@ -124,7 +124,7 @@ fn lanes<D: Dim, L: ContactModel>(law: &L, c: &mut ContactLanes, step: Step) {
         // Lever arms −r_i n and +r_j n, force on j is −F: both torques are
         // −r (n × F_t) with each grain's own radius.
         let nt = D::torque(n, out.tangential);
-        let (mut ti, mut tj) = (nt * ri, nt * rj);
+        let (mut ti, mut tj) = (nt * law.lever(ri, overlap), nt * law.lever(rj, overlap));
         let mut rolling = D::zero();
         if L::ROLLING {
             // The rolling torque T on i (−T on j), as amounts to subtract.
@@ -213,7 +213,7 @@ mod tests {
         let out = law.evaluate(&contact, &mut spring, step);
         let nt = D::torque(n, out.tangential);
         let mut rolling = c.rolling;
-        let (mut ti, mut tj) = (nt * c.ri, nt * c.rj);
+        let (mut ti, mut tj) = (nt * law.lever(c.ri, overlap), nt * law.lever(c.rj, overlap));
         if L::ROLLING {
             let t = law.rolling(&contact, &out, &mut rolling, step);
             ti -= t;
@@ -415,6 +415,43 @@ mod tests {
             law.rolling = model;
             law.with_rolling(SameBits::<D>(&mut rng, 4, 1.5e-3, PhantomData));
         }
+    }
+
+    /// LAMMPS's `pair granular` preset (two materials, with and without
+    /// `rolling sds`) on the lanes: the same bits as one contact at a time.
+    fn granular_same_bits<D: Dim>() {
+        use crate::contact::hertz_mindlin::HertzMindlin;
+        use crate::contact::lammps_granular::{GranularTable, RollingSds};
+        use crate::contact::material::Material;
+        let mat = |name: &str, e: f64, rest: f64, mu: f64| Material {
+            name: name.into(),
+            density: 1.0,
+            youngs_modulus: e,
+            poisson_ratio: 0.3,
+            restitution: rest,
+            friction: mu,
+            rolling_friction: 0.1,
+            surface_energy: 0.0,
+        };
+        let mats = [mat("a", 2e6, 0.8, 0.5), mat("b", 5e6, 0.6, 0.3)];
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(6);
+        for rolling in [
+            None,
+            Some(RollingSds {
+                stiffness: 500.0,
+                damping: 3.0,
+            }),
+        ] {
+            let law = HertzMindlin::new(&mats, &[], vec![0, 1], vec![], true)
+                .with_lammps_granular(GranularTable::new(&mats, &[], rolling));
+            law.with_rolling(SameBits::<D>(&mut rng, 4, 0.0, PhantomData));
+        }
+    }
+
+    #[test]
+    fn lammps_granular_same_bits_as_one_by_one() {
+        granular_same_bits::<D3>();
+        granular_same_bits::<D2>();
     }
 
     #[test]

@@ -29,6 +29,8 @@ impl<D: Dim> Md<D> {
     /// listed.
     pub fn contact_list(&self) -> ContactList<D> {
         match &self.settings.materials {
+            // The material law as compiled for the run (LAMMPS's forces
+            // under the `lammps-granular` preset).
             Some(law) => law.with_rolling(ListRun(self)),
             None => self.contacts_under(&self.settings.contact),
         }
@@ -88,7 +90,7 @@ impl<D: Dim> Md<D> {
     }
 }
 
-/// [`Md::contacts_under`] with a material law's compiled variant.
+/// [`Md::contacts_under`] for a material law as compiled.
 struct ListRun<'a, D: Dim>(&'a Md<D>);
 
 impl<D: Dim> RunLaw<ContactList<D>> for ListRun<'_, D> {

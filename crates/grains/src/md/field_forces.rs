@@ -352,7 +352,7 @@ fn push<D: Dim, L: ContactModel>(
     let out = law.evaluate(&c, spring, step);
     let fi = law.force_factor(g.mass);
     let mut torque = if rotation {
-        D::torque(contact.normal, out.tangential) * (g.radius * fi)
+        D::torque(contact.normal, out.tangential) * (law.lever(g.radius, contact.overlap) * fi)
     } else {
         D::A::default()
     };

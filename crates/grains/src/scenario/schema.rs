@@ -225,6 +225,11 @@ pub struct ContactSpec {
     /// Rolling resistance ("none", "constant", "epsd"; hertz-mindlin only,
     /// needs rotation; `contact::rolling`).
     pub rolling: Option<crate::contact::rolling::RollingModel>,
+    /// k_r of LAMMPS's `rolling sds` (force per length), with
+    /// `preset = "lammps-granular"` and `rolling = "epsd"` only.
+    pub rolling_stiffness: Option<f64>,
+    /// γ_r of LAMMPS's `rolling sds` (force per velocity), likewise.
+    pub rolling_damping: Option<f64>,
     /// Cohesion ("none", "dmt", "jkr"; hertz-mindlin only, from the
     /// materials' surface_energy; `contact::cohesion`, `contact::jkr`).
     pub cohesion: Option<crate::contact::cohesion::CohesionModel>,
@@ -296,6 +301,12 @@ pub enum ContactPreset {
     /// rotation on. Units are whatever the data file uses (LAMMPS `lj`).
     #[serde(rename = "lammps-hooke-history")]
     LammpsHookeHistory,
+    /// LAMMPS `pair_style granular` with `pair_coeff * * hertz/material E e ν
+    /// tangential mindlin NULL 1.0 μ damping tsuji [rolling sds k_r γ_r
+    /// μ_r]`, from `[[materials]]` (E, ν, e, μ, μ_r) and, with
+    /// `rolling = "epsd"`, `rolling_stiffness` and `rolling_damping`.
+    #[serde(rename = "lammps-granular")]
+    LammpsGranular,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]

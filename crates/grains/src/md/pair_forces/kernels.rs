@@ -331,7 +331,8 @@ fn contacts_one_by_one<D: Dim, L: ContactModel>(
         } else {
             D::A::default()
         };
-        let (mut ti, mut tj) = (nt * (ri * fi), nt * (rj * fj));
+        let (li, lj) = (law.lever(ri, overlap), law.lever(rj, overlap));
+        let (mut ti, mut tj) = (nt * (li * fi), nt * (lj * fj));
         if L::ROLLING {
             // The rolling torque T on i, −T on j (a law with rolling has
             // no mass factor).
