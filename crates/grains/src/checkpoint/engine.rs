@@ -6,7 +6,7 @@ use super::state::{decode_md, encode_md};
 use crate::codec::{Dec, Enc};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
-use crate::md::Md;
+use crate::md::{Md, MdState};
 
 /// What must be equal between the engine that wrote a checkpoint and the
 /// one rebuilt from the scenario to restore it, as comparable text.
@@ -49,6 +49,12 @@ fn fingerprint<D: Dim>(md: &Md<D>) -> Vec<(&'static str, String)> {
 
 /// The engine's fingerprint and full state.
 pub fn encode<D: Dim>(md: &Md<D>) -> Result<Vec<u8>> {
+    Ok(encode_state(md, &md.export_state()?))
+}
+
+/// `md`'s fingerprint and `state`, a state of an engine built as `md` (an
+/// engine whose steps run elsewhere, on a device, exports its state so).
+pub fn encode_state<D: Dim>(md: &Md<D>, state: &MdState<D>) -> Vec<u8> {
     let mut e = Enc::default();
     let fp = fingerprint(md);
     e.len(fp.len());
@@ -56,8 +62,8 @@ pub fn encode<D: Dim>(md: &Md<D>) -> Result<Vec<u8>> {
         e.str(k);
         e.str(v);
     }
-    encode_md(&mut e, &md.export_state()?);
-    Ok(e.buf)
+    encode_md(&mut e, state);
+    e.buf
 }
 
 /// Restores `md` (freshly built from the checkpoint's scenario) from bytes

@@ -738,6 +738,12 @@ impl Cuda {
         Ok(())
     }
 
+    /// The state uploaded from: its arrays are stale, its counters (step,
+    /// time, list builds) current.
+    pub fn counters(&self) -> &Mirror {
+        &self.host
+    }
+
     /// The state now, on the host (a copy of the device's arrays).
     pub fn host(&self) -> Result<Mirror> {
         let s = &self.stream;

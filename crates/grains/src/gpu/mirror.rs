@@ -9,8 +9,9 @@
 //! outputs go through the CPU engine's code.
 
 use super::grain_kernels::{
-    grain_forces, kick_drift, mirrored, order_row, remap_row, visit_partners, wrap, Bins, Box3,
-    ForceArgs, FullList, GrainsIn, Grid, Hooke, KickArgs, ListArgs, Moving, Plane, Soa3, V3,
+    add, dot, grain_forces, kick_drift, mirrored, order_row, remap_row, sub, visit_partners, wrap,
+    Bins, Box3, ForceArgs, FullList, GrainsIn, Grid, Hooke, KickArgs, ListArgs, Moving, Plane,
+    Soa3, V3,
 };
 use crate::dim::{Dim, D3};
 use crate::error::{Error, Result};
@@ -264,6 +265,7 @@ impl Mirror {
                 }
             }
         }
+        let (max_overlap, worst) = self.overlaps(&pairs, &image);
         let nw = self.params.walls.len();
         let slots = nw.max(1);
         let mut wall_springs = vec![DVec3::ZERO; self.len() * slots];
@@ -289,10 +291,59 @@ impl Mirror {
             wall_rolling: Vec::new(),
             rebuilds_since_sort: self.rebuilds_since_sort,
             contacts: self.stats.contacts,
-            max_overlap: t.max_overlap,
+            max_overlap,
             max_overlap_fraction: self.stats.max_fraction,
-            worst_pair: t.worst_pair,
+            worst_pair: worst.unwrap_or(t.worst_pair),
         }
+    }
+
+    /// The largest overlap and the worst pair of the last force evaluation
+    /// (`None` without contacts), as the CPU engine finds them: over the
+    /// pairs in its list's order, then each mobile grain's walls, the first
+    /// largest overlap fraction. The kernels sum only the contacts and the
+    /// largest fraction; these are recomputed from the positions, at which
+    /// a step's forces were evaluated, with the force kernel's operations.
+    fn overlaps(&self, pairs: &[[u32; 2]], image: &[u8]) -> (f64, Option<(u64, Option<u64>)>) {
+        let (mut max, mut fraction, mut worst) = (0.0f64, 0.0, None);
+        for (&[i, j], &code) in pairs.iter().zip(image) {
+            let (i, j) = (i as usize, j as usize);
+            let del = sub(
+                self.pos.get(i),
+                add(self.pos.get(j), self.shifts[code as usize]),
+            );
+            let (ri, rj) = (self.radius[i], self.radius[j]);
+            let r2 = dot(del, del);
+            if r2 >= (ri + rj) * (ri + rj) {
+                continue;
+            }
+            let overlap = ri + rj - r2.sqrt();
+            max = max.max(overlap);
+            if overlap > fraction * ri.min(rj) {
+                fraction = overlap / ri.min(rj);
+                worst = Some((self.id[i], Some(self.id[j])));
+            }
+        }
+        let mut wall_fraction = 0.0;
+        let mut wall_worst = None;
+        for g in (0..self.len()).filter(|&g| self.frozen[g] == 0) {
+            let (x, r) = (self.pos.get(g), self.radius[g]);
+            for wall in &self.params.walls {
+                let s = dot(sub(x, wall.point), wall.normal);
+                let overlap = r - s;
+                if overlap <= 0.0 || s < -r {
+                    continue;
+                }
+                max = max.max(overlap);
+                if overlap / r > wall_fraction {
+                    wall_fraction = overlap / r;
+                    wall_worst = Some((self.id[g], None));
+                }
+            }
+        }
+        if wall_fraction > fraction {
+            worst = wall_worst;
+        }
+        (max, worst)
     }
 
     /// The grains now as a frame (the CPU engine's [`Md::frame`] layout).

@@ -5,12 +5,14 @@
 //! [`grain_kernels`] holds what one thread does for one grain; [`mirror`]
 //! runs the pipeline as plain loops on the CPU (always compiled, the same
 //! bits as the CPU engine); `cuda` (feature `cuda`) runs the same kernels,
-//! written in CUDA C under `kernels/`, on the device.
+//! written in CUDA C under `kernels/`, on the device; [`pipeline`] is what
+//! a scenario run drives of either.
 
 #[cfg(feature = "cuda")]
 pub mod cuda;
 pub mod grain_kernels;
 pub mod mirror;
+pub mod pipeline;
 
 use crate::boundary::{Motion, Shape};
 use crate::contact::hooke_history::HookeHistory;

@@ -8,6 +8,7 @@ use super::options::{prepare, Progress, RunOptions};
 use crate::checkpoint;
 use crate::dim::{Dim, D2, D3};
 use crate::error::Result;
+use crate::md::Md;
 use crate::output::Outputs;
 use crate::scenario::flow::FlowRun;
 use serde_json::Value;
@@ -64,29 +65,44 @@ fn resume_on_pool(
     if found.loaded.scenario.method == crate::dsmc::Method::Dsmc {
         return super::dsmc::resume(&found, steps, &opts, progress);
     }
+    let loaded = &found.loaded;
+    if !loaded.scenario.run.device.is_cpu() {
+        crate::scenario::device::check_device(loaded)?;
+        let start = restart::<D3>(&found, steps, &opts)?;
+        return super::device_md::run(loaded, &opts, start, progress);
+    }
     match found.dim {
-        2 => resume_dim::<D2>(found, steps, &opts, progress),
-        _ => resume_dim::<D3>(found, steps, &opts, progress),
+        2 => run_loop(
+            loaded,
+            &opts,
+            restart::<D2>(&found, steps, &opts)?,
+            progress,
+        ),
+        _ => run_loop(
+            loaded,
+            &opts,
+            restart::<D3>(&found, steps, &opts)?,
+            progress,
+        ),
     }
 }
 
-fn resume_dim<D: Dim>(
-    found: Found,
+/// The engine restored from the checkpoint, the outputs cut back to it.
+fn restart<D: Dim>(
+    found: &Found,
     steps: Option<u64>,
     opts: &RunOptions,
-    progress: &mut dyn Progress,
-) -> Result<Value> {
+) -> Result<Start<D, Md<D>>> {
     let mut r = found.restore::<D>(steps)?;
     r.md.timing.reset();
     let loaded = &found.loaded;
     let outputs = Outputs::resume(&opts.out_dir, &loaded.scenario.output, &found.outputs)?;
-    let start = Start {
+    Ok(Start {
         flow: Some(FlowRun::begin(loaded, &r.md)?),
         engine: r.md,
         resolved: r.resolved,
         outputs: Some(outputs),
         plan: r.plan,
         restored: r.measurements,
-    };
-    run_loop(loaded, opts, start, progress)
+    })
 }

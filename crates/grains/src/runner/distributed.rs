@@ -46,6 +46,7 @@ pub fn run(
     comm: &dyn Comm,
 ) -> Result<Value> {
     let md = loaded.scenario.method != Method::Dsmc;
+    refuse_device(loaded)?;
     if opts.checkpoint_every.is_some() && !md {
         return Err(Error::input(
             "--checkpoint-every is not supported for a DSMC run on several ranks yet; \
@@ -61,6 +62,16 @@ pub fn run(
         Dimension::Two => run_dim::<D2>(loaded, opts, progress, comm),
         Dimension::Three => run_dim::<D3>(loaded, opts, progress, comm),
     }
+}
+
+/// The GPU pipeline runs on one process, never decomposed over ranks.
+fn refuse_device(loaded: &Loaded) -> Result<()> {
+    if loaded.scenario.run.device.is_cpu() {
+        return Ok(());
+    }
+    Err(Error::input(
+        "run.device = \"gpu\" (or \"mirror\") runs on one process: run it without mpirun",
+    ))
 }
 
 /// Continues a checkpoint (of a serial or a distributed MD run) on the
@@ -80,6 +91,7 @@ pub fn resume(
             found.path.display()
         )));
     }
+    refuse_device(found.loaded())?;
     let opts = checkpointing::resume_options(&found, opts);
     match found.dim {
         2 => super::distributed_md::resume::<D2>(&found, steps, &opts, progress, comm),
@@ -146,6 +158,16 @@ struct DistGas<'c, D: GasDim> {
     pieces: Pieces,
 }
 
+impl<D: GasDim> DistGas<'_, D> {
+    /// This rank's particles, with their serial store positions as ids (as
+    /// when gathered).
+    fn piece(&self) -> Frame {
+        let mut f = frame(&self.dec.sim);
+        f.id = self.dec.keys().iter().map(|k| k + 1).collect();
+        f
+    }
+}
+
 impl<D: GasDim> Engine for DistGas<'_, D> {
     fn dim(&self) -> usize {
         D::D
@@ -163,12 +185,8 @@ impl<D: GasDim> Engine for DistGas<'_, D> {
         self.dec.run(n);
         Ok(())
     }
-    /// This rank's particles, with their serial store positions as ids (as
-    /// when gathered).
-    fn frame(&self) -> Frame {
-        let mut f = frame(&self.dec.sim);
-        f.id = self.dec.keys().iter().map(|k| k + 1).collect();
-        f
+    fn frame(&self) -> Result<Frame> {
+        Ok(self.piece())
     }
     fn export(&self) -> Result<Vec<u8>> {
         Err(Error::input(
@@ -201,7 +219,7 @@ impl<D: GasDim> GasView for DistGas<'_, D> {
         self.mirror.as_mut()
     }
     fn write_piece(&self) -> Result<()> {
-        self.pieces.write(|| self.frame())
+        self.pieces.write(|| self.piece())
     }
     fn tallies_read(&mut self) {
         self.dec.reset_collisions();

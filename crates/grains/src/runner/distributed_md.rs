@@ -137,7 +137,7 @@ fn start<D: Dim>(
     // Rank 0 begins the measurements after relaxing; a scenario they refuse
     // (phases without a vibrating wall) must stop every rank now.
     let m = &loaded.scenario.measure;
-    if m.phases.is_some() || m.trajectories.is_some() {
+    if m.phases.is_some() || m.trajectories.is_some() || m.impact {
         Measurements::begin(loaded, &full, 0, resolved.dt)?;
     }
     let flow = mirror.is_some().then_some(flow);
@@ -198,6 +198,20 @@ impl<'c, D: Dim> DistMd<'c, D> {
     fn comm(&self) -> &'c dyn Comm {
         self.comm
     }
+
+    /// Gathers the whole state into rank 0's mirror, at most once a step
+    /// (every rank calls this).
+    fn gathered(&mut self) {
+        let step = self.dec.md.step;
+        let mirror = self.mirror.get_mut();
+        if self.fresh != Some(step) {
+            self.dec.gather(mirror.as_mut(), &self.index);
+            if let Some(m) = mirror.as_mut() {
+                m.stats = self.dec.md.stats.clone();
+            }
+            self.fresh = Some(step);
+        }
+    }
 }
 
 impl<D: Dim> Engine for DistMd<'_, D> {
@@ -216,8 +230,8 @@ impl<D: Dim> Engine for DistMd<'_, D> {
     fn advance(&mut self, n: u64) -> Result<()> {
         self.dec.advance(n)
     }
-    fn frame(&self) -> Frame {
-        self.dec.md.frame()
+    fn frame(&self) -> Result<Frame> {
+        Ok(self.dec.md.frame())
     }
     fn export(&self) -> Result<Vec<u8>> {
         let mut mirror = self.mirror.borrow_mut();
@@ -248,26 +262,20 @@ impl<D: Dim> Engine for DistMd<'_, D> {
 
 impl<D: Dim> MdView for DistMd<'_, D> {
     type D = D;
-    fn whole(&mut self) -> Option<&mut Md<D>> {
-        let step = self.dec.md.step;
-        let mirror = self.mirror.get_mut();
-        if self.fresh != Some(step) {
-            self.dec.gather(mirror.as_mut(), &self.index);
-            if let Some(m) = mirror.as_mut() {
-                m.stats = self.dec.md.stats.clone();
-            }
-            self.fresh = Some(step);
-        }
-        mirror.as_mut()
+    fn whole(&mut self) -> Result<Option<&Md<D>>> {
+        self.gathered();
+        Ok(self.mirror.get_mut().as_ref())
     }
-    fn whole_if(&mut self, want: bool) -> Option<&mut Md<D>> {
+    fn whole_if(&mut self, want: bool) -> Result<Option<&Md<D>>> {
         if self.any_rank(want) {
             return self.whole();
         }
         let (time, step) = (self.dec.md.time, self.dec.md.step);
-        let m = self.mirror.get_mut().as_mut()?;
+        let Some(m) = self.mirror.get_mut().as_mut() else {
+            return Ok(None);
+        };
         (m.time, m.step) = (time, step);
-        Some(m)
+        Ok(Some(m))
     }
     fn lockstep(&self) -> bool {
         true
@@ -306,7 +314,7 @@ impl<D: Dim> MdView for DistMd<'_, D> {
         self.comm().sum_u64(&mut need);
         let look = self.events && self.dec.md.step.is_multiple_of(flow::LOOK_EVERY);
         if need[0] > 0 || look {
-            self.whole();
+            self.gathered();
         } else if !self.events {
             // Recycling alone changes nothing while no grain is below the sink.
             return;

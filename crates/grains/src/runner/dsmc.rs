@@ -6,7 +6,9 @@ use super::checkpointer::Checkpointer;
 use super::engine::{gas_frame, Engine, GasView};
 use super::found::resume_plan;
 use super::options::{prepare, Progress, RunOptions};
-use super::run_loop::{run_to, Control, Every, Hook, Interval, Report, Saved, StopFlag};
+use super::run_loop::{
+    run_to, Control, Every, Hook, Interval, Record, Recorder, Report, Saved, StopFlag,
+};
 use crate::checkpoint::run::Found;
 use crate::codec::Dec;
 use crate::dim::{D2, D3};
@@ -154,39 +156,15 @@ fn resume_dim<D: GasDim>(
     run_loop(loaded, opts, start, progress)
 }
 
-/// The output steps of a DSMC run: a thermo row (counted from the start
-/// of the measurement `origin`) and a frame, on rank 0 (every rank writes
-/// its piece); while relaxing it never acts but says where the files
-/// stand.
-struct GasRecord<'a> {
-    outputs: Option<&'a mut Outputs>,
-    origin: Origin,
-    at: Option<Every>,
-}
+/// A DSMC run's output: a thermo row (counted from the start of the
+/// measurement `origin`) and a frame.
+struct GasRows(Origin);
 
-impl GasRecord<'_> {
-    fn record(&mut self, engine: &mut impl GasView) -> Result<()> {
+impl<E: GasView> Recorder<E> for GasRows {
+    fn record(&mut self, outputs: Option<&mut Outputs>, engine: &mut E) -> Result<()> {
         engine.write_piece()?;
-        if let (Some(sim), Some(out)) = (engine.whole(), self.outputs.as_deref_mut()) {
-            out.record(&self.origin.row(sim), &gas_frame(sim), |_| None)?;
-        }
-        Ok(())
-    }
-}
-
-impl<E: GasView> Hook<E> for GasRecord<'_> {
-    fn next(&self, now: u64, horizon: u64) -> u64 {
-        self.at.map_or(horizon, |a| a.next(now, horizon))
-    }
-    fn act(&mut self, engine: &mut E, now: u64) -> Result<Control> {
-        if self.at.is_some_and(|a| a.due(now)) {
-            self.record(engine)?;
-        }
-        Ok(Control::Go)
-    }
-    fn pack(&self, saved: &mut Saved) -> Result<()> {
-        if let Some(out) = &self.outputs {
-            saved.outputs = Some(out.state()?);
+        if let (Some(sim), Some(out)) = (engine.whole(), outputs) {
+            out.record(&self.0.row(sim), &gas_frame(sim), |_| None)?;
         }
         Ok(())
     }
@@ -280,10 +258,10 @@ pub(crate) fn run_loop<D: GasDim, E: GasView<D = D>>(
     if relax > engine.step_count().min(relax) {
         progress.phase("relax", relax);
         let stopped = {
-            let mut record = GasRecord {
+            let mut record = Record {
                 outputs: outputs.as_mut(),
-                origin: Origin::default(),
                 at: None,
+                how: GasRows(Origin::default()),
             };
             let mut report = Report::new(progress, 0, relax);
             let mut hooks: [&mut dyn Hook<E>; 4] =
@@ -306,12 +284,12 @@ pub(crate) fn run_loop<D: GasDim, E: GasView<D = D>>(
                 m
             });
             engine.tallies_read();
-            let mut record = GasRecord {
+            let mut record = Record {
                 outputs: outputs.as_mut(),
-                origin: m.as_mut().map_or_else(Origin::default, |m| m.origin),
                 at: None,
+                how: GasRows(m.as_mut().map_or_else(Origin::default, |m| m.origin)),
             };
-            record.record(&mut engine)?;
+            record.now(&mut engine)?;
             m
         }
     };
@@ -321,10 +299,10 @@ pub(crate) fn run_loop<D: GasDim, E: GasView<D = D>>(
     let stopped = {
         let output = Every::new(base, every, Some(end));
         let profile = (ds.profile_bins > 0).then(|| Every::new(base, (every / 10).max(1), None));
-        let mut record = GasRecord {
+        let mut record = Record {
             outputs: outputs.as_mut(),
-            origin: m.as_ref().map_or_else(Origin::default, |m| m.origin),
             at: Some(output),
+            how: GasRows(m.as_ref().map_or_else(Origin::default, |m| m.origin)),
         };
         let mut gas = GasMeasureHook {
             m: m.as_mut(),

@@ -34,8 +34,9 @@ pub trait Engine: Send {
     /// every step complete (also on error).
     fn advance(&mut self, n: u64) -> Result<()>;
     /// The state now as a neutral frame, for outputs (this rank's part
-    /// of a decomposed engine).
-    fn frame(&self) -> Frame;
+    /// of a decomposed engine); fails only where the state must first be
+    /// copied from a device.
+    fn frame(&self) -> Result<Frame>;
     /// The complete state as bytes: a checkpoint's engine field. A
     /// decomposed engine gathers it (every rank calls this) and returns it
     /// on rank 0, no bytes elsewhere.
@@ -61,13 +62,15 @@ pub trait Engine: Send {
 pub(crate) trait MdView: Engine {
     /// The dimension.
     type D: Dim;
-    /// The whole state now (gathered at most once a step); `None` on the
-    /// ranks other than 0.
-    fn whole(&mut self) -> Option<&mut Md<Self::D>>;
+    /// The whole state now (gathered or copied from a device at most once
+    /// a step); `None` on the ranks other than 0. Hooks read it and never
+    /// change it: only the engine's steps and [`MdView::flow_events`] do,
+    /// so an engine that keeps its state elsewhere never copies it back.
+    fn whole(&mut self) -> Result<Option<&Md<Self::D>>>;
     /// The whole state now when `want` on some rank (rank 0 alone may
     /// know); else rank 0's whole engine with only its step and time
     /// current.
-    fn whole_if(&mut self, want: bool) -> Option<&mut Md<Self::D>>;
+    fn whole_if(&mut self, want: bool) -> Result<Option<&Md<Self::D>>>;
     /// Whether the steps at which rank 0's measurements and flow events
     /// act are known to rank 0 alone, so that those hooks act at every
     /// step.
@@ -88,11 +91,11 @@ pub(crate) trait MdView: Engine {
 
 impl<D: Dim> MdView for Md<D> {
     type D = D;
-    fn whole(&mut self) -> Option<&mut Md<D>> {
-        Some(self)
+    fn whole(&mut self) -> Result<Option<&Md<D>>> {
+        Ok(Some(self))
     }
-    fn whole_if(&mut self, _: bool) -> Option<&mut Md<D>> {
-        Some(self)
+    fn whole_if(&mut self, _: bool) -> Result<Option<&Md<D>>> {
+        Ok(Some(self))
     }
     fn flow_events(&mut self, flow: Option<&mut FlowRun<D>>) {
         if let Some(f) = flow {
@@ -162,8 +165,8 @@ impl<D: Dim> Engine for Md<D> {
     fn advance(&mut self, n: u64) -> Result<()> {
         Md::advance(self, n)
     }
-    fn frame(&self) -> Frame {
-        Md::frame(self)
+    fn frame(&self) -> Result<Frame> {
+        Ok(Md::frame(self))
     }
     fn export(&self) -> Result<Vec<u8>> {
         checkpoint::engine::encode(self)
@@ -196,8 +199,8 @@ impl<D: GasDim> Engine for Dsmc<D> {
         self.run(n);
         Ok(())
     }
-    fn frame(&self) -> Frame {
-        gas_frame(self)
+    fn frame(&self) -> Result<Frame> {
+        Ok(gas_frame(self))
     }
     fn export(&self) -> Result<Vec<u8>> {
         Ok(checkpoint::dsmc::encode(self))

@@ -5,7 +5,9 @@
 use super::checkpointer::Checkpointer;
 use super::engine::MdView;
 use super::options::{prepare, Progress, RunOptions};
-use super::run_loop::{run_to, Control, Every, Hook, Interval, Report, Saved, StopFlag};
+use super::run_loop::{
+    run_to, Control, Every, Hook, Interval, Record, Recorder, Report, Saved, StopFlag,
+};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::md::Md;
@@ -27,6 +29,13 @@ pub(super) fn run_dim<D: Dim>(
 ) -> Result<Value> {
     prepare(&opts.out_dir)?;
     let loaded = &*crate::scenario::hopper::expand(loaded)?;
+    let start = begin::<D>(loaded, opts)?;
+    run_loop(loaded, opts, start, progress)
+}
+
+/// The engine built from the scenario at step 0, the outputs created, the
+/// plan of steps.
+pub(super) fn begin<D: Dim>(loaded: &Loaded, opts: &RunOptions) -> Result<Start<D, Md<D>>> {
     let (mut md, resolved) = build_md::<D>(loaded)?;
     md.timing.reset();
     let outputs = Outputs::create(&opts.out_dir, &loaded.scenario.output)?;
@@ -34,15 +43,14 @@ pub(super) fn run_dim<D: Dim>(
         Some(n) => (0, n),
         None => (resolved.relax_steps, resolved.measure_steps),
     };
-    let start = Start {
+    Ok(Start {
         flow: Some(FlowRun::begin(loaded, &md)?),
         engine: md,
         resolved,
         outputs: Some(outputs),
         plan,
         restored: None,
-    };
-    run_loop(loaded, opts, start, progress)
+    })
 }
 
 /// Where an MD run starts: step 0, or a restored checkpoint with its
@@ -59,41 +67,33 @@ pub(super) struct Start<D: Dim, E> {
     pub restored: Option<Measurements>,
 }
 
-/// The output steps of an MD run: thermo.csv, frames, dump and walls.csv
-/// (never acting while relaxing, but saying where the files stand).
-struct Record<'a> {
-    outputs: Option<&'a mut Outputs>,
-    walls: Option<&'a mut WallTable>,
-    at: Option<Every>,
+impl<D: Dim, E> Start<D, E> {
+    /// The same start with the engine `wrap` makes of this one.
+    pub fn with_engine<F>(self, wrap: impl FnOnce(E) -> Result<F>) -> Result<Start<D, F>> {
+        Ok(Start {
+            engine: wrap(self.engine)?,
+            resolved: self.resolved,
+            outputs: self.outputs,
+            flow: self.flow,
+            plan: self.plan,
+            restored: self.restored,
+        })
+    }
 }
 
-impl Record<'_> {
-    /// Records the state now (on rank 0; every rank writes its piece).
-    fn record(&mut self, engine: &mut impl MdView) -> Result<()> {
+/// An MD run's output: thermo.csv, frames, dump and walls.csv.
+struct MdRecord<'a> {
+    walls: Option<&'a mut WallTable>,
+}
+
+impl<E: MdView> Recorder<E> for MdRecord<'_> {
+    fn record(&mut self, outputs: Option<&mut Outputs>, engine: &mut E) -> Result<()> {
         engine.write_piece()?;
-        if let (Some(md), Some(out)) = (engine.whole(), self.outputs.as_deref_mut()) {
+        if let (Some(md), Some(out)) = (engine.whole()?, outputs) {
             out.record_md(md)?;
             if let Some(w) = self.walls.as_deref_mut() {
                 w.record(md)?;
             }
-        }
-        Ok(())
-    }
-}
-
-impl<E: MdView> Hook<E> for Record<'_> {
-    fn next(&self, now: u64, horizon: u64) -> u64 {
-        self.at.map_or(horizon, |a| a.next(now, horizon))
-    }
-    fn act(&mut self, engine: &mut E, now: u64) -> Result<Control> {
-        if self.at.is_some_and(|a| a.due(now)) {
-            self.record(engine)?;
-        }
-        Ok(Control::Go)
-    }
-    fn pack(&self, saved: &mut Saved) -> Result<()> {
-        if let Some(out) = &self.outputs {
-            saved.outputs = Some(out.state()?);
         }
         Ok(())
     }
@@ -126,7 +126,7 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
         };
         ck.write(&engine, &saved)?;
     }
-    let mut walls_csv = match engine.whole() {
+    let mut walls_csv = match engine.whole()? {
         Some(md) => WallTable::create(&opts.out_dir, md)?,
         None => None,
     };
@@ -139,7 +139,7 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
         && (crate::scenario::flow::sink_height(loaded).is_some()
             || loaded.scenario.run.events.is_some());
     let m = &loaded.scenario.measure;
-    let per_step = m.phases.is_some() || m.trajectories.is_some();
+    let per_step = m.phases.is_some() || m.trajectories.is_some() || m.impact;
 
     if relax > engine.step_count().min(relax) {
         progress.phase("relax", relax);
@@ -147,8 +147,8 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
             let mut events = FlowHook::new(flow.as_mut(), None, flow_lockstep);
             let mut record = Record {
                 outputs: outputs.as_mut(),
-                walls: None,
                 at: None,
+                how: MdRecord { walls: None },
             };
             let mut report = Report::new(progress, 0, relax);
             let mut hooks: [&mut dyn Hook<E>; 5] = [
@@ -171,7 +171,7 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
     // the measurement carries its accumulators; one taken before it does
     // not, and they begin here as in a straight run.
     let measure_done = engine.step_count() - engine.step_count().min(relax);
-    let mut measurements = match (restored, engine.whole()) {
+    let mut measurements = match (restored, engine.whole()?) {
         (Some(m), Some(_)) => Some(m),
         (None, Some(md)) => Some(Measurements::begin(
             loaded,
@@ -183,11 +183,13 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
     };
     let mut record = Record {
         outputs: outputs.as_mut(),
-        walls: walls_csv.as_mut(),
         at: None,
+        how: MdRecord {
+            walls: walls_csv.as_mut(),
+        },
     };
     if measure_done == 0 {
-        record.record(&mut engine)?;
+        record.now(&mut engine)?;
     }
     // Measured step k is engine step `base + k`. Sampling more often than
     // the output keeps the displacement unwrapping safe and the convection
@@ -227,7 +229,7 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
     engine.summarize(&mut extra, wall_seconds);
     let stepped = engine.step_count() - first_step;
     let (Some(md), Some(mut measurements), Some(flow), Some(mut outputs)) =
-        (engine.whole(), measurements, flow, outputs)
+        (engine.whole()?, measurements, flow, outputs)
     else {
         return Ok(Value::Null);
     };
@@ -316,7 +318,7 @@ impl<D: Dim, E: MdView<D = D>> Hook<E> for FlowHook<'_, D> {
     fn act(&mut self, engine: &mut E, now: u64) -> Result<Control> {
         engine.flow_events(self.flow.as_deref_mut());
         if self.sample.is_some_and(|s| s.due(now)) {
-            if let (Some(md), Some(f)) = (engine.whole(), self.flow.as_deref_mut()) {
+            if let (Some(md), Some(f)) = (engine.whole()?, self.flow.as_deref_mut()) {
                 f.sample(md);
             }
         }
@@ -354,12 +356,12 @@ impl<E: MdView> Hook<E> for MeasureHook<'_> {
         if self.per_step {
             let t = engine.sim_time();
             let want = self.m.as_deref().is_some_and(|m| m.due(now, t));
-            if let (Some(md), Some(m)) = (engine.whole_if(want), self.m.as_deref_mut()) {
+            if let (Some(md), Some(m)) = (engine.whole_if(want)?, self.m.as_deref_mut()) {
                 m.step(md);
             }
         }
         if self.sample.due(now) {
-            if let (Some(md), Some(m)) = (engine.whole(), self.m.as_deref_mut()) {
+            if let (Some(md), Some(m)) = (engine.whole()?, self.m.as_deref_mut()) {
                 m.sample(md);
             }
         }

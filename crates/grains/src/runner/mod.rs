@@ -7,6 +7,7 @@
 
 pub(crate) mod checkpointer;
 pub mod checkpointing;
+mod device_md;
 pub mod distributed;
 mod distributed_md;
 pub mod dsmc;
@@ -53,6 +54,9 @@ fn run_on_pool(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) 
     crate::scenario::device::check_device(loaded)?;
     if loaded.scenario.method == crate::dsmc::Method::Dsmc {
         return dsmc::run(loaded, opts, progress);
+    }
+    if !loaded.scenario.run.device.is_cpu() {
+        return device_md::run_fresh(loaded, opts, progress);
     }
     match loaded.scenario.dimension {
         Dimension::Two => md_run::run_dim::<D2>(loaded, opts, progress),

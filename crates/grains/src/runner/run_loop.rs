@@ -16,6 +16,7 @@ pub(crate) use super::checkpointer::Saved;
 use super::engine::Engine;
 use super::options::Progress;
 use crate::error::Result;
+use crate::output::Outputs;
 use serde_json::Value;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -114,6 +115,49 @@ impl Every {
     }
 }
 
+/// What an output hook writes at its steps (rank 0 the files, every rank
+/// its piece of a frame).
+pub(crate) trait Recorder<E> {
+    fn record(&mut self, outputs: Option<&mut Outputs>, engine: &mut E) -> Result<()>;
+}
+
+/// The output steps of a run (thermo rows, frames, …) at the steps of
+/// `at`; while relaxing (`at` none) it never acts but says where the files
+/// stand.
+pub(crate) struct Record<'a, R> {
+    pub outputs: Option<&'a mut Outputs>,
+    pub at: Option<Every>,
+    pub how: R,
+}
+
+impl<R> Record<'_, R> {
+    /// Records the state now.
+    pub fn now<E>(&mut self, engine: &mut E) -> Result<()>
+    where
+        R: Recorder<E>,
+    {
+        self.how.record(self.outputs.as_deref_mut(), engine)
+    }
+}
+
+impl<E, R: Recorder<E>> Hook<E> for Record<'_, R> {
+    fn next(&self, now: u64, horizon: u64) -> u64 {
+        self.at.map_or(horizon, |a| a.next(now, horizon))
+    }
+    fn act(&mut self, engine: &mut E, now: u64) -> Result<Control> {
+        if self.at.is_some_and(|a| a.due(now)) {
+            self.now(engine)?;
+        }
+        Ok(Control::Go)
+    }
+    fn pack(&self, saved: &mut Saved) -> Result<()> {
+        if let Some(out) = &self.outputs {
+            saved.outputs = Some(out.state()?);
+        }
+        Ok(())
+    }
+}
+
 /// Progress reports every [`MAX_STRETCH`] steps of a phase and at its end.
 pub(crate) struct Report<'a> {
     progress: &'a mut dyn Progress,
@@ -206,8 +250,8 @@ mod tests {
             self.step += n;
             Ok(())
         }
-        fn frame(&self) -> Frame {
-            Frame::default()
+        fn frame(&self) -> Result<Frame> {
+            Ok(Frame::default())
         }
         fn export(&self) -> Result<Vec<u8>> {
             Ok(self.step.to_le_bytes().to_vec())

@@ -1,7 +1,6 @@
 //! `run.device`: where a scenario's engine runs. A run asking for the GPU
-//! is checked before it starts and refused by name (the build's feature,
-//! what the GPU engine does not run, or that scenario runs are not wired
-//! to it yet).
+//! pipeline is checked before it starts and refused by name: the build's
+//! feature, or what the pipeline does not run.
 
 use super::schema::{Device, Dimension};
 use super::Loaded;
@@ -9,33 +8,41 @@ use crate::dim::D3;
 use crate::error::{Error, Result};
 use crate::gpu;
 
-/// A scenario run asking for `run.device = "gpu"`: refused before the
-/// run, naming what stops it (the build's feature, what the GPU engine
-/// does not run, or that scenario runs are not wired to it yet).
+/// Whether the GPU pipeline runs this scenario (`run.device = "gpu"` or
+/// `"mirror"`); an error naming the first thing that stops it. A CPU run
+/// passes at once.
 pub fn check_device(loaded: &Loaded) -> Result<()> {
     let s = &loaded.scenario;
-    if s.run.device != Device::Gpu {
+    if s.run.device == Device::Cpu {
         return Ok(());
     }
-    if !cfg!(feature = "cuda") {
+    if s.run.device == Device::Gpu && !cfg!(feature = "cuda") {
         return Err(Error::input(gpu::NO_FEATURE));
     }
-    if s.method == crate::dsmc::Method::Dsmc {
-        return Err(Error::input(format!(
-            "run.device = \"gpu\": method = \"dsmc\" is not supported by the GPU engine (it runs {})",
+    let name = match s.run.device {
+        Device::Mirror => "mirror",
+        _ => "gpu",
+    };
+    let refuse = |what: &str| {
+        Err(Error::input(format!(
+            "run.device = \"{name}\": {what} is not supported by the GPU engine (it runs {})",
             gpu::SUPPORTED
-        )));
+        )))
+    };
+    if s.method == crate::dsmc::Method::Dsmc {
+        return refuse("method = \"dsmc\"");
     }
     if s.dimension != Dimension::Three {
-        return Err(Error::input(format!(
-            "run.device = \"gpu\": dimension = \"2d\" is not supported by the GPU engine (it runs {})",
-            gpu::SUPPORTED
-        )));
+        return refuse("dimension = \"2d\"");
+    }
+    // The hooks of a GPU run read the grains; these change them.
+    if s.hopper.is_some() {
+        return refuse("[hopper] (its grains are recycled on the host)");
+    }
+    if s.run.events.is_some() {
+        return refuse("run.events (they change walls and gravity on the host)");
     }
     let (md, _) = super::build_md::<D3>(loaded)?;
     gpu::check_supported(&md)?;
-    Err(Error::input(
-        "run.device = \"gpu\": scenario runs (outputs, measurements, checkpoints) are not \
-         wired to the GPU engine yet; time it with `grains bench chute|bed3d --device gpu`",
-    ))
+    Ok(())
 }

@@ -6,3 +6,4 @@
 mod device;
 mod mirror;
 mod ptx;
+mod scenario;

@@ -1,0 +1,154 @@
+//! An MD run whose steps run on the GPU pipeline (`run.device = "gpu"`, or
+//! `"mirror"`: the same pipeline as loops on the CPU, the same bits): the
+//! host keeps the engine built from the scenario and copies the pipeline's
+//! state into it only at the steps a hook reads it.
+
+use super::engine::{Engine, MdView};
+use super::md_run::{run_loop, Start};
+use super::options::{prepare, Progress, RunOptions};
+use crate::checkpoint;
+use crate::dim::D3;
+#[cfg(not(feature = "cuda"))]
+use crate::error::Error;
+use crate::error::Result;
+use crate::gpu::mirror::Mirror;
+use crate::gpu::pipeline::Pipeline;
+use crate::io::Frame;
+use crate::md::Md;
+use crate::scenario::flow::FlowRun;
+use crate::scenario::schema::Device;
+use crate::scenario::Loaded;
+use serde_json::{json, Map, Value};
+
+/// The GPU pipeline behind the engine contract.
+pub(super) struct DeviceMd<P> {
+    /// Built from the scenario: settings, walls, domain; its grains are the
+    /// pipeline's as they stood at step `fresh`.
+    md: Md<D3>,
+    pipe: P,
+    fresh: Option<u64>,
+}
+
+impl<P: Pipeline> DeviceMd<P> {
+    fn new(md: Md<D3>) -> Result<Self> {
+        Ok(Self {
+            pipe: P::start(&md)?,
+            fresh: Some(md.step),
+            md,
+        })
+    }
+
+    /// The host engine with the pipeline's state now (copied at most once
+    /// a step).
+    fn copied(&mut self) -> Result<&Md<D3>> {
+        let step = self.pipe.step();
+        if self.fresh != Some(step) {
+            self.md.import_state(self.pipe.state()?)?;
+            self.fresh = Some(step);
+        }
+        Ok(&self.md)
+    }
+}
+
+impl<P: Pipeline> Engine for DeviceMd<P> {
+    fn dim(&self) -> usize {
+        3
+    }
+    fn step_count(&self) -> u64 {
+        self.pipe.step()
+    }
+    fn sim_time(&self) -> f64 {
+        self.pipe.time()
+    }
+    fn time_step(&self) -> f64 {
+        self.md.settings.dt
+    }
+    fn advance(&mut self, n: u64) -> Result<()> {
+        self.pipe.advance(n)
+    }
+    fn frame(&self) -> Result<Frame> {
+        if self.fresh == Some(self.pipe.step()) {
+            return Ok(self.md.frame());
+        }
+        self.pipe.frame(&self.md.domain)
+    }
+    fn export(&self) -> Result<Vec<u8>> {
+        Ok(checkpoint::engine::encode_state(
+            &self.md,
+            &self.pipe.state()?,
+        ))
+    }
+    fn import(&mut self, bytes: &[u8], origin: &str) -> Result<()> {
+        Engine::import(&mut self.md, bytes, origin)?;
+        self.pipe = P::start(&self.md)?;
+        self.fresh = Some(self.md.step);
+        Ok(())
+    }
+}
+
+impl<P: Pipeline> MdView for DeviceMd<P> {
+    type D = D3;
+    fn whole(&mut self) -> Result<Option<&Md<D3>>> {
+        self.copied().map(Some)
+    }
+    fn whole_if(&mut self, want: bool) -> Result<Option<&Md<D3>>> {
+        if want {
+            return self.whole();
+        }
+        (self.md.step, self.md.time) = (self.pipe.step(), self.pipe.time());
+        Ok(Some(&self.md))
+    }
+    /// Nothing: scenarios whose flow events change the grains (a hopper's
+    /// recycling, `run.events`) are refused before the run
+    /// ([`crate::scenario::device::check_device`]).
+    fn flow_events(&mut self, _: Option<&mut FlowRun<D3>>) {}
+    fn summarize(&mut self, summary: &mut Map<String, Value>, _: f64) {
+        summary.insert("neighbor_builds".into(), json!(self.pipe.builds()));
+        let mut device = Map::new();
+        device.insert("engine".into(), json!(P::NAME));
+        if let Some((used, total)) = self.pipe.memory() {
+            device.insert("memory_bytes".into(), json!(used));
+            device.insert("memory_total_bytes".into(), json!(total));
+        }
+        summary.insert("device".into(), Value::Object(device));
+    }
+}
+
+/// Runs a 3D MD scenario from step 0 on the pipeline `run.device` names.
+pub(super) fn run_fresh(
+    loaded: &Loaded,
+    opts: &RunOptions,
+    progress: &mut dyn Progress,
+) -> Result<Value> {
+    prepare(&opts.out_dir)?;
+    let start = super::md_run::begin::<D3>(loaded, opts)?;
+    run(loaded, opts, start, progress)
+}
+
+/// Runs `start` (step 0 or a restored checkpoint) with its engine moved
+/// onto the pipeline `run.device` names, through the same run loop and
+/// hooks as a CPU run.
+pub(super) fn run(
+    loaded: &Loaded,
+    opts: &RunOptions,
+    start: Start<D3, Md<D3>>,
+    progress: &mut dyn Progress,
+) -> Result<Value> {
+    fn on<P: Pipeline>(
+        loaded: &Loaded,
+        opts: &RunOptions,
+        start: Start<D3, Md<D3>>,
+        progress: &mut dyn Progress,
+    ) -> Result<Value> {
+        let start = start.with_engine(DeviceMd::<P>::new)?;
+        run_loop(loaded, opts, start, progress)
+    }
+    match loaded.scenario.run.device {
+        Device::Mirror => on::<Mirror>(loaded, opts, start, progress),
+        #[cfg(feature = "cuda")]
+        Device::Gpu => on::<crate::gpu::cuda::Cuda>(loaded, opts, start, progress),
+        #[cfg(not(feature = "cuda"))]
+        Device::Gpu => Err(Error::input(crate::gpu::NO_FEATURE)),
+        Device::Cpu => run_loop(loaded, opts, start, progress),
+    }
+}
