@@ -25,9 +25,9 @@ use std::time::Instant;
 
 #[derive(Args)]
 pub struct BenchArgs {
-    /// chute, vib2d, bed3d, gas2d or gas3d.
+    /// chute, chute-hertz, vib2d, bed3d, gas2d or gas3d.
     pub(crate) workload: String,
-    /// Steps to time [default: chute 1000, vib2d 10000, bed3d 1000, gas 300].
+    /// Steps to time [default: chute and chute-hertz 1000, vib2d 10000, bed3d 1000, gas 300].
     #[arg(long)]
     pub(crate) steps: Option<u64>,
     /// Untimed steps of the gas workloads before the timed ones [default:
@@ -161,6 +161,10 @@ fn md_workload(args: &BenchArgs) -> Result<(Loaded, u64)> {
     }
     let (loaded, default_steps) = match args.workload.as_str() {
         "chute" => (load_file(&scenario_path("bench-chute.toml")?, &sets)?, 1000),
+        "chute-hertz" => (
+            load_file(&scenario_path("bench-chute-hertz.toml")?, &sets)?,
+            1000,
+        ),
         "vib2d" => (
             load_file(&scenario_path("bench-vib2d.toml")?, &sets)?,
             10_000,
@@ -177,8 +181,8 @@ fn md_workload(args: &BenchArgs) -> Result<(Loaded, u64)> {
         }
         other => {
             return Err(Error::input(format!(
-                "unknown workload `{other}`: choose chute, vib2d, bed3d, gas2d or gas3d"
-            )))
+            "unknown workload `{other}`: choose chute, chute-hertz, vib2d, bed3d, gas2d or gas3d"
+        )))
         }
     };
     Ok((loaded, default_steps))
@@ -191,7 +195,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             "2d" => gas::<grains::D2>(&args),
             "3d" => gas::<grains::D3>(&args),
             _ => Err(Error::input(format!(
-                "unknown workload `{}`: choose chute, vib2d, bed3d, gas2d or gas3d",
+                "unknown workload `{}`: choose chute, chute-hertz, vib2d, bed3d, gas2d or gas3d",
                 args.workload
             ))),
         };

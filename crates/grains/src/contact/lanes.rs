@@ -124,7 +124,7 @@ fn lanes<D: Dim, L: ContactModel>(law: &L, c: &mut ContactLanes, step: Step) {
         // Lever arms −r_i n and +r_j n, force on j is −F: both torques are
         // −r (n × F_t) with each grain's own radius.
         let nt = D::torque(n, out.tangential);
-        let (mut ti, mut tj) = (nt * ri, nt * rj);
+        let (mut ti, mut tj) = (nt * law.lever(ri, overlap), nt * law.lever(rj, overlap));
         let mut rolling = D::zero();
         if L::ROLLING {
             // The rolling torque T on i (−T on j), as amounts to subtract.
@@ -213,7 +213,7 @@ mod tests {
         let out = law.evaluate(&contact, &mut spring, step);
         let nt = D::torque(n, out.tangential);
         let mut rolling = c.rolling;
-        let (mut ti, mut tj) = (nt * c.ri, nt * c.rj);
+        let (mut ti, mut tj) = (nt * law.lever(c.ri, overlap), nt * law.lever(c.rj, overlap));
         if L::ROLLING {
             let t = law.rolling(&contact, &out, &mut rolling, step);
             ti -= t;
@@ -253,14 +253,20 @@ mod tests {
 
     /// A batch of random contacts (pair entries cycling through `pairs`),
     /// as cases and in lanes.
-    fn batch<D: Dim>(rng: &mut Xoshiro256PlusPlus, pairs: u32) -> (Vec<Case<D>>, ContactLanes) {
+    /// `stretch` moves the grains apart by that fraction of r_i + r_j (some
+    /// overlaps then negative: kept JKR contacts).
+    fn batch<D: Dim>(
+        rng: &mut Xoshiro256PlusPlus,
+        pairs: u32,
+        stretch: f64,
+    ) -> (Vec<Case<D>>, ContactLanes) {
         let mut u = || rng.gen_range(-1.0..1.0);
         let cases: Vec<Case<D>> = (0..LANES)
             .map(|l| {
                 let v3 = |u: &mut dyn FnMut() -> f64| D::from_xyz([u(), u(), u()]);
                 let (ri, rj) = (0.5 + 0.1 * u(), 0.5 + 0.1 * u());
                 let dir = v3(&mut u);
-                let del = dir * ((ri + rj) * (1.0 - 2e-3 * (u() + 1.0)) / D::norm(dir));
+                let del = dir * ((ri + rj) * (1.0 + stretch - 2e-3 * (u() + 1.0)) / D::norm(dir));
                 let frozen = |m: f64, f: bool| if f { f64::INFINITY } else { m };
                 Case {
                     del,
@@ -317,7 +323,7 @@ mod tests {
             let k = HookeHistory::of(&law).unwrap();
             for update in [true, false] {
                 for _batch in 0..40 {
-                    let (cases, mut c) = batch::<D>(&mut rng, 1);
+                    let (cases, mut c) = batch::<D>(&mut rng, 1, 0.0);
                     let mut plain = c.clone();
                     let step = Step { dt: 1e-4, update };
                     lanes::<D, _>(&k, &mut plain, step);
@@ -346,13 +352,14 @@ mod tests {
 
     /// Runs `law` on random batches of pairs among `pairs` entries, through
     /// the plain and the dispatched kernel, against one contact at a time.
-    struct SameBits<'a, D: Dim>(&'a mut Xoshiro256PlusPlus, u32, PhantomData<D>);
+    /// The third field is [`batch`]'s stretch.
+    struct SameBits<'a, D: Dim>(&'a mut Xoshiro256PlusPlus, u32, f64, PhantomData<D>);
 
     impl<D: Dim> crate::contact::hertz_mindlin::RunLaw<()> for SameBits<'_, D> {
         fn run<L: ContactModel>(self, law: &L) {
             for update in [true, false] {
                 for _ in 0..40 {
-                    let (cases, mut c) = batch::<D>(self.0, self.1);
+                    let (cases, mut c) = batch::<D>(self.0, self.1, self.2);
                     let mut plain = c.clone();
                     let step = Step { dt: 1e-4, update };
                     lanes::<D, _>(law, &mut plain, step);
@@ -393,8 +400,58 @@ mod tests {
             RollingModel::Epsd,
         ] {
             law.rolling = model;
-            law.with_rolling(SameBits::<D>(&mut rng, 4, PhantomData));
+            law.with_rolling(SameBits::<D>(&mut rng, 4, 0.0, PhantomData));
         }
+        // JKR (δ_c about 1e-3 of r_i + r_j here), contacts in compression and
+        // kept beyond touching, without and with constant rolling.
+        use crate::contact::cohesion::CohesionModel;
+        let sticky = mats.map(|m| Material {
+            surface_energy: 100.0,
+            ..m
+        });
+        let law = HertzMindlin::new(&sticky, &[], vec![0, 1], vec![], true);
+        let mut law = law.with_cohesion(CohesionModel::Jkr);
+        for model in [RollingModel::None, RollingModel::Constant] {
+            law.rolling = model;
+            law.with_rolling(SameBits::<D>(&mut rng, 4, 1.5e-3, PhantomData));
+        }
+    }
+
+    /// LAMMPS's `pair granular` preset (two materials, with and without
+    /// `rolling sds`) on the lanes: the same bits as one contact at a time.
+    fn granular_same_bits<D: Dim>() {
+        use crate::contact::hertz_mindlin::HertzMindlin;
+        use crate::contact::lammps_granular::{GranularTable, RollingSds};
+        use crate::contact::material::Material;
+        let mat = |name: &str, e: f64, rest: f64, mu: f64| Material {
+            name: name.into(),
+            density: 1.0,
+            youngs_modulus: e,
+            poisson_ratio: 0.3,
+            restitution: rest,
+            friction: mu,
+            rolling_friction: 0.1,
+            surface_energy: 0.0,
+        };
+        let mats = [mat("a", 2e6, 0.8, 0.5), mat("b", 5e6, 0.6, 0.3)];
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(6);
+        for rolling in [
+            None,
+            Some(RollingSds {
+                stiffness: 500.0,
+                damping: 3.0,
+            }),
+        ] {
+            let law = HertzMindlin::new(&mats, &[], vec![0, 1], vec![], true)
+                .with_lammps_granular(GranularTable::new(&mats, &[], rolling));
+            law.with_rolling(SameBits::<D>(&mut rng, 4, 0.0, PhantomData));
+        }
+    }
+
+    #[test]
+    fn lammps_granular_same_bits_as_one_by_one() {
+        granular_same_bits::<D3>();
+        granular_same_bits::<D2>();
     }
 
     #[test]

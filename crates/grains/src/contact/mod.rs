@@ -11,7 +11,10 @@
 //! [`tsuji_damping`]).
 //!
 //! [`rolling`] adds rolling resistance to the material law, [`cohesion`]
-//! the DMT pull.
+//! the DMT pull, [`jkr`] the JKR adhesion with its hysteresis.
+//! [`lammps_granular`] is LAMMPS's `pair granular` with
+//! `hertz/material`, `tsuji`, `mindlin` and `rolling sds` on the same
+//! materials (`contact.preset = "lammps-granular"`).
 //!
 //! [`mass_scaling`] says how the coefficients meet the masses (the seeds'
 //! "normalized by the mass" or the momentum-conserving reduced mass), and
@@ -32,6 +35,12 @@ pub mod cundall_strack;
 pub mod damping;
 pub mod hertz_mindlin;
 pub mod hooke_history;
+pub mod jkr;
+#[cfg(test)]
+mod jkr_tests;
+pub mod lammps_granular;
+#[cfg(test)]
+mod lammps_granular_tests;
 pub mod lanes;
 pub mod law;
 pub mod mass_scaling;

@@ -5,18 +5,100 @@
 //! Grains are matched to materials by kind (the LAMMPS type): every grain of
 //! one kind has one material, as in LAMMPS's `pair_coeff` per type pair.
 
-use super::schema::{ContactModelKind, ContactSpec, GrainSpec, Scenario, ShapeSpec};
+use super::schema::{ContactModelKind, ContactPreset, ContactSpec, GrainSpec, Scenario, ShapeSpec};
 use crate::contact::cohesion::CohesionModel;
 use crate::contact::hertz_mindlin::HertzMindlin;
+use crate::contact::lammps_granular::{GranularTable, RollingSds};
 use crate::contact::material::{Material, PairCoefficients, PairOverride};
 use crate::contact::rolling::RollingModel;
 use crate::contact::{ContactLaw, MassScaling};
 use crate::error::{Error, Result};
 use std::collections::BTreeMap;
 
-/// Whether the scenario's contacts come from materials.
+/// Whether the scenario's contacts come from materials (Hertz–Mindlin, or
+/// LAMMPS's `pair granular` through its preset).
 pub fn uses_materials(s: &Scenario) -> bool {
-    s.contact.model == Some(ContactModelKind::HertzMindlin)
+    s.contact.model == Some(ContactModelKind::HertzMindlin) || lammps_granular(s)
+}
+
+/// Whether the scenario asks for `contact.preset = "lammps-granular"`.
+pub fn lammps_granular(s: &Scenario) -> bool {
+    s.contact.preset == Some(ContactPreset::LammpsGranular)
+}
+
+/// The keys of the `lammps-granular` preset: the model it implies, its
+/// rolling model (`sds` is `"epsd"`) and the `rolling sds` coefficients,
+/// which mean nothing without it.
+fn check_granular_preset(s: &Scenario) -> Result<()> {
+    let c = &s.contact;
+    let sds = [
+        ("rolling_stiffness", c.rolling_stiffness),
+        ("rolling_damping", c.rolling_damping),
+    ];
+    if !lammps_granular(s) {
+        if let Some((key, _)) = sds.iter().find(|(_, v)| v.is_some()) {
+            return Err(Error::input(format!(
+                "contact.{key} is a coefficient of LAMMPS's rolling sds: it needs \
+                 contact.preset = \"lammps-granular\" and contact.rolling = \"epsd\""
+            )));
+        }
+        return Ok(());
+    }
+    if c.model == Some(ContactModelKind::SpringDashpot) {
+        return Err(Error::input(
+            "contact.preset = \"lammps-granular\" is a Hertz law from [[materials]]: leave out \
+             contact.model or set it to \"hertz-mindlin\" (not \"spring-dashpot\")",
+        ));
+    }
+    let cohesion = c.cohesion.unwrap_or_default();
+    if cohesion != CohesionModel::None {
+        return Err(Error::input(format!(
+            "contact.cohesion = \"{}\" with contact.preset = \"lammps-granular\": the preset is \
+             hertz/material without cohesion; allowed: \"none\"",
+            cohesion.name()
+        )));
+    }
+    match c.rolling.unwrap_or_default() {
+        RollingModel::None => {
+            if let Some((key, _)) = sds.iter().find(|(_, v)| v.is_some()) {
+                return Err(Error::input(format!(
+                    "contact.{key} is given but contact.rolling is \"none\": set contact.rolling = \
+                     \"epsd\" (LAMMPS's rolling sds) or drop the key"
+                )));
+            }
+        }
+        RollingModel::Constant => return Err(Error::input(
+            "contact.rolling = \"constant\" with contact.preset = \"lammps-granular\": LAMMPS's \
+                 pair granular has no such model; allowed: \"none\", \"epsd\" (rolling sds)",
+        )),
+        RollingModel::Epsd => {
+            for (key, v) in sds {
+                match v {
+                    None => {
+                        return Err(Error::input(format!(
+                            "contact.rolling = \"epsd\" with contact.preset = \"lammps-granular\" \
+                             is LAMMPS's rolling sds k_r γ_r μ_r: contact.{key} is required"
+                        )))
+                    }
+                    Some(v)
+                        if !(v.is_finite() && v >= 0.0)
+                            || (key == "rolling_stiffness" && v == 0.0) =>
+                    {
+                        return Err(Error::input(format!(
+                            "contact.{key} = {v}: must be {}",
+                            if key == "rolling_stiffness" {
+                                "positive"
+                            } else {
+                                ">= 0"
+                            }
+                        )))
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The `[[materials]]`, checked.
@@ -94,6 +176,7 @@ fn find(materials: &[Material], name: &str, key: &str) -> Result<usize> {
 /// The `material` keys used without `contact.model = "hertz-mindlin"`, or
 /// the coefficient keys used with it: both are mistakes.
 pub fn check_contact_keys(s: &Scenario) -> Result<()> {
+    check_granular_preset(s)?;
     check_rolling(s)?;
     let cohesion = s.contact.cohesion.unwrap_or_default();
     if cohesion != CohesionModel::None && !uses_materials(s) {
@@ -118,7 +201,7 @@ pub fn check_contact_keys(s: &Scenario) -> Result<()> {
     }
     let c: &ContactSpec = &s.contact;
     let coefficients = [
-        ("preset", c.preset.is_some()),
+        ("preset", c.preset.is_some() && !lammps_granular(s)),
         ("kn", c.kn.is_some()),
         ("beta", c.beta.is_some()),
         ("gamma_n", c.gamma_n.is_some()),
@@ -138,6 +221,50 @@ pub fn check_contact_keys(s: &Scenario) -> Result<()> {
         return Err(Error::input(
             "contact.model = \"hertz-mindlin\" needs at least one [[materials]] entry",
         ));
+    }
+    check_cohesion(s)
+}
+
+/// Cohesion needs a surface energy somewhere; JKR keeps a mark per
+/// contact where epsd keeps its rolling spring, and mesh walls keep none.
+fn check_cohesion(s: &Scenario) -> Result<()> {
+    let cohesion = s.contact.cohesion.unwrap_or_default();
+    if cohesion == CohesionModel::None {
+        return Ok(());
+    }
+    let name = cohesion.name();
+    let some_energy = s.materials.iter().any(|m| m.surface_energy > 0.0)
+        || s.material_pairs
+            .iter()
+            .any(|p| p.surface_energy.is_some_and(|g| g > 0.0));
+    if !some_energy {
+        return Err(Error::input(format!(
+            "contact.cohesion = \"{name}\" but no [[materials]] surface_energy (nor \
+             [[material_pairs]] surface_energy) is positive: give the materials a surface_energy \
+             (J/m²) or set contact.cohesion = \"none\""
+        )));
+    }
+    if cohesion != CohesionModel::Jkr {
+        return Ok(());
+    }
+    if s.contact.rolling == Some(RollingModel::Epsd) {
+        return Err(Error::input(
+            "contact.cohesion = \"jkr\" with contact.rolling = \"epsd\": not supported yet (both \
+             keep a history per contact in the same place); use contact.rolling = \"constant\" or \
+             \"none\", or contact.cohesion = \"dmt\"",
+        ));
+    }
+    if let Some((k, w)) = s
+        .walls
+        .iter()
+        .enumerate()
+        .find(|(_, w)| matches!(w.shape, ShapeSpec::Mesh { .. }))
+    {
+        return Err(Error::input(format!(
+            "contact.cohesion = \"jkr\" with the mesh wall walls[{k}] (\"{}\"): mesh walls do not \
+             keep JKR contacts beyond touching yet; use contact.cohesion = \"dmt\"",
+            w.name
+        )));
     }
     Ok(())
 }
@@ -322,6 +449,17 @@ pub fn hertz_law(s: &Scenario, kinds: &[u32]) -> Result<Option<HertzMindlin>> {
     }
     let rotation = s.contact.rotation.unwrap_or(true);
     let mut law = HertzMindlin::new(&all, &overrides, material_of_kind, wall_material, rotation);
+    if lammps_granular(s) {
+        let rolling = match s.contact.rolling.unwrap_or_default() {
+            RollingModel::Epsd => Some(RollingSds {
+                stiffness: s.contact.rolling_stiffness.unwrap_or(0.0),
+                damping: s.contact.rolling_damping.unwrap_or(0.0),
+            }),
+            _ => None,
+        };
+        let table = GranularTable::new(&all, &overrides, rolling);
+        return Ok(Some(law.with_lammps_granular(table)));
+    }
     law.rolling = s.contact.rolling.unwrap_or_default();
     Ok(Some(
         law.with_cohesion(s.contact.cohesion.unwrap_or_default()),
@@ -422,7 +560,14 @@ duration = 1.0e-4
 
     #[test]
     fn cohesion_needs_the_material_law() {
-        build("", &["contact.cohesion=\"dmt\""]).unwrap();
+        build(
+            "",
+            &[
+                "materials.0.surface_energy=0.05",
+                "contact.cohesion=\"dmt\"",
+            ],
+        )
+        .unwrap();
         refused(
             "",
             &[
@@ -431,6 +576,46 @@ duration = 1.0e-4
                 "contact.cohesion=\"dmt\"",
             ],
             &["contact.cohesion", "seed", "hertz-mindlin"],
+        );
+    }
+
+    #[test]
+    fn jkr_refusals_name_the_keys() {
+        let jkr = "contact.cohesion=\"jkr\"";
+        build("", &["materials.0.surface_energy=0.05", jkr]).unwrap();
+        // A skin shorter than the pull-off separation.
+        refused(
+            "",
+            &["materials.0.surface_energy=1e4", "run.skin=1e-6", jkr],
+            &["contact.cohesion", "jkr", "run.skin"],
+        );
+        refused(
+            "",
+            &[
+                "contact.model=\"spring-dashpot\"",
+                "contact.preset=\"seed\"",
+                jkr,
+            ],
+            &["contact.cohesion", "jkr", "hertz-mindlin"],
+        );
+        refused(
+            "",
+            &["materials.0.surface_energy=0.0", jkr],
+            &["contact.cohesion", "surface_energy"],
+        );
+        refused(
+            "",
+            &[
+                "materials.0.surface_energy=0.05",
+                "contact.rolling=\"epsd\"",
+                jkr,
+            ],
+            &["contact.cohesion", "jkr", "contact.rolling", "epsd"],
+        );
+        refused(
+            "",
+            &["contact.cohesion=\"sticky\""],
+            &["none", "dmt", "jkr"],
         );
     }
 
@@ -446,6 +631,61 @@ duration = 1.0e-4
             "",
             &["contact.rolling=\"sticky\""],
             &["rolling", "none", "constant", "epsd"],
+        );
+    }
+
+    #[test]
+    fn lammps_granular_preset_keys() {
+        let preset = "contact.preset=\"lammps-granular\"";
+        build("", &[preset]).unwrap();
+        build(
+            "",
+            &[
+                preset,
+                "contact.rolling=\"epsd\"",
+                "contact.rolling_stiffness=100.0",
+                "contact.rolling_damping=1.0",
+            ],
+        )
+        .unwrap();
+        refused(
+            "",
+            &[
+                preset,
+                "contact.rolling=\"epsd\"",
+                "contact.rolling_damping=1.0",
+            ],
+            &["contact.rolling_stiffness", "required"],
+        );
+        refused(
+            "",
+            &[preset, "contact.rolling=\"constant\""],
+            &["contact.rolling", "none", "epsd"],
+        );
+        refused(
+            "",
+            &["contact.rolling_stiffness=100.0"],
+            &["contact.rolling_stiffness", "lammps-granular"],
+        );
+        refused(
+            "",
+            &[preset, "contact.model=\"spring-dashpot\""],
+            &["lammps-granular", "spring-dashpot"],
+        );
+        refused(
+            "",
+            &[preset, "contact.cohesion=\"dmt\""],
+            &["contact.cohesion", "none"],
+        );
+        refused(
+            "",
+            &[
+                preset,
+                "contact.rolling=\"epsd\"",
+                "contact.rolling_stiffness=-1.0",
+                "contact.rolling_damping=1.0",
+            ],
+            &["contact.rolling_stiffness = -1", "positive"],
         );
     }
 

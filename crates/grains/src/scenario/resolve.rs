@@ -50,6 +50,11 @@ pub fn contact_law(spec: &ContactSpec, lightest_mass: f64) -> Result<ContactLaw>
             scaling: MassScaling::Reduced,
             rotation: true,
         },
+        Some(ContactPreset::LammpsGranular) => {
+            return Err(Error::input(
+                "contact.preset = \"lammps-granular\" takes its law from [[materials]], not from coefficients",
+            ))
+        }
         None => {
             let Some(kn) = spec.kn else {
                 return Err(Error::input(

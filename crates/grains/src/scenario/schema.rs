@@ -225,7 +225,13 @@ pub struct ContactSpec {
     /// Rolling resistance ("none", "constant", "epsd"; hertz-mindlin only,
     /// needs rotation; `contact::rolling`).
     pub rolling: Option<crate::contact::rolling::RollingModel>,
-    /// Cohesion ("none", "dmt"; hertz-mindlin only; `contact::cohesion`).
+    /// k_r of LAMMPS's `rolling sds` (force per length), with
+    /// `preset = "lammps-granular"` and `rolling = "epsd"` only.
+    pub rolling_stiffness: Option<f64>,
+    /// γ_r of LAMMPS's `rolling sds` (force per velocity), likewise.
+    pub rolling_damping: Option<f64>,
+    /// Cohesion ("none", "dmt", "jkr"; hertz-mindlin only, from the
+    /// materials' surface_energy; `contact::cohesion`, `contact::jkr`).
     pub cohesion: Option<crate::contact::cohesion::CohesionModel>,
     /// Names of walls whose contacts have no normal damping (γ_n = 0, the
     /// grains' γ_t kept): elastic side walls beside a dissipative bulk.
@@ -295,6 +301,12 @@ pub enum ContactPreset {
     /// rotation on. Units are whatever the data file uses (LAMMPS `lj`).
     #[serde(rename = "lammps-hooke-history")]
     LammpsHookeHistory,
+    /// LAMMPS `pair_style granular` with `pair_coeff * * hertz/material E e ν
+    /// tangential mindlin NULL 1.0 μ damping tsuji [rolling sds k_r γ_r
+    /// μ_r]`, from `[[materials]]` (E, ν, e, μ, μ_r) and, with
+    /// `rolling = "epsd"`, `rolling_stiffness` and `rolling_damping`.
+    #[serde(rename = "lammps-granular")]
+    LammpsGranular,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -602,6 +614,11 @@ pub struct MeasureSpec {
     /// on a grid, averaged over time: flow_field.csv/png.
     #[serde(default)]
     pub flow_field: Option<FlowFieldSpec>,
+    /// Per collision of two bodies (two grains, or a grain and a wall): the
+    /// largest overlap, peak normal force, duration, restitution and
+    /// rebound angle: impacts.csv and `impact_*` (`measure::impact`).
+    #[serde(default)]
+    pub impact: bool,
 }
 
 /// `measure.flow_field`: `cells` = [along x, along the vertical axis] over
