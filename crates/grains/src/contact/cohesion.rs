@@ -22,6 +22,9 @@ pub enum CohesionModel {
     None,
     /// DMT: a constant pull 2π Γ R* while in contact.
     Dmt,
+    /// JKR: the Johnson–Kendall–Roberts force, kept beyond touching to the
+    /// pull-off separation ([`super::jkr`]).
+    Jkr,
 }
 
 impl CohesionModel {
@@ -29,6 +32,7 @@ impl CohesionModel {
         match self {
             Self::None => "none",
             Self::Dmt => "dmt",
+            Self::Jkr => "jkr",
         }
     }
 }

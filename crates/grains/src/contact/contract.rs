@@ -12,7 +12,8 @@ use crate::dim::Dim;
 #[derive(Clone, Copy, Debug)]
 pub struct Contact<D: Dim> {
     /// Overlap ξ = r_i + r_j − |x_i − x_j| > 0 (against a wall: r_i minus
-    /// the distance to it).
+    /// the distance to it); down to −[`ContactModel::reach`] for a kept
+    /// contact of a `BONDED` law.
     pub overlap: f64,
     /// Unit normal from the partner to body i.
     pub normal: D::V,
@@ -65,6 +66,20 @@ pub trait ContactModel: Sync {
     const ROLLING: bool = false;
     /// Whether that torque keeps a rolling spring per contact.
     const ROLLING_HISTORY: bool = false;
+
+    /// Whether a contact, once formed, is kept beyond touching, while the
+    /// surfaces are less than [`ContactModel::reach`] apart (JKR). The
+    /// loops mark such a contact in its rolling slot (a law with it keeps
+    /// no rolling spring).
+    const BONDED: bool = false;
+
+    /// How far apart (a negative overlap's size) a formed contact of table
+    /// entry `pair` between radii `ri` and `rj` (∞ for a wall) is kept;
+    /// read only when `BONDED`.
+    #[inline(always)]
+    fn reach(&self, _pair: u32, _ri: f64, _rj: f64) -> f64 {
+        0.0
+    }
 
     /// Whether grains rotate (torques, ω in the contact-point velocity).
     fn rotation(&self) -> bool;

@@ -19,6 +19,7 @@
 use super::cohesion::{dmt_pull_off, CohesionModel};
 use super::contract::{Contact, ContactModel, ContactOutcome, Step};
 use super::cundall_strack::Tangential;
+use super::jkr;
 use super::lammps_granular::{GranularTable, LammpsGranular};
 use super::mass_scaling::MassScaling;
 use super::material::{Material, PairCoefficients, PairOverride};
@@ -40,8 +41,11 @@ pub struct HertzPair {
     mu_r: f64,
     /// 2π Γ: the DMT pull-off force per unit R* (0 without cohesion).
     two_pi_gamma: f64,
-    /// Γ, kept for [`HertzMindlin::with_cohesion`].
+    /// Γ: the JKR law's, and kept for [`HertzMindlin::with_cohesion`].
     surface_energy: f64,
+    /// (3/4) (π² Γ² / E*²)^{1/3}: a JKR contact breaks this times R*^{1/3}
+    /// beyond touching ([`super::jkr::separation_coefficient`]).
+    jkr_reach: f64,
 }
 
 impl HertzPair {
@@ -54,6 +58,7 @@ impl HertzPair {
             mu_r: p.rolling_friction,
             two_pi_gamma: 0.0,
             surface_energy: p.surface_energy,
+            jkr_reach: jkr::separation_coefficient(p.e_star, p.surface_energy),
         }
     }
 }
@@ -145,7 +150,8 @@ impl HertzMindlin {
         self.cohesion = model;
         for p in &mut self.pairs {
             p.two_pi_gamma = match model {
-                CohesionModel::None => 0.0,
+                // JKR's force is its own (`evaluate_with`), no added pull.
+                CohesionModel::None | CohesionModel::Jkr => 0.0,
                 CohesionModel::Dmt => dmt_pull_off(p.surface_energy, 1.0),
             };
         }
@@ -163,11 +169,39 @@ impl HertzMindlin {
                 run.run(&LammpsGranular::<_, false> { law: self, table })
             };
         }
-        match self.rolling {
-            RollingModel::None => run.run(self),
-            RollingModel::Constant => run.run(&Rolled::<1>(self)),
-            RollingModel::Epsd => run.run(&Rolled::<2>(self)),
+        let jkr = self.cohesion == CohesionModel::Jkr;
+        match (self.rolling, jkr) {
+            (RollingModel::None, false) => run.run(self),
+            (RollingModel::Constant, false) => run.run(&Rolled::<1, false>(self)),
+            (RollingModel::Epsd, false) => run.run(&Rolled::<2, false>(self)),
+            (RollingModel::None, true) => run.run(&Rolled::<0, true>(self)),
+            (RollingModel::Constant, true) => run.run(&Rolled::<1, true>(self)),
+            // A JKR contact keeps its mark where epsd keeps its rolling
+            // spring: `Md::new` and the scenario refuse the pair.
+            (RollingModel::Epsd, true) => unreachable!("jkr with epsd rolling is refused"),
         }
+    }
+
+    /// The cohesion model.
+    pub fn cohesion(&self) -> CohesionModel {
+        self.cohesion
+    }
+
+    /// Whether contacts keep a second history (the epsd rolling spring or
+    /// the JKR contact mark) in the rolling slots.
+    pub fn keeps_second_history(&self) -> bool {
+        self.rolling.has_history() || self.cohesion == CohesionModel::Jkr
+    }
+
+    /// The largest JKR breaking separation δ_c among pairs of grains of
+    /// radius at most `max_radius` (and walls); 0 without JKR.
+    pub fn max_reach(&self, max_radius: f64) -> f64 {
+        if self.cohesion != CohesionModel::Jkr {
+            return 0.0;
+        }
+        // R* ≤ the grain's radius, against a grain or a wall.
+        let most = self.pairs.iter().map(|p| p.jkr_reach).fold(0.0, f64::max);
+        most * max_radius.cbrt()
     }
 
     /// The coefficients of materials `a` and `b`.
@@ -212,20 +246,47 @@ impl ContactModel for HertzMindlin {
     }
     #[inline(always)]
     fn evaluate<D: Dim>(&self, c: &Contact<D>, spring: &mut D::V, step: Step) -> ContactOutcome<D> {
+        self.evaluate_with::<D, false>(c, spring, step)
+    }
+}
+
+impl HertzMindlin {
+    /// The law on one contact; with `JKR`, the JKR force and contact
+    /// radius ([`super::jkr`]) replace Hertz's (the overlap may then be
+    /// negative, down to −δ_c).
+    #[inline(always)]
+    fn evaluate_with<D: Dim, const JKR: bool>(
+        &self,
+        c: &Contact<D>,
+        spring: &mut D::V,
+        step: Step,
+    ) -> ContactOutcome<D> {
         let p = self.entry(c.pair);
         let n = c.normal;
         let r_star = r_star(c.ri, c.rj);
         let m_star = MassScaling::Reduced.damping_mass(c.mi, c.mj);
-        let a = (r_star * c.overlap).sqrt();
-        let sn = p.two_e_star * a;
-        // (4/3) E* √R* ξ^{3/2} = (2/3) S_n ξ.
-        let elastic = 2.0 / 3.0 * sn * c.overlap;
         let vn = D::dot(c.v_rel, n);
-        // DMT's pull 2π Γ R* (zero without cohesion: the same bits).
-        let pull = p.two_pi_gamma * r_star;
-        let fn_total = elastic - p.alpha * (m_star * sn).sqrt() * vn - pull;
-        // The load the caps scale: F_n + 2 F_po (LAMMPS's Fncrit).
-        let load = fn_total + 2.0 * pull;
+        let (a, sn, fn_total, load);
+        if JKR {
+            let e_star = 0.5 * p.two_e_star;
+            let gamma = p.surface_energy;
+            a = jkr::contact_radius(c.overlap, r_star, e_star, gamma);
+            sn = p.two_e_star * a;
+            let elastic = jkr::force(a, r_star, e_star, gamma);
+            fn_total = elastic - p.alpha * (m_star * sn).sqrt() * vn;
+            // F_n + 2 F_po, F_po = (3/2) π Γ R* (LAMMPS's Fncrit for jkr).
+            load = fn_total + 2.0 * jkr::pull_off(gamma, r_star);
+        } else {
+            a = (r_star * c.overlap).sqrt();
+            sn = p.two_e_star * a;
+            // (4/3) E* √R* ξ^{3/2} = (2/3) S_n ξ.
+            let elastic = 2.0 / 3.0 * sn * c.overlap;
+            // DMT's pull 2π Γ R* (zero without cohesion: the same bits).
+            let pull = p.two_pi_gamma * r_star;
+            fn_total = elastic - p.alpha * (m_star * sn).sqrt() * vn - pull;
+            // The load the caps scale: F_n + 2 F_po (LAMMPS's Fncrit).
+            load = fn_total + 2.0 * pull;
+        }
         let vt = c.v_rel - n * vn;
         let kt = p.eight_g_star * a;
         let tangential = Tangential {
@@ -258,14 +319,16 @@ pub trait RunLaw<R> {
     fn run<L: ContactModel>(self, law: &L) -> R;
 }
 
-/// The Hertz–Mindlin law with rolling resistance `MODEL` (1 constant, 2
-/// epsd; [`super::rolling`]).
-pub struct Rolled<'a, const MODEL: u8>(&'a HertzMindlin);
+/// The Hertz–Mindlin law with rolling resistance `MODEL` (0 none, 1
+/// constant, 2 epsd; [`super::rolling`]) and, with `JKR`, JKR cohesion
+/// ([`super::jkr`]; never with epsd).
+pub struct Rolled<'a, const MODEL: u8, const JKR: bool>(&'a HertzMindlin);
 
-impl<const MODEL: u8> ContactModel for Rolled<'_, MODEL> {
+impl<const MODEL: u8, const JKR: bool> ContactModel for Rolled<'_, MODEL, JKR> {
     const LANES: bool = true;
-    const ROLLING: bool = true;
+    const ROLLING: bool = MODEL != 0;
     const ROLLING_HISTORY: bool = MODEL == 2;
+    const BONDED: bool = JKR;
     #[inline(always)]
     fn rotation(&self) -> bool {
         self.0.rotation
@@ -284,7 +347,15 @@ impl<const MODEL: u8> ContactModel for Rolled<'_, MODEL> {
     }
     #[inline(always)]
     fn evaluate<D: Dim>(&self, c: &Contact<D>, spring: &mut D::V, step: Step) -> ContactOutcome<D> {
-        self.0.evaluate(c, spring, step)
+        self.0.evaluate_with::<D, JKR>(c, spring, step)
+    }
+    #[inline(always)]
+    fn reach(&self, pair: u32, ri: f64, rj: f64) -> f64 {
+        if JKR {
+            self.0.entry(pair).jkr_reach * r_star(ri, rj).cbrt()
+        } else {
+            0.0
+        }
     }
     #[inline(always)]
     fn rolling<D: Dim>(

@@ -253,14 +253,20 @@ mod tests {
 
     /// A batch of random contacts (pair entries cycling through `pairs`),
     /// as cases and in lanes.
-    fn batch<D: Dim>(rng: &mut Xoshiro256PlusPlus, pairs: u32) -> (Vec<Case<D>>, ContactLanes) {
+    /// `stretch` moves the grains apart by that fraction of r_i + r_j (some
+    /// overlaps then negative: kept JKR contacts).
+    fn batch<D: Dim>(
+        rng: &mut Xoshiro256PlusPlus,
+        pairs: u32,
+        stretch: f64,
+    ) -> (Vec<Case<D>>, ContactLanes) {
         let mut u = || rng.gen_range(-1.0..1.0);
         let cases: Vec<Case<D>> = (0..LANES)
             .map(|l| {
                 let v3 = |u: &mut dyn FnMut() -> f64| D::from_xyz([u(), u(), u()]);
                 let (ri, rj) = (0.5 + 0.1 * u(), 0.5 + 0.1 * u());
                 let dir = v3(&mut u);
-                let del = dir * ((ri + rj) * (1.0 - 2e-3 * (u() + 1.0)) / D::norm(dir));
+                let del = dir * ((ri + rj) * (1.0 + stretch - 2e-3 * (u() + 1.0)) / D::norm(dir));
                 let frozen = |m: f64, f: bool| if f { f64::INFINITY } else { m };
                 Case {
                     del,
@@ -317,7 +323,7 @@ mod tests {
             let k = HookeHistory::of(&law).unwrap();
             for update in [true, false] {
                 for _batch in 0..40 {
-                    let (cases, mut c) = batch::<D>(&mut rng, 1);
+                    let (cases, mut c) = batch::<D>(&mut rng, 1, 0.0);
                     let mut plain = c.clone();
                     let step = Step { dt: 1e-4, update };
                     lanes::<D, _>(&k, &mut plain, step);
@@ -346,13 +352,14 @@ mod tests {
 
     /// Runs `law` on random batches of pairs among `pairs` entries, through
     /// the plain and the dispatched kernel, against one contact at a time.
-    struct SameBits<'a, D: Dim>(&'a mut Xoshiro256PlusPlus, u32, PhantomData<D>);
+    /// The third field is [`batch`]'s stretch.
+    struct SameBits<'a, D: Dim>(&'a mut Xoshiro256PlusPlus, u32, f64, PhantomData<D>);
 
     impl<D: Dim> crate::contact::hertz_mindlin::RunLaw<()> for SameBits<'_, D> {
         fn run<L: ContactModel>(self, law: &L) {
             for update in [true, false] {
                 for _ in 0..40 {
-                    let (cases, mut c) = batch::<D>(self.0, self.1);
+                    let (cases, mut c) = batch::<D>(self.0, self.1, self.2);
                     let mut plain = c.clone();
                     let step = Step { dt: 1e-4, update };
                     lanes::<D, _>(law, &mut plain, step);
@@ -393,7 +400,20 @@ mod tests {
             RollingModel::Epsd,
         ] {
             law.rolling = model;
-            law.with_rolling(SameBits::<D>(&mut rng, 4, PhantomData));
+            law.with_rolling(SameBits::<D>(&mut rng, 4, 0.0, PhantomData));
+        }
+        // JKR (δ_c about 1e-3 of r_i + r_j here), contacts in compression and
+        // kept beyond touching, without and with constant rolling.
+        use crate::contact::cohesion::CohesionModel;
+        let sticky = mats.map(|m| Material {
+            surface_energy: 100.0,
+            ..m
+        });
+        let law = HertzMindlin::new(&sticky, &[], vec![0, 1], vec![], true);
+        let mut law = law.with_cohesion(CohesionModel::Jkr);
+        for model in [RollingModel::None, RollingModel::Constant] {
+            law.rolling = model;
+            law.with_rolling(SameBits::<D>(&mut rng, 4, 1.5e-3, PhantomData));
         }
     }
 
@@ -424,7 +444,7 @@ mod tests {
         ] {
             let law = HertzMindlin::new(&mats, &[], vec![0, 1], vec![], true)
                 .with_lammps_granular(GranularTable::new(&mats, &[], rolling));
-            law.with_rolling(SameBits::<D>(&mut rng, 4, PhantomData));
+            law.with_rolling(SameBits::<D>(&mut rng, 4, 0.0, PhantomData));
         }
     }
 

@@ -11,7 +11,8 @@
 //! [`tsuji_damping`]).
 //!
 //! [`rolling`] adds rolling resistance to the material law, [`cohesion`]
-//! the DMT pull. [`lammps_granular`] is LAMMPS's `pair granular` with
+//! the DMT pull, [`jkr`] the JKR adhesion with its hysteresis.
+//! [`lammps_granular`] is LAMMPS's `pair granular` with
 //! `hertz/material`, `tsuji`, `mindlin` and `rolling sds` on the same
 //! materials (`contact.preset = "lammps-granular"`).
 //!
@@ -34,6 +35,9 @@ pub mod cundall_strack;
 pub mod damping;
 pub mod hertz_mindlin;
 pub mod hooke_history;
+pub mod jkr;
+#[cfg(test)]
+mod jkr_tests;
 pub mod lammps_granular;
 #[cfg(test)]
 mod lammps_granular_tests;

@@ -26,7 +26,7 @@ use super::collide::{collide_cell, CellState, GasDim, Selection, Tally};
 use super::dense::{Correction, DenseGas};
 pub use super::haff::haff_time;
 use super::rng::{StepStreams, Stream};
-use super::sort::{gather_in_place, sort_indices, Aside, CellGrid, RESORT_EVERY};
+use super::sort::{gather_in_place, prefetch, sort_indices, Aside, CellGrid, RESORT_EVERY};
 use super::store::Particle;
 use super::store::{cross_section, Store};
 use super::stream::Flight;
@@ -364,24 +364,4 @@ pub fn maxwellian<D: Dim>(rng: &mut Stream, thermal_speed: f64) -> D::V {
         D::set(&mut v, 2, c * thermal_speed);
     }
     v
-}
-
-/// Asks the cache for the record at `p`, both its first and its last byte:
-/// the store's allocation is 16-byte aligned, so a 32- or 48-byte record
-/// may straddle two cache lines. A hint only (no effect off x86-64).
-#[inline(always)]
-fn prefetch<T>(p: *const T) {
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: a prefetch never faults, whatever the address.
-    unsafe {
-        use core::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        let first = p as *const i8;
-        _mm_prefetch(first, _MM_HINT_T0);
-        _mm_prefetch(
-            first.wrapping_add(std::mem::size_of::<T>() - 1),
-            _MM_HINT_T0,
-        );
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = p;
 }

@@ -130,9 +130,18 @@ pub fn sort_indices(key: &[u32], start: &mut [u32], fill: &mut [u32], order: &mu
     }
 }
 
-/// Records that move this far forward or more are kept in the sorted side
-/// list of [`Aside`] instead of its ring (a power of two).
-const RING: usize = 1 << 15;
+/// The ring's least length (a power of two): below it a store is moved
+/// through a ring of its own size, with no side list.
+const RING_MIN: usize = 1 << 12;
+/// At most one record in this many may wait aside (in the ring or the side
+/// list); a store that needs more is in no particular order, and the
+/// permutation's cycles are followed instead.
+const ASIDE_SHARE: usize = 2;
+/// How many places ahead of the one being written its record is asked of
+/// the cache: the reads are scattered over the span that records move, far
+/// more than the caches hold in 3D, and one read is shorter than a memory
+/// access.
+const PREFETCH_AHEAD: usize = 16;
 
 /// Scratch of [`gather_in_place`]: the records it must keep aside because
 /// their place is overwritten before they reach their new one.
@@ -141,9 +150,42 @@ pub struct Aside<T> {
     /// Record s waits in slot s mod the ring's length while it moves
     /// forward by less than that length.
     ring: Vec<T>,
-    /// Those that move farther (across the periodic seam, say): old place
-    /// and record, by increasing old place.
-    far: Vec<(u32, T)>,
+    /// Those that move farther (across the periodic seam, say), in order of
+    /// their new place.
+    far: Vec<T>,
+    /// Old place of each far mover and its rank in `far`, by increasing old
+    /// place.
+    far_from: Vec<(u32, u32)>,
+}
+
+/// The ring for the moves in `order` (new place k holds old place
+/// `order[k]`): the power of two that keeps the fewest records aside, a
+/// ring slot each and about twice that for a far mover (its record, its
+/// entry in the side list and its share of that list's sort). `None` when
+/// more than one record in [`ASIDE_SHARE`] would wait.
+fn ring_len(order: &[u32]) -> Option<usize> {
+    let n = order.len();
+    let top = n.next_power_of_two().max(1);
+    if top <= RING_MIN {
+        return Some(top);
+    }
+    // moves[b]: records moving forward by 2^b up to 2^(b+1) − 1 places.
+    let mut moves = [0usize; usize::BITS as usize];
+    for (k, &s) in order.iter().enumerate() {
+        if k > s as usize {
+            moves[(k - s as usize).ilog2() as usize] += 1;
+        }
+    }
+    let mut farther: usize = moves[RING_MIN.ilog2() as usize..].iter().sum();
+    let mut best = (usize::MAX, RING_MIN);
+    for b in RING_MIN.ilog2()..=top.ilog2() {
+        let cost = (1usize << b) + 2 * farther;
+        if cost < best.0 {
+            best = (cost, 1 << b);
+        }
+        farther -= moves[b as usize];
+    }
+    (best.0 <= n / ASIDE_SHARE).then_some(best.1)
 }
 
 /// Reorders `p` in place so that the new `p[k]` is the old `p[order[k]]`;
@@ -152,42 +194,56 @@ pub struct Aside<T> {
 /// A record of a store kept in cell order moves only a few rows of cells
 /// between re-sorts, so the records are written in increasing place, each
 /// read from where it is: ahead of the place being written it is still
-/// there; behind, it was kept aside when its place was overwritten (every
-/// record passes through a ring of [`RING`] slots, enough for all but the
-/// few that move farther, which a side list keeps). Every read and write
-/// streams through memory. When more than one record in 16 moves that far
-/// (a store in no particular order), the permutation's cycles are followed
-/// instead, which needs no side list but waits on memory at every hop.
+/// there; behind, it was kept aside when its place was overwritten. Every
+/// record passes through a ring, sized from the moves of this permutation
+/// (a few layers of cells: [`ring_len`]); the few that move farther wait in
+/// a side list in the order they are placed. Writes stream through memory
+/// and the scattered reads are asked of the cache
+/// [`PREFETCH_AHEAD`] places early. When too many records would wait (a
+/// store in no particular order), the permutation's cycles are followed
+/// instead, which needs no scratch but waits on memory at every hop.
 pub fn gather_in_place<T: Copy + Default>(p: &mut [T], order: &mut [u32], aside: &mut Aside<T>) {
     let n = p.len();
     debug_assert_eq!(order.len(), n);
-    let ring = RING.min(n.next_power_of_two().max(1));
+    let Some(ring) = ring_len(order) else {
+        return follow_cycles(p, order);
+    };
     let mask = ring - 1;
-    // The far movers: record s goes to k ≥ s + ring.
-    let mut far: Vec<u32> = Vec::new();
+    // The far movers (record s goes to k ≥ s + ring), ranked by k.
+    aside.far_from.clear();
     for (k, &s) in order.iter().enumerate() {
         if k >= s as usize + ring {
-            far.push(s);
-            if far.len() > n / 16 {
-                return follow_cycles(p, order);
-            }
+            let rank = aside.far_from.len() as u32;
+            aside.far_from.push((s, rank));
         }
     }
-    far.sort_unstable();
+    aside.far_from.sort_unstable_by_key(|e| e.0);
     aside.far.clear();
-    aside.far.reserve(far.len());
+    aside.far.resize(aside.far_from.len(), T::default());
     aside.ring.clear();
     aside.ring.resize(ring, T::default());
-    let mut next_far = far.iter().copied().peekable();
+    let mut next_from = 0;
+    let mut next_far = 0;
     for k in 0..n {
+        if let Some(&s) = order.get(k + PREFETCH_AHEAD) {
+            let s = s as usize;
+            // Still in place, or in the ring by the time it is read.
+            if s >= k {
+                prefetch(p.as_ptr().wrapping_add(s));
+            } else if k + PREFETCH_AHEAD - s < ring {
+                prefetch(aside.ring.as_ptr().wrapping_add(s & mask));
+            }
+        }
         // Keep the old record k (cheaper to always keep it than to ask
         // whether it moves forward): slot k mod ring last held record
         // k − ring, which moved by less than `ring`, so it is placed.
         let old = p[k];
         aside.ring[k & mask] = old;
-        if next_far.peek() == Some(&(k as u32)) {
-            next_far.next();
-            aside.far.push((k as u32, old));
+        if let Some(&(from, rank)) = aside.far_from.get(next_from) {
+            if from as usize == k {
+                aside.far[rank as usize] = old;
+                next_from += 1;
+            }
         }
         let s = order[k] as usize;
         p[k] = if s >= k {
@@ -195,14 +251,32 @@ pub fn gather_in_place<T: Copy + Default>(p: &mut [T], order: &mut [u32], aside:
         } else if k - s < ring {
             aside.ring[s & mask]
         } else {
-            let at = aside
-                .far
-                .binary_search_by_key(&(s as u32), |e| e.0)
-                .expect("a far mover was kept aside");
-            aside.far[at].1
+            next_far += 1;
+            aside.far[next_far - 1]
         };
         order[k] = k as u32;
     }
+    debug_assert_eq!(next_far, aside.far.len());
+}
+
+/// Asks the cache for the record at `p`, both its first and its last byte
+/// (a 32- or 48-byte record may straddle two cache lines). A hint only (no
+/// effect off x86-64).
+#[inline(always)]
+pub(super) fn prefetch<T>(p: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch never faults, whatever the address.
+    unsafe {
+        use core::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let first = p as *const i8;
+        _mm_prefetch(first, _MM_HINT_T0);
+        _mm_prefetch(
+            first.wrapping_add(std::mem::size_of::<T>() - 1),
+            _MM_HINT_T0,
+        );
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
 }
 
 /// [`gather_in_place`] by following the permutation's cycles (each record is
@@ -249,13 +323,14 @@ mod tests {
     /// larger than the ring, so records wait in it and in the side list.
     #[test]
     fn gather_of_a_nearly_sorted_store_places_every_record() {
-        let n = 5 * RING + 123;
+        // Moves of up to ±reach (the ring should cover about that), and
+        // every 500th by up to the whole store (the side list).
+        let reach = 1 << 13;
+        let n = 40 * reach + 123;
         let mut rng = crate::dsmc::rng::Stream::new(3, 1, 4);
-        // Sort made-up destinations: each place moves by up to ±RING/2,
-        // every 500th by up to the whole store.
         let mut dest: Vec<(u64, u32)> = (0..n)
             .map(|s| {
-                let reach = if s % 500 == 0 { n } else { RING / 2 };
+                let reach = if s % 500 == 0 { n } else { reach };
                 let d = s as i64 + rng.below(2 * reach as u32) as i64 - reach as i64;
                 (
                     d.rem_euclid(n as i64) as u64 * n as u64 + s as u64,
@@ -265,23 +340,28 @@ mod tests {
             .collect();
         dest.sort_unstable();
         let order: Vec<u32> = dest.iter().map(|e| e.1).collect();
+        let ring = ring_len(&order).expect("a nearly sorted store uses the ring");
+        assert!((reach..=4 * reach).contains(&ring), "{ring}");
         let far = order
             .iter()
             .enumerate()
-            .filter(|&(k, &s)| k >= s as usize + RING)
+            .filter(|&(k, &s)| k >= s as usize + ring)
             .count();
-        assert!(far > 0 && far < n / 16, "{far}");
+        assert!(far > 0 && far < n / 100, "{far}");
         let mut p: Vec<u64> = (0..n as u64).map(|i| 7 * i + 1).collect();
         let want: Vec<u64> = order.iter().map(|&s| 7 * s as u64 + 1).collect();
         let mut o = order.clone();
-        gather_in_place(&mut p, &mut o, &mut Aside::default());
+        let mut aside = Aside::default();
+        gather_in_place(&mut p, &mut o, &mut aside);
         assert_eq!(p, want);
         assert!(o.iter().enumerate().all(|(i, &d)| d as usize == i));
+        assert_eq!((aside.ring.len(), aside.far.len()), (ring, far));
         // A store in no order: the cycles are followed instead.
         let mut shuffled: Vec<u32> = (0..n as u32).collect();
         for i in (1..n).rev() {
             shuffled.swap(i, rng.below(i as u32 + 1) as usize);
         }
+        assert_eq!(ring_len(&shuffled), None);
         let mut p: Vec<u64> = (0..n as u64).collect();
         let want: Vec<u64> = shuffled.iter().map(|&s| s as u64).collect();
         gather_in_place(&mut p, &mut shuffled, &mut Aside::default());

@@ -11,7 +11,8 @@ use crate::dim::Dim;
 pub struct ContactList<D: Dim> {
     /// Ids of the two grains of each contact.
     pub ids: Vec<[u64; 2]>,
-    /// Overlap r_i + r_j − |x_i − x_j| (m), positive.
+    /// Overlap r_i + r_j − |x_i − x_j| (m), positive (down to −δ_c for a
+    /// JKR contact kept beyond touching).
     pub overlap: Vec<f64>,
     /// Unit normal from the second grain to the first.
     pub normal: Vec<D::V>,
@@ -50,7 +51,12 @@ impl<D: Dim> Md<D> {
             let del = p.pos[i] - (p.pos[j] + self.neighbors.shift(self.neighbors.image[k]));
             let (ri, rj) = (p.radius[i], p.radius[j]);
             let r = D::norm(del);
-            if r >= ri + rj {
+            let pair = law.pair_index(p.kind[i], p.kind[j]);
+            // A formed JKR contact is kept beyond touching, as the pair
+            // loop keeps it.
+            let marked = L::BONDED && self.rolling.get(k).is_some_and(|m| *m != D::zero());
+            let reach = if marked { law.reach(pair, ri, rj) } else { 0.0 };
+            if r >= ri + rj + reach {
                 continue;
             }
             let n = del * (1.0 / r);
@@ -68,7 +74,7 @@ impl<D: Dim> Md<D> {
                 ri,
                 rj,
                 omega_rel: p.omega[i] - p.omega[j],
-                pair: law.pair_index(p.kind[i], p.kind[j]),
+                pair,
             };
             let still = Step {
                 dt: 0.0,

@@ -186,7 +186,22 @@ fn wall_contacts<D: Dim, L: ContactModel>(
     // only. Most grains are far from every wall, and one loop over all of
     // them around the contact code took about 10 ns per grain on vib2d
     // (one plate).
-    let near = near_walls(input.walls, pos, radius);
+    let near = if L::BONDED {
+        // A kept contact reaches past touching: the quick tests look that
+        // much farther.
+        let reach: Vec<f64> = (0..force.len())
+            .map(|k| {
+                let kind = g.kind[first + k];
+                let r = radius[k];
+                (0..input.walls.len())
+                    .map(|w| law.reach(law.wall_pair_index(kind, w), r, f64::INFINITY))
+                    .fold(r, |a, d| a.max(r + d))
+            })
+            .collect();
+        near_walls(input.walls, pos, &reach)
+    } else {
+        near_walls(input.walls, pos, radius)
+    };
     let candidates = (0..force.len()).filter(|&k| near[k] && !frozen[k]);
     for k in candidates {
         let (i, ri, mi) = (first + k, radius[k], mass[k]);
@@ -216,20 +231,33 @@ fn wall_contacts<D: Dim, L: ContactModel>(
                 }
                 continue;
             }
-            // An open contact keeps no spring.
-            let Some(contact) = wall.contact(pos[k], ri) else {
-                continue;
-            };
-            let mut spring = springs.get(i, w);
-            let mut roll = if L::ROLLING_HISTORY {
+            let mut roll = if L::ROLLING_HISTORY || L::BONDED {
                 rolling.get(i, w)
             } else {
                 D::zero()
             };
+            let found = if L::BONDED && roll != D::zero() {
+                // A formed contact is kept to `reach` beyond touching: the
+                // wall's contact test for a grain that much larger.
+                let reach = law.reach(law.wall_pair_index(grain.kind, w), ri, f64::INFINITY);
+                wall.contact(pos[k], ri + reach).map(|mut c| {
+                    c.overlap -= reach;
+                    c
+                })
+            } else {
+                wall.contact(pos[k], ri)
+            };
+            // An open contact keeps no spring.
+            let Some(contact) = found else {
+                continue;
+            };
+            let mut spring = springs.get(i, w);
             let springs = (&mut spring, &mut roll);
             let (f, t) = push(wall_law, step, (&grain, wall, w), &contact, springs);
             kept.keep(i, w, spring);
-            if L::ROLLING_HISTORY {
+            if L::BONDED {
+                rolling_kept.keep(i, w, crate::contact::jkr::mark::<D>());
+            } else if L::ROLLING_HISTORY {
                 rolling_kept.keep(i, w, roll);
             }
             force[k] += f;

@@ -159,6 +159,9 @@ impl<D: Dim> Md<D> {
                 settings.skin
             )));
         }
+        if let Some(law) = &settings.materials {
+            check_jkr(law, &particles, settings.skin)?;
+        }
         let mut md = Self {
             particles,
             domain,
@@ -304,10 +307,15 @@ impl<D: Dim> Md<D> {
         let want = |len: usize| if history { len } else { 0 };
         if s.rolling.len() != want(s.list.pairs.len()) || s.wall_rolling.len() != want(n * nw) {
             return bad(format!(
-                "{} pair and {} wall rolling springs, but contact.rolling = \"{}\" keeps {} and {}",
+                "{} pair and {} wall rolling springs (or JKR contact marks), but contact.rolling = \
+                 \"{}\" with contact.cohesion = \"{}\" keeps {} and {}",
                 s.rolling.len(),
                 s.wall_rolling.len(),
                 self.rolling_model().name(),
+                self.settings
+                    .materials
+                    .as_ref()
+                    .map_or("none", |h| h.cohesion().name()),
                 want(s.list.pairs.len()),
                 want(n * nw)
             ));
@@ -607,9 +615,13 @@ impl<D: Dim> Md<D> {
             .map_or(RollingModel::None, |h| h.rolling)
     }
 
-    /// Whether contacts keep rolling springs.
+    /// Whether contacts keep something in their rolling slots: epsd's
+    /// rolling spring, or JKR's mark of a formed contact.
     pub(crate) fn rolling_history(&self) -> bool {
-        self.rolling_model().has_history()
+        self.settings
+            .materials
+            .as_ref()
+            .is_some_and(|h| h.keeps_second_history())
     }
 
     /// Drops every rolling spring (a test's way of showing they matter).
@@ -799,4 +811,34 @@ impl<D: Dim> Md<D> {
             tc / 50.0
         )
     }
+}
+
+/// JKR contacts are kept up to δ_c beyond touching, in the rolling slots:
+/// the Verlet skin must list every pair that close (a pair farther than the
+/// skin at a rebuild is not listed), and no epsd spring may need the slots.
+fn check_jkr<D: Dim>(
+    law: &crate::contact::hertz_mindlin::HertzMindlin,
+    particles: &Particles<D>,
+    skin: f64,
+) -> Result<()> {
+    use crate::contact::cohesion::CohesionModel;
+    if law.cohesion() != CohesionModel::Jkr {
+        return Ok(());
+    }
+    if law.rolling == RollingModel::Epsd {
+        return Err(Error::input(
+            "contact.cohesion = \"jkr\" with contact.rolling = \"epsd\": not supported yet (both \
+             keep a history per contact in the same place); use contact.rolling = \"constant\" or \
+             \"none\"",
+        ));
+    }
+    let reach = law.max_reach(particles.max_radius());
+    if reach >= skin {
+        return Err(Error::input(format!(
+            "contact.cohesion = \"jkr\": the pull-off separation δ_c = {reach:e} m of the largest \
+             grains is not below the Verlet skin {skin:e} m, so a stretched contact could leave the \
+             neighbour list; raise run.skin"
+        )));
+    }
+    Ok(())
 }

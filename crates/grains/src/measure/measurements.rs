@@ -7,6 +7,7 @@ use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::io::Frame;
 use crate::md::Md;
+use crate::measure::impact::Impacts;
 use crate::measure::phase::drive;
 use crate::measure::{
     Convection, DisplacementField, FlowField, PhaseSnapshots, Profiles, Tracer, Trajectories,
@@ -24,6 +25,7 @@ pub(crate) struct Measurements {
     profiles: Option<Profiles>,
     trajectories: Option<Trajectories>,
     flow_field: Option<FlowField>,
+    impact: Option<Impacts>,
 }
 
 impl Measurements {
@@ -67,7 +69,12 @@ impl Measurements {
             Some(f) => Some(FlowField::for_md(md, &f.cells, f.from, f.top)?),
             None => None,
         };
+        let impact = match m.impact {
+            true => Some(Impacts::begin(md)?),
+            false => None,
+        };
         Ok(Self {
+            impact,
             flow_field,
             displacement: m.displacement.then(|| DisplacementField::begin(md)),
             convection: m.convection.as_ref().map(|c| Convection::new(c.band)),
@@ -98,6 +105,15 @@ impl Measurements {
         if let Some(f) = &self.flow_field {
             e.bool(true);
             f.save(&mut e);
+        }
+        // After it, the impacts (and the flow field's flag, false, before
+        // them when it is absent): checkpoints without them are unchanged.
+        if let Some(i) = &self.impact {
+            if self.flow_field.is_none() {
+                e.bool(false);
+            }
+            e.bool(true);
+            i.save(&mut e);
         }
         e.buf
     }
@@ -150,6 +166,7 @@ impl Measurements {
                 Trajectories::load,
             )?,
             flow_field: None,
+            impact: None,
         };
         let mut out = out;
         // Written only when asked for (see `save`).
@@ -173,6 +190,21 @@ impl Measurements {
                 ))
             }
         }
+        let has_impact = d.remaining() > 0 && d.bool("impact")?;
+        if has_impact != m.impact {
+            return Err(format!(
+                "measurement impact: {} in the checkpoint but {} in the scenario",
+                if has_impact { "present" } else { "absent" },
+                if m.impact {
+                    "asked for"
+                } else {
+                    "not asked for"
+                }
+            ));
+        }
+        if has_impact {
+            out.impact = Some(Impacts::load(&mut d)?);
+        }
         if d.remaining() != 0 {
             return Err(format!(
                 "{} unexpected bytes after the measurements",
@@ -190,6 +222,7 @@ impl Measurements {
     pub(crate) fn due(&self, step: u64, t: f64) -> bool {
         self.phases.as_ref().is_some_and(|p| p.due(t))
             || self.trajectories.as_ref().is_some_and(|x| x.due(step))
+            || self.impact.is_some()
     }
 
     /// After every step (phase- and step-exact measurements).
@@ -199,6 +232,9 @@ impl Measurements {
         }
         if let Some(t) = &mut self.trajectories {
             t.step(md);
+        }
+        if let Some(i) = &mut self.impact {
+            i.step(md);
         }
     }
 
@@ -239,6 +275,9 @@ impl Measurements {
         if let Some(f) = &self.flow_field {
             f.write(dir, last, &md.walls)?;
         }
+        if let Some(i) = &self.impact {
+            i.write(dir)?;
+        }
         Ok(())
     }
 
@@ -257,6 +296,9 @@ impl Measurements {
         }
         if let Some(p) = &self.profiles {
             summary.insert("transport_velocity".into(), json!(p.transport_velocity()));
+        }
+        if let Some(i) = &self.impact {
+            i.scalars(summary);
         }
     }
 }

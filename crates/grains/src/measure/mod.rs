@@ -7,6 +7,7 @@ pub mod displacement;
 pub mod draw;
 pub mod flow_field;
 pub mod gas;
+pub mod impact;
 pub(crate) mod measurements;
 pub mod phase;
 pub mod plot;

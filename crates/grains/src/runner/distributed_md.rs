@@ -137,7 +137,7 @@ fn start<D: Dim>(
     // Rank 0 begins the measurements after relaxing; a scenario they refuse
     // (phases without a vibrating wall) must stop every rank now.
     let m = &loaded.scenario.measure;
-    if m.phases.is_some() || m.trajectories.is_some() {
+    if m.phases.is_some() || m.trajectories.is_some() || m.impact {
         Measurements::begin(loaded, &full, 0, resolved.dt)?;
     }
     let flow = mirror.is_some().then_some(flow);

@@ -139,7 +139,7 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
         && (crate::scenario::flow::sink_height(loaded).is_some()
             || loaded.scenario.run.events.is_some());
     let m = &loaded.scenario.measure;
-    let per_step = m.phases.is_some() || m.trajectories.is_some();
+    let per_step = m.phases.is_some() || m.trajectories.is_some() || m.impact;
 
     if relax > engine.step_count().min(relax) {
         progress.phase("relax", relax);

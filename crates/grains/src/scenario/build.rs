@@ -371,13 +371,34 @@ pub fn motion<D: Dim>(key: &str, spec: &MotionSpec, dom: &Domain<D>) -> Result<M
 /// Builds the engine of a scenario, with the numbers it was resolved to.
 /// Input errors name the scenario they come from.
 pub fn build_md<D: Dim>(loaded: &Loaded) -> Result<(Md<D>, Resolved)> {
-    build_md_inner(loaded).map_err(|e| super::in_scenario(e, &loaded.origin))
+    build_md_reporting(loaded, &mut |_| {})
 }
 
-fn build_md_inner<D: Dim>(loaded: &Loaded) -> Result<(Md<D>, Resolved)> {
+/// [`build_md`], telling `report` how the set-up goes: one line per pass
+/// (placement, the engine with its cell order and neighbour list, the
+/// checks of the initial state), each with the seconds since the start.
+pub fn build_md_reporting<D: Dim>(
+    loaded: &Loaded,
+    report: &mut dyn FnMut(&str),
+) -> Result<(Md<D>, Resolved)> {
+    build_md_inner(loaded, report).map_err(|e| super::in_scenario(e, &loaded.origin))
+}
+
+fn build_md_inner<D: Dim>(
+    loaded: &Loaded,
+    report: &mut dyn FnMut(&str),
+) -> Result<(Md<D>, Resolved)> {
+    let start = std::time::Instant::now();
+    let mut pass = |what: String| {
+        report(&format!(
+            "set-up: {what} ({:.1} s)",
+            start.elapsed().as_secs_f64()
+        ))
+    };
     let s = &loaded.scenario;
     let dom = domain::<D>(s)?;
     let records = grains::<D>(loaded, &dom)?;
+    pass(format!("placed {} grains", records.len()));
     let lightest = records
         .iter()
         .filter(|g| !g.frozen)
@@ -430,6 +451,7 @@ fn build_md_inner<D: Dim>(loaded: &Loaded) -> Result<(Md<D>, Resolved)> {
         )));
     }
     let particles = Particles::from_records(records);
+    pass("grain records".to_string());
     let md = Md::new(particles, dom, walls, settings).map_err(|e| match e {
         Error::Unstable(m) => Error::input(format!(
             "{}: the initial state is unusable: {m}",
@@ -437,6 +459,7 @@ fn build_md_inner<D: Dim>(loaded: &Loaded) -> Result<(Md<D>, Resolved)> {
         )),
         other => other,
     })?;
+    pass("engine: cell order and neighbour list".to_string());
     let (frac, a, b) = md.worst_overlap();
     if frac > INITIAL_OVERLAP_TOLERANCE {
         let partner = b.map_or("a wall".to_string(), |b| format!("grain {b}"));
@@ -454,6 +477,7 @@ fn build_md_inner<D: Dim>(loaded: &Loaded) -> Result<(Md<D>, Resolved)> {
             loaded.origin
         ))
     })?;
+    pass("checked the initial overlaps and time step".to_string());
     Ok((md, resolved))
 }
 

@@ -15,7 +15,7 @@ pub mod resolve;
 pub mod schema;
 pub mod sweep;
 
-pub use build::build_md;
+pub use build::{build_md, build_md_reporting};
 pub use dsmc::build_dsmc;
 pub use resolve::Resolved;
 pub use schema::Scenario;

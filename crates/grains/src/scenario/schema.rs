@@ -230,7 +230,8 @@ pub struct ContactSpec {
     pub rolling_stiffness: Option<f64>,
     /// γ_r of LAMMPS's `rolling sds` (force per velocity), likewise.
     pub rolling_damping: Option<f64>,
-    /// Cohesion ("none", "dmt"; hertz-mindlin only; `contact::cohesion`).
+    /// Cohesion ("none", "dmt", "jkr"; hertz-mindlin only, from the
+    /// materials' surface_energy; `contact::cohesion`, `contact::jkr`).
     pub cohesion: Option<crate::contact::cohesion::CohesionModel>,
     /// Names of walls whose contacts have no normal damping (γ_n = 0, the
     /// grains' γ_t kept): elastic side walls beside a dissipative bulk.
@@ -613,6 +614,11 @@ pub struct MeasureSpec {
     /// on a grid, averaged over time: flow_field.csv/png.
     #[serde(default)]
     pub flow_field: Option<FlowFieldSpec>,
+    /// Per collision of two bodies (two grains, or a grain and a wall): the
+    /// largest overlap, peak normal force, duration, restitution and
+    /// rebound angle: impacts.csv and `impact_*` (`measure::impact`).
+    #[serde(default)]
+    pub impact: bool,
 }
 
 /// `measure.flow_field`: `cells` = [along x, along the vertical axis] over

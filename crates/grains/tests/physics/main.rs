@@ -9,5 +9,6 @@ mod common;
 mod binary_collision;
 mod conservation;
 mod friction_and_walls;
+mod impact;
 mod rebuild_springs;
 mod rotation;

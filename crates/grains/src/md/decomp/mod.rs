@@ -119,10 +119,11 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             )));
         }
         if full.rolling_history() && comm.size() > 1 {
-            // Rolling springs do not migrate between ranks.
+            // Rolling springs and JKR contact marks do not migrate between ranks.
             return Err(Error::input(
-                "contact.rolling = \"epsd\" does not run over several ranks yet; run on one \
-                 process (--threads N) or use contact.rolling = \"constant\"",
+                "contact.rolling = \"epsd\" and contact.cohesion = \"jkr\" do not run over \
+                 several ranks yet; run on one process (--threads N), or use contact.rolling = \
+                 \"constant\" / contact.cohesion = \"dmt\"",
             ));
         }
         let global = full.domain.clone();

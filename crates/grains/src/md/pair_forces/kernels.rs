@@ -49,6 +49,42 @@ pub(super) fn select_touching<D: Dim>(
     }
 }
 
+/// [`select_touching`] for a law whose contacts are kept beyond touching
+/// ([`ContactModel::BONDED`]): a pair whose `marks` entry is set (in
+/// contact at the previous evaluation, or carried over a rebuild) stays in
+/// contact while its surfaces are less than the law's reach apart.
+pub(super) fn select_bonded<D: Dim, L: ContactModel>(
+    law: &L,
+    g: &GrainView<D>,
+    (pairs, images, marks): (&[[u32; 2]], &[u8], &[D::V]),
+    shifts: &[D::V; 32],
+    (touching, words): (&mut Vec<u32>, &mut Vec<u64>),
+) {
+    for (w, ((pairs, images), marks)) in pairs
+        .chunks(64)
+        .zip(images.chunks(64))
+        .zip(marks.chunks(64))
+        .enumerate()
+    {
+        let mut mask = 0u64;
+        for (b, ((&[i, j], &code), &mark)) in pairs.iter().zip(images).zip(marks).enumerate() {
+            let del = at(g.pos, i) - (at(g.pos, j) + shifts[(code & 31) as usize]);
+            let (ri, rj) = (at(g.radius, i), at(g.radius, j));
+            let d2 = D::norm2(del);
+            let mut radsum = ri + rj;
+            if mark != D::zero() {
+                radsum += law.reach(law.pair_index(at(g.kind, i), at(g.kind, j)), ri, rj);
+            }
+            mask |= ((d2 < radsum * radsum) as u64) << b;
+        }
+        words.push(mask);
+        while mask != 0 {
+            touching.push((64 * w) as u32 + mask.trailing_zeros());
+            mask &= mask - 1;
+        }
+    }
+}
+
 pub(super) fn run_block<D: Dim, L: ContactModel>(
     law: &L,
     input: &PairInput<D>,
@@ -80,13 +116,24 @@ pub(super) fn run_block<D: Dim, L: ContactModel>(
     std::mem::swap(words, was_words);
     touching.clear();
     words.clear();
-    select_touching(g, (pairs, images), &shifts, (touching, words));
+    if L::BONDED {
+        let marks = (pairs, images, &*t.rolling);
+        select_bonded(law, g, marks, &shifts, (touching, words));
+    } else {
+        select_touching(g, (pairs, images), &shifts, (touching, words));
+    }
     // Contacts that opened drop their spring: the bits set in the previous
     // word and clear in this one. After a rebuild, every stretched spring
     // outside the contacts is dropped instead.
     drop_opened(t.springs, words, was_words, t.was_valid);
-    if L::ROLLING_HISTORY {
+    if L::ROLLING_HISTORY || L::BONDED {
         drop_opened(t.rolling, words, was_words, t.was_valid);
+    }
+    if L::BONDED {
+        // Every contact now is kept until it breaks.
+        for &k in touching.iter() {
+            t.rolling[k as usize] = crate::contact::jkr::mark::<D>();
+        }
     }
     for out in t.outbox.iter_mut() {
         out.clear();
