@@ -10,11 +10,9 @@
 
 use super::hertz_mindlin::HertzMindlin;
 use super::material::Material;
-use super::{ContactLaw, MassScaling};
 use crate::boundary::{Motion, Shape, Wall};
 use crate::dim::D3;
 use crate::domain::Domain;
-use crate::integrate::Integrator;
 use crate::md::{Md, MdSettings};
 use crate::particles::{ParticleRecord, Particles};
 use glam::DVec3;
@@ -88,20 +86,7 @@ pub(super) fn collide_under(
         };
         walls.push(Wall::new("plane", plane, Motion::Fixed).unwrap());
     }
-    // The coefficient law only carries the rotation switch here.
-    let stand_in = ContactLaw {
-        kn: 1.0,
-        beta: 1.5,
-        gamma_n: 0.0,
-        gamma_t: 0.0,
-        kt: 0.0,
-        mu: f64::INFINITY,
-        scaling: MassScaling::Reduced,
-        rotation: true,
-    };
-    let mut s = MdSettings::<D3>::new(dt, stand_in, 0.1 * r);
-    s.integrator = Integrator::Verlet;
-    s.materials = Some(law);
+    let s = MdSettings::<D3>::with_materials(dt, law, 0.1 * r);
     let domain = Domain::new(
         DVec3::splat(-100.0 * r),
         DVec3::splat(100.0 * r),
@@ -397,19 +382,7 @@ fn disks_follow_hertz_with_their_mass() {
                 walls.push(Wall::new("line", line, Motion::Fixed).unwrap());
             }
             let law = HertzMindlin::new(&mats, &[], vec![0, 0], vec![1], true);
-            let stand_in = ContactLaw {
-                kn: 1.0,
-                beta: 1.5,
-                gamma_n: 0.0,
-                gamma_t: 0.0,
-                kt: 0.0,
-                mu: f64::INFINITY,
-                scaling: MassScaling::Reduced,
-                rotation: true,
-            };
-            let mut s = MdSettings::<D2>::new(dt, stand_in, 0.1 * r);
-            s.integrator = Integrator::Verlet;
-            s.materials = Some(law);
+            let s = MdSettings::<D2>::with_materials(dt, law, 0.1 * r);
             let domain = Domain::new(
                 DVec2::splat(-100.0 * r),
                 DVec2::splat(100.0 * r),

@@ -55,10 +55,8 @@ mod tests {
     use crate::boundary::{Motion, Shape, Wall};
     use crate::contact::hertz_mindlin::HertzMindlin;
     use crate::contact::material::Material;
-    use crate::contact::{ContactLaw, MassScaling};
     use crate::dim::D3;
     use crate::domain::Domain;
-    use crate::integrate::Integrator;
     use crate::md::{Md, MdSettings};
     use crate::particles::{ParticleRecord, Particles};
     use glam::DVec3;
@@ -113,19 +111,7 @@ mod tests {
             *k = 0;
         }
         let law = HertzMindlin::new(&mats, &[], vec![0], vec![1], true).with_cohesion(model);
-        let stand_in = ContactLaw {
-            kn: 1.0,
-            beta: 1.5,
-            gamma_n: 0.0,
-            gamma_t: 0.0,
-            kt: 0.0,
-            mu: f64::INFINITY,
-            scaling: MassScaling::Reduced,
-            rotation: true,
-        };
-        let mut s = MdSettings::<D3>::new(2e-5, stand_in, 0.1 * R);
-        s.integrator = Integrator::Verlet;
-        s.materials = Some(law);
+        let s = MdSettings::<D3>::with_materials(2e-5, law, 0.1 * R);
         let domain = Domain::new(DVec3::splat(-10.0 * R), DVec3::splat(10.0 * R), [false; 3]);
         Md::new(p, domain, walls, s).unwrap()
     }

@@ -17,11 +17,9 @@ use super::cohesion::CohesionModel;
 use super::hertz_mindlin::HertzMindlin;
 use super::jkr;
 use super::material::Material;
-use super::{ContactLaw, MassScaling};
 use crate::boundary::{Motion, Shape, Wall};
 use crate::dim::D3;
 use crate::domain::Domain;
-use crate::integrate::Integrator;
 use crate::md::{Md, MdSettings};
 use crate::particles::{ParticleRecord, Particles};
 use glam::DVec3;
@@ -85,19 +83,7 @@ fn setup(on_wall: bool, overlap: f64, vz: f64, dt: f64) -> Md<D3> {
     }
     let law =
         HertzMindlin::new(&mats, &[], vec![0], vec![1], true).with_cohesion(CohesionModel::Jkr);
-    let stand_in = ContactLaw {
-        kn: 1.0,
-        beta: 1.5,
-        gamma_n: 0.0,
-        gamma_t: 0.0,
-        kt: 0.0,
-        mu: f64::INFINITY,
-        scaling: MassScaling::Reduced,
-        rotation: true,
-    };
-    let mut s = MdSettings::<D3>::new(dt, stand_in, 0.1 * R);
-    s.integrator = Integrator::Verlet;
-    s.materials = Some(law);
+    let s = MdSettings::<D3>::with_materials(dt, law, 0.1 * R);
     let domain = Domain::new(DVec3::splat(-20.0 * R), DVec3::splat(20.0 * R), [false; 3]);
     Md::new(p, domain, walls, s).unwrap()
 }

@@ -14,11 +14,9 @@ use super::chung_ooi::close;
 use super::hertz_mindlin::HertzMindlin;
 use super::material::Material;
 use super::rolling::RollingModel;
-use super::{ContactLaw, MassScaling};
 use crate::boundary::{Motion, Shape, Wall};
 use crate::dim::D3;
 use crate::domain::Domain;
-use crate::integrate::Integrator;
 use crate::md::{Md, MdSettings};
 use crate::particles::{ParticleRecord, Particles};
 use glam::DVec3;
@@ -66,21 +64,9 @@ fn ball_on_plane(model: RollingModel, mu_r: f64, g_vec: DVec3, v0: f64) -> Md<D3
     let walls = vec![Wall::new("plane", plane, Motion::Fixed).unwrap()];
     let mut law = HertzMindlin::new(&mats, &[], vec![0], vec![1], true);
     law.rolling = model;
-    let stand_in = ContactLaw {
-        kn: 1.0,
-        beta: 1.5,
-        gamma_n: 0.0,
-        gamma_t: 0.0,
-        kt: 0.0,
-        mu: f64::INFINITY,
-        scaling: MassScaling::Reduced,
-        rotation: true,
-    };
     // The contact's period is about 7 ms.
-    let mut s = MdSettings::<D3>::new(2e-5, stand_in, 0.1 * R);
-    s.integrator = Integrator::Verlet;
+    let mut s = MdSettings::<D3>::with_materials(2e-5, law, 0.1 * R);
     s.gravity = g_vec;
-    s.materials = Some(law);
     let domain = Domain::new(
         DVec3::new(-100.0 * R, -10.0 * R, -10.0 * R),
         DVec3::new(100.0 * R, 10.0 * R, 10.0 * R),

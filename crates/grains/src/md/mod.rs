@@ -85,6 +85,30 @@ impl<D: Dim> MdSettings<D> {
             materials: None,
         }
     }
+
+    /// Settings for a run under the material law `law` (velocity Verlet);
+    /// the coefficient law beside it only carries the rotation switch.
+    pub fn with_materials(
+        dt: f64,
+        law: crate::contact::hertz_mindlin::HertzMindlin,
+        skin: f64,
+    ) -> Self {
+        let stand_in = ContactLaw {
+            kn: 1.0,
+            beta: 1.5,
+            gamma_n: 0.0,
+            gamma_t: 0.0,
+            kt: 0.0,
+            mu: f64::INFINITY,
+            scaling: crate::contact::mass_scaling::MassScaling::Reduced,
+            rotation: law.rotation,
+        };
+        Self {
+            integrator: Integrator::Verlet,
+            materials: Some(law),
+            ..Self::new(dt, stand_in, skin)
+        }
+    }
 }
 
 /// Counters a run reports.
