@@ -289,9 +289,10 @@ impl Mirror {
             // The mirror runs the Hooke law, which keeps no rolling springs.
             rolling: Vec::new(),
             wall_rolling: Vec::new(),
-            // The device runs no mesh walls.
+            // The device runs no mesh walls, so no loads are kept; the time
+            // is that of the last force evaluation, as the CPU engine's.
             mesh_springs: Vec::new(),
-            wall_loads: (Vec::new(), 0.0),
+            wall_loads: (Vec::new(), self.time),
             rebuilds_since_sort: self.rebuilds_since_sort,
             contacts: self.stats.contacts,
             max_overlap,
