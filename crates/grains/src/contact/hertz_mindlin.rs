@@ -22,7 +22,7 @@ use super::cundall_strack::Tangential;
 use super::jkr;
 use super::lammps_granular::{GranularTable, LammpsGranular};
 use super::mass_scaling::MassScaling;
-use super::material::{Material, PairCoefficients, PairOverride};
+use super::material::{pair_table, r_star, Material, PairCoefficients, PairOverride};
 use super::rolling::{epsd_damping, rolling_torque, RollingContact, RollingModel};
 use super::tsuji_damping::alpha_for_restitution;
 use crate::dim::Dim;
@@ -102,17 +102,9 @@ impl HertzMindlin {
                 .all(|&m| (m as usize) < n),
             "a material index beyond the {n} materials"
         );
-        let mut pairs = Vec::with_capacity(n * n);
-        for (a, ma) in materials.iter().enumerate() {
-            for (b, mb) in materials.iter().enumerate() {
-                let over = overrides
-                    .iter()
-                    .find(|((x, y), _)| (*x, *y) == (a, b) || (*x, *y) == (b, a))
-                    .map(|(_, o)| o.clone())
-                    .unwrap_or_default();
-                pairs.push(HertzPair::new(&PairCoefficients::mix(ma, mb, &over)));
-            }
-        }
+        let pairs = pair_table(materials, overrides, |a, b, over| {
+            HertzPair::new(&PairCoefficients::mix(a, b, over))
+        });
         Self {
             materials: n,
             pairs,
@@ -300,16 +292,6 @@ impl HertzMindlin {
             tangential,
             normal_force: load,
         }
-    }
-}
-
-/// R* = R_i R_j / (R_i + R_j); R_i against a wall (R_j infinite).
-#[inline(always)]
-fn r_star(ri: f64, rj: f64) -> f64 {
-    if rj.is_infinite() {
-        ri
-    } else {
-        ri * rj / (ri + rj)
     }
 }
 

@@ -25,7 +25,7 @@
 
 use super::contract::{Contact, ContactModel, ContactOutcome, Step};
 use super::mass_scaling::MassScaling;
-use super::material::{Material, PairOverride};
+use super::material::{pair_table, r_star, Material, PairOverride};
 use crate::dim::Dim;
 
 /// LAMMPS's threshold on the spring's normal part, relative to the cap,
@@ -116,22 +116,9 @@ impl GranularTable {
         overrides: &[((usize, usize), PairOverride)],
         rolling: Option<RollingSds>,
     ) -> Self {
-        let mut pairs = Vec::with_capacity(materials.len() * materials.len());
-        for (a, ma) in materials.iter().enumerate() {
-            for (b, mb) in materials.iter().enumerate() {
-                let over = overrides
-                    .iter()
-                    .find(|((x, y), _)| (*x, *y) == (a, b) || (*x, *y) == (b, a))
-                    .map(|(_, o)| o.clone())
-                    .unwrap_or_default();
-                pairs.push(GranularPair::new(
-                    ma,
-                    mb,
-                    &over,
-                    rolling.unwrap_or_default(),
-                ));
-            }
-        }
+        let pairs = pair_table(materials, overrides, |a, b, over| {
+            GranularPair::new(a, b, over, rolling.unwrap_or_default())
+        });
         Self { pairs, rolling }
     }
 }
@@ -232,11 +219,7 @@ impl<L: ContactModel, const ROLL: bool> ContactModel for LammpsGranular<'_, L, R
     fn evaluate<D: Dim>(&self, c: &Contact<D>, spring: &mut D::V, step: Step) -> ContactOutcome<D> {
         let p = self.entry(c.pair);
         let n = c.normal;
-        let r_star = if c.rj.is_infinite() {
-            c.ri
-        } else {
-            c.ri * c.rj / (c.ri + c.rj)
-        };
+        let r_star = r_star(c.ri, c.rj);
         let m_star = MassScaling::Reduced.damping_mass(c.mi, c.mj);
         let a = (c.overlap * r_star).sqrt();
         // LAMMPS's order: (k δ) a for the force, k a for the damping.
@@ -263,11 +246,7 @@ impl<L: ContactModel, const ROLL: bool> ContactModel for LammpsGranular<'_, L, R
         step: Step,
     ) -> D::A {
         let p = self.entry(c.pair);
-        let r_star = if c.rj.is_infinite() {
-            c.ri
-        } else {
-            c.ri * c.rj / (c.ri + c.rj)
-        };
+        let r_star = r_star(c.ri, c.rj);
         let vr = D::ang_cross(c.omega_rel, c.normal) * r_star;
         let cap = p.mu_r * out.normal_force.abs();
         let fr = spring_force::<D>(spring, vr, c.normal, (p.k_roll, p.gamma_roll, cap), step);

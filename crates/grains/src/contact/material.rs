@@ -82,6 +82,38 @@ impl PairCoefficients {
     }
 }
 
+/// R* = R_i R_j / (R_i + R_j); R_i against a wall (R_j infinite, flat).
+#[inline(always)]
+pub fn r_star(ri: f64, rj: f64) -> f64 {
+    if rj.is_infinite() {
+        ri
+    } else {
+        ri * rj / (ri + rj)
+    }
+}
+
+/// The table of every ordered pair of `materials` (entry `a * n + b`),
+/// each made by `make` from the two materials and the pair's override
+/// (`overrides` names a pair in either order; none: the mixing rules).
+pub fn pair_table<T>(
+    materials: &[Material],
+    overrides: &[((usize, usize), PairOverride)],
+    make: impl Fn(&Material, &Material, &PairOverride) -> T,
+) -> Vec<T> {
+    let mut pairs = Vec::with_capacity(materials.len() * materials.len());
+    for (a, ma) in materials.iter().enumerate() {
+        for (b, mb) in materials.iter().enumerate() {
+            let over = overrides
+                .iter()
+                .find(|((x, y), _)| (*x, *y) == (a, b) || (*x, *y) == (b, a))
+                .map(|(_, o)| o.clone())
+                .unwrap_or_default();
+            pairs.push(make(ma, mb, &over));
+        }
+    }
+    pairs
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
