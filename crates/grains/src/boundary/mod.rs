@@ -27,7 +27,7 @@ mod motion;
 mod round;
 mod shape;
 
-pub use mesh::{Mesh, MeshPlacement, MeshScratch, CREASE_DEG};
+pub use mesh::{Mesh, MeshCandidates, MeshPlacement, MeshScratch, CREASE_DEG};
 use motion::Pose;
 pub use motion::{Motion, PlateSurface};
 pub use shape::Shape;

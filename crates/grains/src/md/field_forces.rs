@@ -7,7 +7,7 @@
 use super::wall_loads::WallLoad;
 use super::wall_springs::{ChunkSprings, MeshKey, WallSprings};
 use super::MdStats;
-use crate::boundary::{MeshScratch, PlacedWall, WallContact};
+use crate::boundary::{MeshCandidates, MeshScratch, PlacedWall, WallContact};
 use crate::contact::hertz_mindlin::{HertzMindlin, RunLaw};
 use crate::contact::{Contact, ContactLaw, ContactModel, Step};
 use crate::dim::Dim;
@@ -23,6 +23,9 @@ pub struct FieldInput<'a, D: Dim> {
     pub update: bool,
     /// The mesh walls' springs, keyed by (grain, wall, patch).
     pub mesh_springs: &'a WallSprings<D, MeshKey>,
+    /// Each mesh wall's per-grain triangle lists, by wall (empty without
+    /// mesh walls).
+    pub mesh_lists: &'a [Option<MeshCandidates>],
     /// The rolling springs of grain–wall contacts (a law with rolling
     /// history only; mesh walls keep none).
     pub wall_rolling: &'a WallSprings<D>,
@@ -215,7 +218,9 @@ fn wall_contacts<D: Dim, L: ContactModel>(
         for (w, wall) in input.walls.iter().enumerate() {
             let wall_law = if wall.is_elastic() { elastic } else { law };
             if meshes && wall.mesh().is_some() {
-                wall.mesh_contacts(pos[k], ri, &mut mesh.scratch, &mut mesh.found);
+                let lists = input.mesh_lists.get(w).and_then(Option::as_ref);
+                let cached = lists.map(|l| (l, i));
+                wall.mesh_contacts(pos[k], ri, cached, &mut mesh.scratch, &mut mesh.found);
                 for &(patch, contact) in &mesh.found {
                     let key = (i as u32, w as u32, patch);
                     let mut spring = mesh.springs.get_key(key);

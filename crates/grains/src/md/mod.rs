@@ -20,6 +20,7 @@ pub mod contact_list;
 pub mod decomp;
 pub mod edit;
 mod field_forces;
+mod mesh_lists;
 mod pair_forces;
 mod pair_hash;
 pub mod phase_times;
@@ -42,6 +43,7 @@ use crate::neighbors::{spatial_sort_order, NeighborList};
 use crate::parallel::Governor;
 use crate::particles::Particles;
 use field_forces::{finish_fields, FieldInput};
+use mesh_lists::MeshLists;
 use pair_forces::{pair_forces, Deferred, PairBlocks, PairInput};
 use phase_times::{add_since, PhaseTimes};
 use rayon::prelude::*;
@@ -143,6 +145,8 @@ pub struct Md<D: Dim> {
     wall_springs: WallSprings<D>,
     /// Those of mesh walls, one per grain, wall and flat patch.
     mesh_springs: WallSprings<D, MeshKey>,
+    /// Each grain's candidate triangles of each mesh wall.
+    mesh_lists: MeshLists,
     /// Rolling springs of the listed pairs, aligned like `springs`, and of
     /// the grain–wall contacts; empty unless the rolling resistance keeps
     /// them (`contact.rolling = "epsd"`).
@@ -199,6 +203,7 @@ impl<D: Dim> Md<D> {
             springs: Vec::new(),
             wall_springs: WallSprings::default(),
             mesh_springs: WallSprings::default(),
+            mesh_lists: MeshLists::default(),
             rolling: Vec::new(),
             wall_rolling: WallSprings::default(),
             wall_loads: (Vec::new(), 0.0),
@@ -482,6 +487,11 @@ impl<D: Dim> Md<D> {
         };
         // Each wall's pose (a sine, a rotation) once per evaluation.
         let walls: Vec<_> = self.walls.iter().map(|w| w.at(self.time)).collect();
+        let lists_start = Instant::now();
+        let build = self.neighbors.builds();
+        self.mesh_lists
+            .refresh(&walls, &self.particles, build, s.skin);
+        add_since(&mut self.timing.fields, lists_start);
         let fields = FieldInput {
             law: &s.contact,
             hertz: s.materials.as_ref(),
@@ -490,6 +500,7 @@ impl<D: Dim> Md<D> {
             dt: s.dt,
             update: update_history,
             mesh_springs: &self.mesh_springs,
+            mesh_lists: self.mesh_lists.walls(),
             wall_rolling: &self.wall_rolling,
         };
         // Walls and gravity are added block by block after the contacts.

@@ -18,12 +18,14 @@
 //!
 //! Meshes are two-sided, as polygons are; the winding is not used.
 
+mod candidates;
 mod closest;
 mod grid;
 mod outline;
 mod placed;
 mod ribbon;
 
+pub use candidates::MeshCandidates;
 pub use outline::CREASE_DEG;
 
 use super::geom::Touch;
@@ -157,6 +159,9 @@ pub struct MeshScratch {
     touches: Vec<MeshTouch>,
     /// Patches already met at their face: nothing of theirs is nearer.
     done: Vec<u32>,
+    /// The triangles the last lookup tested (for the tests' counts).
+    #[cfg(test)]
+    tested: usize,
 }
 
 impl Mesh {
@@ -324,7 +329,10 @@ impl Mesh {
             candidates,
             touches,
             done,
+            ..
         } = scratch;
+        #[cfg(test)]
+        let mut tested = 0;
         candidates.clear();
         touches.clear();
         done.clear();
@@ -345,6 +353,10 @@ impl Mesh {
         };
         self.grid
             .visit((p - reach, p + reach), done, leads, |t, done| {
+                #[cfg(test)]
+                {
+                    tested += 1;
+                }
                 if let Some(c) = self.candidate(t, p, r) {
                     if c.rank == 0 {
                         done.push(c.patch);
@@ -352,6 +364,22 @@ impl Mesh {
                     candidates.push(c);
                 }
             });
+        #[cfg(test)]
+        {
+            scratch.tested = tested;
+        }
+        self.thin(scratch);
+    }
+
+    /// The contacts of the triangles' nearest features in `scratch`'s
+    /// candidates, thinned to one per patch and then shadowed edges and
+    /// corners dropped, into its touches.
+    fn thin(&self, scratch: &mut MeshScratch) {
+        let MeshScratch {
+            candidates,
+            touches,
+            ..
+        } = scratch;
         if candidates.is_empty() {
             return;
         }
@@ -395,14 +423,25 @@ impl Mesh {
     /// Triangle `t`'s nearest feature to `p` if within `r`.
     #[inline]
     fn candidate(&self, t: usize, p: DVec3, r: f64) -> Option<Candidate> {
-        let ids = self.tris[t];
-        let [a, b, c] = ids.map(|i| self.vertices[i as usize]);
+        let corners = self.tris[t].map(|i| self.vertices[i as usize]);
+        self.candidate_of(t, (corners, self.normals[t], self.patch[t]), p, r)
+    }
+
+    /// [`Mesh::candidate`] given triangle `t`'s corners, normal and patch
+    /// (from the mesh, or a copy of them kept near the grain).
+    #[inline(always)]
+    fn candidate_of(
+        &self,
+        t: usize,
+        ([a, b, c], normal, patch): ([DVec3; 3], DVec3, u32),
+        p: DVec3,
+        r: f64,
+    ) -> Option<Candidate> {
         // Every point of the triangle is at least this far from p.
-        if (p - a).dot(self.normals[t]).abs() >= r {
+        if (p - a).dot(normal).abs() >= r {
             return None;
         }
         let (q, region) = closest_on_triangle(p, a, b, c);
-        let patch = self.patch[t];
         let (point, n) = self.planes[patch as usize];
         let (touch, rank, ends) = match region {
             Region::Face => {
@@ -421,13 +460,14 @@ impl Mesh {
                 (touch, 0, [u32::MAX; 2])
             }
             Region::Edge(k) => {
+                let ids = self.tris[t];
                 let (i, j) = (ids[k as usize], ids[(k as usize + 1) % 3]);
                 let touch = super::geom::touch_at(p, q, r, n)?;
                 (touch, 1, [i.min(j), i.max(j)])
             }
             Region::Corner(k) => {
                 let touch = super::geom::touch_at(p, q, r, n)?;
-                (touch, 2, [ids[k as usize]; 2])
+                (touch, 2, [self.tris[t][k as usize]; 2])
             }
         };
         Some(Candidate {

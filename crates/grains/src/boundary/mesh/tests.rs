@@ -355,3 +355,122 @@ fn a_patch_bent_within_tolerance_pushes_with_its_face_where_an_edge_is_nearer() 
     }
     assert_eq!(orders, 48);
 }
+
+/// The contacts as bits (Debug prints each number so that it reads back).
+fn bits(t: &[MeshTouch]) -> String {
+    format!("{t:?}")
+}
+
+#[test]
+fn a_grains_list_gives_the_grids_contacts_while_it_stays_within_the_margin() {
+    // Half flat, half bumpy (many patches, every kind of contact), with a
+    // wall x = 0 standing on it (concave corners).
+    let mut tris = flat_sheet(12, 1.0, 0.0);
+    for t in &mut tris {
+        for v in t.iter_mut() {
+            if v[0] > 0.5 {
+                v[2] = 0.03 * ((9.0 * v[0]).sin() + (7.0 * v[1]).cos());
+            }
+        }
+    }
+    let wall: Vec<_> = flat_sheet(6, 1.0, 0.0)
+        .iter()
+        .map(|t| t.map(|[x, y, _]| [0.0, y, 0.5 * x]))
+        .collect();
+    let m = mesh(&[tris, wall].concat());
+    let mut rnd = stream(11);
+    let margin = 0.04;
+    let (mut served, mut touching, mut refused) = (0, 0, 0);
+    for _ in 0..400 {
+        let c = DVec3::new(rnd() * 1.1 - 0.05, rnd(), 0.12 * rnd() - 0.03);
+        let r0 = 0.03 + 0.06 * rnd();
+        let lists = MeshCandidates::build(&m, |_| c, &[r0], |_| false, margin);
+        for _ in 0..20 {
+            // Within the margin, the radius a little smaller or larger,
+            // and at times exactly on the margin's bound.
+            let dir = DVec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize();
+            let grow = 0.01 * (rnd() - 0.5);
+            let room = margin - grow.max(0.0);
+            let step = if rnd() < 0.2 { room } else { room * rnd() };
+            let (p, r) = (c + dir * step * (1.0 - 1e-12), r0 + grow);
+            let Some(list) = lists.list(0, p, r) else {
+                panic!("a grain {step} from its list's centre (margin {margin}) was refused");
+            };
+            let mut s = MeshScratch::default();
+            m.touches_among(p, r, list, &mut s);
+            let want = touches(&m, p, r);
+            assert_eq!(bits(s.touches()), bits(&want), "at {p}, r {r}");
+            served += 1;
+            touching += usize::from(!want.is_empty());
+            // Past the margin the list is not used.
+            if lists.list(0, c + dir * (margin * 1.001), r0).is_none() {
+                refused += 1;
+            }
+        }
+    }
+    assert_eq!(refused, served);
+    // Most of the grains touched the mesh (the test tests something).
+    assert!(touching > served / 2, "{touching} of {served}");
+}
+
+#[test]
+fn a_grain_resting_on_a_large_sheet_reads_one_triangle_from_its_list() {
+    // The benchmark's floor (bench/mesh-floor.toml): 224 x 224 squares,
+    // 100 352 triangles 0.45 mm wide, under a layer of 1 mm grains in
+    // contact; the margin is half the benchmark's skin (0.3 mm).
+    let m = mesh(&flat_sheet(224, 0.1, 0.0));
+    let (r, margin) = (0.5e-3, 0.15e-3);
+    let pos: Vec<DVec3> = (0..10_000)
+        .map(|k| {
+            let (i, j) = ((k % 100) as f64, (k / 100) as f64);
+            DVec3::new(0.5e-3 + i * 1e-3, 0.5e-3 + j * 1e-3, 0.49e-3)
+        })
+        .collect();
+    let radius = vec![r; pos.len()];
+    let lists = MeshCandidates::build(&m, |i| pos[i], &radius, |_| false, margin);
+    let (grains, listed) = lists.counts();
+    assert_eq!(grains, pos.len());
+    // Every triangle within r + margin of a centre 0.49 mm above the
+    // sheet: a disc of radius √(0.65² − 0.49²) = 0.43 mm, 0.57 mm², some
+    // six triangles' area, and those its rim cuts (from 9 to 16 by where
+    // the centre falls on the squares).
+    let per_grain = listed as f64 / grains as f64;
+    assert!(
+        (8.0..=16.0).contains(&per_grain),
+        "{per_grain} triangles a list"
+    );
+    // At rest where its list was made, and moved a little since (the
+    // foot then at times on the square's other triangle). A grain whose
+    // foot lies on a triangle's edge (the lattice puts one in twelve on
+    // a diagonal) meets no face and tests its whole list.
+    let moves = [
+        (DVec3::ZERO, 0.85),
+        (DVec3::new(0.05e-3, -0.03e-3, 0.0), 0.6),
+    ];
+    for (shift, least) in moves {
+        let (mut grid_read, mut list_read, mut one) = (0, 0, 0);
+        let mut s = MeshScratch::default();
+        for (i, &p) in pos.iter().enumerate() {
+            let p = p + shift;
+            m.touches(p, r, &mut s);
+            grid_read += s.tested;
+            let want = bits(s.touches());
+            let list = lists.list(i, p, r).expect("within the margin");
+            m.touches_among(p, r, list, &mut s);
+            list_read += s.tested;
+            one += usize::from(s.tested == 1);
+            assert_eq!(bits(s.touches()), want);
+            assert_eq!(s.touches().len(), 1);
+        }
+        // The list's first triangle is the one under the grain, kept with
+        // the list: its face answers for the sheet's one patch, and the
+        // other triangles are passed over by their patch's number.
+        let (grid, list) = (grid_read as f64 / 1e4, list_read as f64 / 1e4);
+        let one = one as f64 / 1e4;
+        eprintln!(
+            "moved {shift}: triangles tested per lookup: grid {grid}, list {list}; \
+             one triangle only: {one}"
+        );
+        assert!(one >= least, "{one} of the grains tested one triangle");
+    }
+}
