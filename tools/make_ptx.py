@@ -7,9 +7,12 @@ nvidia-cuda-nvrtc); its shared library is loaded with ctypes, so no CUDA
 toolkit is needed. The PTX is checked in (kernels/ptx/) because the GPU
 machine reaches no package registry; the driver JITs it for the device.
 
-    tools/make_ptx.py            # write kernels/ptx/*.ptx (no FMA: the CPU's bits)
+    tools/make_ptx.py            # write kernels/ptx/*.ptx and *.fma.ptx
     tools/make_ptx.py --check    # exit 1 if a kernel fails or a PTX file is stale
-    tools/make_ptx.py --fmad     # also write *.fma.ptx (fused multiply-add on)
+
+Each kernel file gives two PTX files: `NAME.ptx` without fused multiply-add
+(`--fmad=false`: the CPU engine's bits, the default the host loads) and
+`NAME.fma.ptx` with it (what `run.gpu_fma = true` loads).
 
 Exit status 3 when NVRTC cannot be loaded (the test skips on it).
 """
@@ -93,7 +96,6 @@ def check(nvrtc, status, path):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--check", action="store_true", help="compare with the checked-in PTX")
-    ap.add_argument("--fmad", action="store_true", help="also write the *.fma.ptx variants")
     args = ap.parse_args()
     nvrtc, lib = load_nvrtc()
     if nvrtc is None:
@@ -105,7 +107,7 @@ def main():
     stale = []
     for src in sources:
         stem = os.path.splitext(os.path.basename(src))[0]
-        variants = [(False, f"{stem}.ptx")] + ([(True, f"{stem}.fma.ptx")] if args.fmad else [])
+        variants = [(False, f"{stem}.ptx"), (True, f"{stem}.fma.ptx")]
         for fmad, out in variants:
             try:
                 ptx = compile_ptx(nvrtc, src, fmad)

@@ -54,6 +54,15 @@ pub struct BenchArgs {
     /// bits with the GPU's.
     #[arg(long)]
     pub(crate) verify: bool,
+    /// With --device gpu: the kernels with fused multiply-add (not the
+    /// mirror's bits; --verify then checks that two runs agree).
+    #[arg(long)]
+    pub(crate) fma: bool,
+    /// With --device gpu: the host reads the step words after every step
+    /// and launches the rebuild only when one is due, instead of gated
+    /// launches with no look at the device until the end.
+    #[arg(long)]
+    pub(crate) sync_each_step: bool,
 }
 
 /// Finds `scenarios/<file>` from the working directory or the source tree.
@@ -209,7 +218,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let steps = args.steps.unwrap_or(default_steps);
     match args.device.as_deref() {
         Some("gpu") | Some("mirror") => return crate::bench_gpu::run(&args, &loaded, steps),
-        _ if args.verify => return Err(Error::input("--verify goes with --device gpu")),
+        _ if args.verify || args.fma || args.sync_each_step => {
+            return Err(Error::input(
+                "--verify, --fma and --sync-each-step go with --device gpu",
+            ))
+        }
         _ => {}
     }
     // A large bed takes seconds to build: one line per pass (bed3d only,

@@ -1,7 +1,7 @@
 //! `grains bench chute|bed3d --device gpu|mirror`: the GPU pipeline timed
 //! on the CUDA engine (feature `cuda`) or on its CPU mirror, in
 //! particle-steps per second; `--verify` runs the mirror too and compares
-//! every grain's bits (docs/gpu.md).
+//! every grain's bits (with `--fma`: a second GPU run), docs/gpu.md.
 
 use crate::bench::BenchArgs;
 use grains::gpu::mirror::Mirror;
@@ -25,6 +25,11 @@ pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
     if device == "gpu" && !cfg!(feature = "cuda") {
         return Err(Error::input(grains::gpu::NO_FEATURE));
     }
+    if device == "mirror" && (args.fma || args.sync_each_step || args.verify) {
+        return Err(Error::input(
+            "--verify, --fma and --sync-each-step go with --device gpu",
+        ));
+    }
     let setup = Instant::now();
     let (md, _) = build_md::<D3>(loaded)?;
     let mirror = Mirror::from_md(&md)?;
@@ -36,7 +41,7 @@ pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
         m.advance(steps)?;
         (start.elapsed().as_secs_f64(), None, None)
     } else {
-        gpu(mirror, steps, args.verify)?
+        gpu(mirror, steps, args)?
     };
     let setup = setup.elapsed().as_secs_f64() - wall;
     let rate = steps as f64 * mobile.max(1) as f64 / wall;
@@ -50,7 +55,9 @@ pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
                 "particle_steps_per_second": rate, "setup_seconds": setup,
                 "device_memory_bytes": memory.map(|m: (usize, usize)| m.0),
                 "device_memory_total_bytes": memory.map(|m: (usize, usize)| m.1),
-                "same_bits_as_mirror": verified,
+                "same_bits_as_mirror": verified.filter(|_| !args.fma),
+                "same_bits_on_rerun": verified.filter(|_| args.fma),
+                "fma": args.fma, "sync_each_step": args.sync_each_step,
             })
         );
     } else {
@@ -61,10 +68,12 @@ pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
                 total as f64 / 1073741824.0
             )
         });
-        let check = match verified {
-            Some(true) => ", same bits as the mirror",
-            Some(false) => ", BITS DIFFER from the mirror",
-            None => "",
+        let check = match (verified, args.fma) {
+            (Some(true), false) => ", same bits as the mirror",
+            (Some(false), false) => ", BITS DIFFER from the mirror",
+            (Some(true), true) => ", FMA: the same bits on a second run",
+            (Some(false), true) => ", FMA: BITS DIFFER on a second run",
+            (None, _) => "",
         };
         println!(
             "{}: {mobile} mobile particles, {steps} steps, device {device}: {wall:.3} s, {ns:.3} ns per particle-step ({rate:.3e} particle-steps/s){mem}{check}",
@@ -72,19 +81,27 @@ pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
         );
     }
     if verified == Some(false) {
-        return Err(Error::input(
-            "--verify: the GPU's bits differ from the mirror's",
-        ));
+        return Err(Error::input(if args.fma {
+            "--verify --fma: two GPU runs differ"
+        } else {
+            "--verify: the GPU's bits differ from the mirror's"
+        }));
     }
     Ok(())
 }
 
 /// Steps on the GPU: wall seconds, device memory (used, total), and with
-/// `verify` whether the mirror gives the same bits.
+/// `--verify` whether the mirror (with `--fma`: a second GPU run) gives the
+/// same bits.
 #[cfg(feature = "cuda")]
-fn gpu(mirror: Mirror, steps: u64, verify: bool) -> Result<Timed> {
-    let reference = verify.then(|| mirror.clone());
-    let mut engine = grains::gpu::cuda::Cuda::new(mirror)?;
+fn gpu(mirror: Mirror, steps: u64, args: &BenchArgs) -> Result<Timed> {
+    use grains::gpu::cuda::{Cuda, Options};
+    let options = Options {
+        fma: args.fma,
+        sync_each_step: args.sync_each_step,
+    };
+    let reference = args.verify.then(|| mirror.clone());
+    let mut engine = Cuda::with(mirror, options)?;
     // One step first: the driver's JIT and first launches are not timed.
     engine.advance(1)?;
     let start = Instant::now();
@@ -92,21 +109,32 @@ fn gpu(mirror: Mirror, steps: u64, verify: bool) -> Result<Timed> {
     let wall = start.elapsed().as_secs_f64();
     let memory = engine.memory()?;
     let verified = match reference {
-        Some(mut m) => {
-            m.advance(1)?;
-            m.advance(steps)?;
-            let (grains, list) = engine.host()?.differences(&m);
+        None => None,
+        Some(m) => {
+            let first = engine.host()?;
+            let other = if args.fma {
+                drop(engine);
+                let mut again = Cuda::with(m, options)?;
+                again.advance(1)?;
+                again.advance(steps)?;
+                again.host()?
+            } else {
+                let mut m = m;
+                m.advance(1)?;
+                m.advance(steps)?;
+                m
+            };
+            let (grains, list) = first.differences(&other);
             if grains > 0 || list {
                 eprintln!("grains: {grains} grains differ; lists or springs differ: {list}");
             }
             Some(grains == 0 && !list)
         }
-        None => None,
     };
     Ok((wall, Some(memory), verified))
 }
 
 #[cfg(not(feature = "cuda"))]
-fn gpu(_: Mirror, _: u64, _: bool) -> Result<Timed> {
+fn gpu(_: Mirror, _: u64, _: &BenchArgs) -> Result<Timed> {
     Err(Error::input(grains::gpu::NO_FEATURE))
 }

@@ -5,10 +5,14 @@
 //!
 //! The host keeps the [`Mirror`] it started from (parameters, and what an
 //! export needs); the grains live on the device and come back only when
-//! asked ([`Cuda::host`]). One stream, in order; per step one read of a
-//! few words (the rebuild flag, the statistics).
+//! asked ([`Cuda::host`]). One stream, in order. The rebuild is decided on
+//! the device (the step words, [`super::grain_kernels::words`]): a stretch
+//! of steps is launched without a look at the device, every rebuild kernel
+//! gated on the words, and the host reads the twelve words once, when the
+//! stretch ends ([`Mirror::finish`]).
 
-use super::grain_kernels::Plane;
+use super::grain_kernels::{list_capacity, words, Grid, Plane, Soa3};
+use super::kernel_params::*;
 use super::mirror::Mirror;
 use crate::error::{Error, Result};
 use cudarc::driver::{
@@ -25,127 +29,53 @@ const PTX: [(&str, &str); 3] = [
     ("forces", include_str!("kernels/ptx/forces.ptx")),
 ];
 
+/// The same kernels with fused multiply-add (`--fmad=true`): faster, the
+/// same bits for any launch, not the CPU engine's bits (docs/gpu.md).
+const PTX_FMA: [(&str, &str); 3] = [
+    (
+        "integrate.fma",
+        include_str!("kernels/ptx/integrate.fma.ptx"),
+    ),
+    ("list.fma", include_str!("kernels/ptx/list.fma.ptx")),
+    ("forces.fma", include_str!("kernels/ptx/forces.fma.ptx")),
+];
+
+/// How the engine runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Options {
+    /// Load the PTX with fused multiply-add (`run.gpu_fma`, `--fma`).
+    pub fma: bool,
+    /// Read the step words after every step and launch the rebuild's
+    /// kernels only at the steps that rebuild (`--sync-each-step`): one
+    /// synchronisation per step instead of some twenty gated launches; the
+    /// same bits either way. For measuring which costs less.
+    pub sync_each_step: bool,
+}
+
 /// Threads per block of the per-grain kernels (whole warps: the force
 /// kernel reduces its statistics per warp).
 const THREADS: u32 = 128;
 /// The scan kernels' block (SCAN_BLOCK in list.cu).
 const SCAN: u32 = 1024;
-/// Walls a force launch carries (MAX_WALLS in common.cuh).
-pub const MAX_WALLS: usize = 8;
+pub use super::kernel_params::MAX_WALLS;
 
 fn gpu_err(what: &str, e: impl std::fmt::Debug) -> Error {
     Error::input(format!("GPU engine: {what}: {e:?}"))
 }
-
-// Kernel arguments, laid out as the structs of common.cuh and the .cu files.
-#[repr(C)]
-#[derive(Clone, Copy, Default)]
-struct Soa3P {
-    x: u64,
-    y: u64,
-    z: u64,
-}
-#[repr(C)]
-#[derive(Clone, Copy, Default)]
-struct GrainsP {
-    pos: Soa3P,
-    vel: Soa3P,
-    omega: Soa3P,
-    force: Soa3P,
-    torque: Soa3P,
-    reference: Soa3P,
-    radius: u64,
-    mass: u64,
-    inv_mass: u64,
-    inv_inertia: u64,
-    frozen: u64,
-    n: u32,
-}
-#[repr(C)]
-#[derive(Clone, Copy, Default)]
-struct ListP {
-    start: u64,
-    partner: u64,
-    image: u64,
-    springs: Soa3P,
-}
-#[repr(C)]
-#[derive(Clone, Copy)]
-struct HookeP {
-    kn: f64,
-    gamma_n: f64,
-    gamma_t: f64,
-    kt: f64,
-    mu: f64,
-}
-#[repr(C)]
-#[derive(Clone, Copy, Default)]
-struct PlaneP {
-    point: [f64; 3],
-    normal: [f64; 3],
-    gamma_n: f64,
-}
-#[repr(C)]
-#[derive(Clone, Copy)]
-struct ForceArgsP {
-    law: HookeP,
-    shifts: [[f64; 3]; 27],
-    walls: [PlaneP; MAX_WALLS],
-    n_walls: u32,
-    gravity: [f64; 3],
-    dt: f64,
-    update: u32,
-}
-#[repr(C)]
-#[derive(Clone, Copy)]
-struct Box3P {
-    lo: [f64; 3],
-    length: [f64; 3],
-    periodic: [u32; 3],
-}
-#[repr(C)]
-#[derive(Clone, Copy)]
-struct GridP {
-    dims: [u64; 3],
-    lo: [f64; 3],
-    inv_width: [f64; 3],
-}
-#[repr(C)]
-#[derive(Clone, Copy)]
-struct ListArgsP {
-    grid: GridP,
-    start_cells: u64,
-    members: u64,
-    cell: u64,
-    length: [f64; 3],
-    shifts: [[f64; 3]; 27],
-    skin: f64,
-    periodic: [u32; 3],
-    block: u32,
-}
-
-// SAFETY: plain #[repr(C)] data (numbers and device addresses), laid out
-// as the kernels' parameter structs.
-unsafe impl DeviceRepr for Soa3P {}
-unsafe impl DeviceRepr for GrainsP {}
-unsafe impl DeviceRepr for ListP {}
-unsafe impl DeviceRepr for ForceArgsP {}
-unsafe impl DeviceRepr for Box3P {}
-unsafe impl DeviceRepr for GridP {}
-unsafe impl DeviceRepr for ListArgsP {}
 
 /// A vector per grain or entry on the device.
 struct Dev3([CudaSlice<f64>; 3]);
 
 /// The kernels by name.
 struct Kernels {
+    step_begin: CudaFunction,
+    clear_halt: CudaFunction,
+    build_end: CudaFunction,
     kick_drift: CudaFunction,
     wrap: CudaFunction,
-    gather_f64: CudaFunction,
-    gather_u64: CudaFunction,
-    gather_u32: CudaFunction,
-    gather_u8: CudaFunction,
-    gather_slots: CudaFunction,
+    move_grains: CudaFunction,
+    zero_u32: CudaFunction,
+    copy_u32: CudaFunction,
     bin_count: CudaFunction,
     scan_local: CudaFunction,
     scan_sums: CudaFunction,
@@ -158,7 +88,7 @@ struct Kernels {
     forces: CudaFunction,
 }
 
-/// The device list: row starts, partners, image codes, springs.
+/// One list buffer: row starts, partners, image codes, springs.
 struct DevList {
     start: CudaSlice<u32>,
     partner: CudaSlice<u32>,
@@ -166,19 +96,13 @@ struct DevList {
     springs: Dev3,
 }
 
-/// The pipeline's state on the device.
-pub struct Cuda {
-    /// The state uploaded from: parameters and what an export needs; its
-    /// arrays are stale once the device runs.
-    host: Mirror,
-    stream: Arc<CudaStream>,
-    k: Kernels,
+/// Everything that moves with a grain in a re-sort.
+struct GrainSet {
     pos: Dev3,
     vel: Dev3,
     omega: Dev3,
     force: Dev3,
     torque: Dev3,
-    reference: Dev3,
     radius: CudaSlice<f64>,
     mass: CudaSlice<f64>,
     inv_mass: CudaSlice<f64>,
@@ -186,12 +110,43 @@ pub struct Cuda {
     frozen: CudaSlice<u8>,
     id: CudaSlice<u64>,
     origin: CudaSlice<u32>,
-    list: DevList,
+    /// `walls` entries per grain (one padding entry without walls).
     wall_springs: Dev3,
-    /// Step flags and statistics (ST_* of common.cuh).
+}
+
+/// The bins and prefix sums of a rebuild, allocated once.
+struct Work {
+    /// Cell of each grain; cell starts and fill cursors (the larger
+    /// grid's cells + 1); members of the list grid's cells; the re-sort's
+    /// permutation (members of the sort grid's cells).
+    cell: CudaSlice<u32>,
+    start: CudaSlice<u32>,
+    cursor: CudaSlice<u32>,
+    members: CudaSlice<u32>,
+    order: CudaSlice<u32>,
+    /// Partners per grain, scanned into the new list's row starts.
+    counts: CudaSlice<u32>,
+    /// The scans' block totals.
+    sums: CudaSlice<u32>,
+}
+
+/// The pipeline's state on the device.
+pub struct Cuda {
+    /// The state uploaded from: parameters and what an export needs; its
+    /// arrays are stale once the device runs, its counters current after
+    /// each [`Cuda::advance`].
+    host: Mirror,
+    options: Options,
+    stream: Arc<CudaStream>,
+    k: Kernels,
+    grains: GrainSet,
+    /// Where a re-sort gathers to before copying back.
+    scratch: GrainSet,
+    reference: Dev3,
+    lists: [DevList; 2],
+    work: Work,
+    /// The step words ([`words`]).
     st: CudaSlice<u64>,
-    /// 0, 1, …, n − 1: the permutation of a rebuild without a re-sort.
-    identity: CudaSlice<u32>,
 }
 
 /// Loads one PTX file. NVRTC 13.5 writes PTX ISA 9.5, which a driver older
@@ -244,9 +199,40 @@ fn cfg(n: usize, threads: u32) -> LaunchConfig {
     }
 }
 
+/// One thread.
+const ONE: LaunchConfig = LaunchConfig {
+    grid_dim: (1, 1, 1),
+    block_dim: (1, 1, 1),
+    shared_mem_bytes: 0,
+};
+
+/// The gate arguments of the rebuild's kernels (GATE_* and ST_* of
+/// common.cuh).
+const ON_BUILD: u32 = words::BUILD as u32;
+const ON_SORT: u32 = words::SORT as u32;
+
+/// Launches `f` with `cfg` and the arguments (references to locals).
+macro_rules! launch {
+    ($self:ident, $f:ident, $cfg:expr; $($a:expr),* $(,)?) => {{
+        let mut b = $self.stream.launch_builder(&$self.k.$f);
+        $( b.arg($a); )*
+        // SAFETY: the arguments are laid out as the kernel's parameters
+        // (common.cuh and the .cu files), the buffers sized as it reads them.
+        unsafe { b.launch($cfg) }
+            .map(|_| ())
+            .map_err(|e| gpu_err(stringify!($f), e))
+    }};
+}
+
 impl Cuda {
-    /// Uploads `m` to device 0 and loads the kernels.
+    /// Uploads `m` to device 0 and loads the kernels without fused
+    /// multiply-add.
     pub fn new(m: Mirror) -> Result<Self> {
+        Self::with(m, Options::default())
+    }
+
+    /// Uploads `m` to device 0 and loads the kernels `options` name.
+    pub fn with(m: Mirror, options: Options) -> Result<Self> {
         if m.params.walls.len() > MAX_WALLS {
             return Err(Error::input(format!(
                 "run.device = \"gpu\": {} walls; the GPU engine takes at most {MAX_WALLS}",
@@ -265,7 +251,7 @@ impl Cuda {
         unsafe { ctx.disable_event_tracking() };
         let stream = ctx.default_stream();
         let mut modules = Vec::new();
-        for (name, ptx) in PTX {
+        for (name, ptx) in if options.fma { PTX_FMA } else { PTX } {
             modules.push(load_ptx(&ctx, name, ptx)?);
         }
         let f = |m: usize, name: &str| {
@@ -274,13 +260,14 @@ impl Cuda {
                 .map_err(|e| gpu_err(&format!("kernel {name}"), e))
         };
         let k = Kernels {
+            step_begin: f(0, "step_begin")?,
+            clear_halt: f(0, "clear_halt")?,
+            build_end: f(0, "build_end")?,
             kick_drift: f(0, "kick_drift")?,
             wrap: f(0, "wrap_grains")?,
-            gather_f64: f(0, "gather_f64")?,
-            gather_u64: f(0, "gather_u64")?,
-            gather_u32: f(0, "gather_u32")?,
-            gather_u8: f(0, "gather_u8")?,
-            gather_slots: f(0, "gather_slots")?,
+            move_grains: f(0, "move_grains")?,
+            zero_u32: f(0, "zero_u32")?,
+            copy_u32: f(0, "copy_u32")?,
             bin_count: f(1, "bin_count")?,
             scan_local: f(1, "scan_local")?,
             scan_sums: f(1, "scan_sums")?,
@@ -292,64 +279,118 @@ impl Cuda {
             remap: f(1, "remap_springs")?,
             forces: f(2, "forces")?,
         };
-        // Empty arrays (no walls, no pairs) get one entry: no buffer is
-        // allocated empty.
-        let up = |v: &[f64]| {
-            let pad = [0.0];
-            let v = if v.is_empty() { &pad[..] } else { v };
-            stream.clone_htod(v).map_err(|e| gpu_err("upload", e))
-        };
-        let up3 = |s: &super::grain_kernels::Soa3| -> Result<Dev3> {
-            Ok(Dev3([up(&s.x)?, up(&s.y)?, up(&s.z)?]))
-        };
         let n = m.len();
-        fn pad<T: Copy + Default>(v: &[T]) -> Vec<T> {
-            if v.is_empty() {
-                vec![T::default()]
-            } else {
-                v.to_vec()
-            }
-        }
-        let list = DevList {
-            start: stream
-                .clone_htod(&m.list.start)
-                .map_err(|e| gpu_err("upload", e))?,
-            partner: stream
-                .clone_htod(&pad(&m.list.partner))
-                .map_err(|e| gpu_err("upload", e))?,
-            image: stream
-                .clone_htod(&pad(&m.list.image))
-                .map_err(|e| gpu_err("upload", e))?,
-            springs: up3(&m.springs)?,
+        let nw = m.params.walls.len();
+        let up3 = |s: &Soa3| -> Result<Dev3> {
+            Ok(Dev3([
+                up(&stream, &s.x)?,
+                up(&stream, &s.y)?,
+                up(&stream, &s.z)?,
+            ]))
         };
-        let identity: Vec<u32> = (0..n as u32).collect();
-        Ok(Self {
+        let grains = GrainSet {
             pos: up3(&m.pos)?,
             vel: up3(&m.vel)?,
             omega: up3(&m.omega)?,
             force: up3(&m.force)?,
             torque: up3(&m.torque)?,
-            reference: up3(&m.reference)?,
-            radius: up(&m.radius)?,
-            mass: up(&m.mass)?,
-            inv_mass: up(&m.inv_mass)?,
-            inv_inertia: up(&m.inv_inertia)?,
-            frozen: stream
-                .clone_htod(&m.frozen)
-                .map_err(|e| gpu_err("upload", e))?,
-            id: stream.clone_htod(&m.id).map_err(|e| gpu_err("upload", e))?,
-            origin: stream
-                .clone_htod(&m.origin)
-                .map_err(|e| gpu_err("upload", e))?,
-            list,
+            radius: up(&stream, &m.radius)?,
+            mass: up(&stream, &m.mass)?,
+            inv_mass: up(&stream, &m.inv_mass)?,
+            inv_inertia: up(&stream, &m.inv_inertia)?,
+            frozen: up(&stream, &m.frozen)?,
+            id: up(&stream, &m.id)?,
+            origin: up(&stream, &m.origin)?,
             wall_springs: up3(&m.wall_springs)?,
-            st: stream
-                .alloc_zeros::<u64>(8)
-                .map_err(|e| gpu_err("alloc", e))?,
-            identity: stream
-                .clone_htod(&identity)
-                .map_err(|e| gpu_err("upload", e))?,
-            host: m,
+        };
+        let zeros3 = |len: usize| -> Result<Dev3> {
+            Ok(Dev3([
+                zeros(&stream, len)?,
+                zeros(&stream, len)?,
+                zeros(&stream, len)?,
+            ]))
+        };
+        let scratch = GrainSet {
+            pos: zeros3(n)?,
+            vel: zeros3(n)?,
+            omega: zeros3(n)?,
+            force: zeros3(n)?,
+            torque: zeros3(n)?,
+            radius: zeros(&stream, n)?,
+            mass: zeros(&stream, n)?,
+            inv_mass: zeros(&stream, n)?,
+            inv_inertia: zeros(&stream, n)?,
+            frozen: zeros(&stream, n)?,
+            id: zeros(&stream, n)?,
+            origin: zeros(&stream, n)?,
+            wall_springs: zeros3(n * nw)?,
+        };
+        // The current list goes in buffer builds % 2, the other is empty.
+        let cur = (m.builds % 2) as usize;
+        let list_of = |which: usize| -> Result<DevList> {
+            let cap = m.capacity[which].max(m.list.partner.len());
+            let mut l = DevList {
+                start: zeros(&stream, n + 1)?,
+                partner: zeros(&stream, cap)?,
+                image: zeros(&stream, cap)?,
+                springs: zeros3(cap)?,
+            };
+            if which == cur {
+                let e = |e| gpu_err("upload", e);
+                let total = m.list.partner.len();
+                stream.memcpy_htod(&m.list.start, &mut l.start).map_err(e)?;
+                if total > 0 {
+                    let e = |e| gpu_err("upload", e);
+                    stream
+                        .memcpy_htod(&m.list.partner, &mut l.partner.slice_mut(..total))
+                        .map_err(e)?;
+                    stream
+                        .memcpy_htod(&m.list.image, &mut l.image.slice_mut(..total))
+                        .map_err(e)?;
+                    for (d, h) in
+                        l.springs
+                            .0
+                            .iter_mut()
+                            .zip([&m.springs.x, &m.springs.y, &m.springs.z])
+                    {
+                        stream
+                            .memcpy_htod(h, &mut d.slice_mut(..total))
+                            .map_err(e)?;
+                    }
+                }
+            }
+            Ok(l)
+        };
+        let lists = [list_of(0)?, list_of(1)?];
+        let mut host = m;
+        host.capacity = [0, 1].map(|w| lists[w].partner.len());
+        let p = &host.params;
+        let cells = p.sort_grid.ncells().max(p.list_grid.ncells()) + 1;
+        let longest = cells.max(n + 1);
+        let work = Work {
+            cell: zeros(&stream, n)?,
+            start: zeros(&stream, cells)?,
+            cursor: zeros(&stream, cells)?,
+            members: zeros(&stream, n)?,
+            order: zeros(&stream, n)?,
+            counts: zeros(&stream, n + 1)?,
+            sums: zeros(&stream, longest.div_ceil(SCAN as usize) + 1)?,
+        };
+        let mut st0 = [0u64; words::LEN];
+        st0[words::BUILDS] = host.builds;
+        st0[words::SINCE_SORT] = host.rebuilds_since_sort as u64;
+        st0[words::WALLS] = host.stats.contacts;
+        st0[words::MAX_FRACTION] = host.stats.max_fraction.to_bits();
+        let st = stream.clone_htod(&st0).map_err(|e| gpu_err("upload", e))?;
+        Ok(Self {
+            reference: up3(&host.reference)?,
+            grains,
+            scratch,
+            lists,
+            work,
+            st,
+            host,
+            options,
             stream,
             k,
         })
@@ -377,29 +418,41 @@ impl Cuda {
         }
     }
 
-    fn grains(&self) -> GrainsP {
+    fn grains_p(&self, s: &GrainSet) -> GrainsP {
         GrainsP {
-            pos: self.soa(&self.pos),
-            vel: self.soa(&self.vel),
-            omega: self.soa(&self.omega),
-            force: self.soa(&self.force),
-            torque: self.soa(&self.torque),
+            pos: self.soa(&s.pos),
+            vel: self.soa(&s.vel),
+            omega: self.soa(&s.omega),
+            force: self.soa(&s.force),
+            torque: self.soa(&s.torque),
             reference: self.soa(&self.reference),
-            radius: self.ptr(&self.radius),
-            mass: self.ptr(&self.mass),
-            inv_mass: self.ptr(&self.inv_mass),
-            inv_inertia: self.ptr(&self.inv_inertia),
-            frozen: self.ptr(&self.frozen),
-            n: self.host.len() as u32,
+            radius: self.ptr(&s.radius),
+            mass: self.ptr(&s.mass),
+            inv_mass: self.ptr(&s.inv_mass),
+            inv_inertia: self.ptr(&s.inv_inertia),
+            frozen: self.ptr(&s.frozen),
+            n: self.n() as u32,
         }
     }
 
-    fn list_p(&self, l: &DevList) -> ListP {
-        ListP {
-            start: self.ptr(&l.start),
-            partner: self.ptr(&l.partner),
-            image: self.ptr(&l.image),
-            springs: self.soa(&l.springs),
+    fn extra_p(&self, s: &GrainSet) -> ExtraP {
+        ExtraP {
+            id: self.ptr(&s.id),
+            origin: self.ptr(&s.origin),
+            wall_springs: self.soa(&s.wall_springs),
+        }
+    }
+
+    fn lists_p(&self) -> ListsP {
+        let l = |d: &DevList| ListP {
+            start: self.ptr(&d.start),
+            partner: self.ptr(&d.partner),
+            image: self.ptr(&d.image),
+            springs: self.soa(&d.springs),
+        };
+        ListsP {
+            l: [l(&self.lists[0]), l(&self.lists[1])],
+            cap: [0, 1].map(|w| self.lists[w].partner.len() as u64),
         }
     }
 
@@ -407,37 +460,27 @@ impl Cuda {
         self.host.len()
     }
 
-    fn zero_st(&mut self) -> Result<()> {
-        self.stream
-            .memset_zeros(&mut self.st)
-            .map_err(|e| gpu_err("memset", e))
-    }
-
-    fn read_st(&self) -> Result<Vec<u64>> {
-        self.stream
+    fn read_st(&self) -> Result<[u64; words::LEN]> {
+        let v = self
+            .stream
             .clone_dtoh(&self.st)
-            .map_err(|e| gpu_err("read flags", e))
+            .map_err(|e| gpu_err("read the step words", e))?;
+        let mut st = [0; words::LEN];
+        st.copy_from_slice(&v);
+        Ok(st)
     }
 
-    fn kick(&mut self, kicks: u32, drift: bool, check: bool) -> Result<()> {
-        let g = self.grains();
+    /// The integration kernel (see [`Mirror::advance`]'s kick pass).
+    fn kick(&self, kicks: u32, drift: bool, check: bool, limit: f64, step: u64) -> Result<()> {
+        let g = self.grains_p(&self.grains);
         let p = &self.host.params;
         let (dt, limit2) = (p.dt, 0.25 * p.skin * p.skin);
-        let (drift, check) = (drift as u32, check as u32);
-        let mut b = self.stream.launch_builder(&self.k.kick_drift);
-        b.arg(&g)
-            .arg(&dt)
-            .arg(&limit2)
-            .arg(&kicks)
-            .arg(&drift)
-            .arg(&check)
-            .arg(&self.st);
-        unsafe { b.launch(cfg(self.n(), THREADS)) }
-            .map(|_| ())
-            .map_err(|e| gpu_err("kick_drift", e))
+        let (drift, check, st) = (drift as u32, check as u32, self.ptr(&self.st));
+        launch!(self, kick_drift, cfg(self.n(), THREADS);
+            &g, &dt, &limit2, &kicks, &drift, &check, &limit, &step, &st)
     }
 
-    fn forces(&mut self, update: bool) -> Result<()> {
+    fn forces(&self) -> Result<()> {
         let p = &self.host.params;
         let mut walls = [PlaneP::default(); MAX_WALLS];
         for (
@@ -469,28 +512,15 @@ impl Cuda {
             n_walls: p.walls.len() as u32,
             gravity: p.gravity,
             dt: p.dt,
-            update: update as u32,
+            update: 1,
         };
-        let (g, list, ws) = (
-            self.grains(),
-            self.list_p(&self.list),
-            self.soa(&self.wall_springs),
+        let (g, lists, ws, st) = (
+            self.grains_p(&self.grains),
+            self.lists_p(),
+            self.soa(&self.grains.wall_springs),
+            self.ptr(&self.st),
         );
-        let mut b = self.stream.launch_builder(&self.k.forces);
-        b.arg(&g).arg(&list).arg(&ws).arg(&args).arg(&self.st);
-        unsafe { b.launch(cfg(self.n(), THREADS)) }
-            .map(|_| ())
-            .map_err(|e| gpu_err("forces", e))
-    }
-
-    /// Checks the last force evaluation's overlap and the finiteness flag
-    /// (`st` as read after a kick), as the mirror does.
-    fn judge(&mut self, st: &[u64]) -> Result<()> {
-        self.host.stats = super::mirror::Stats {
-            contacts: st[2] / 2 + st[3],
-            max_fraction: f64::from_bits(st[4]),
-        };
-        self.host.step_checks(st[1] != 0)
+        launch!(self, forces, cfg(self.n(), THREADS); &g, &lists, &ws, &args, &st)
     }
 
     /// Advances `n` steps: the mirror's [`Mirror::advance`], on the device.
@@ -498,243 +528,171 @@ impl Cuda {
         if n == 0 {
             return Ok(());
         }
-        self.zero_st()?;
-        self.kick(1, true, false)?;
-        let mut far = self.read_st()?[0] != 0 || self.host.builds == 0;
-        for left in (0..n).rev() {
-            self.host.step += 1;
-            self.host.time = self.host.step as f64 * self.host.params.dt;
-            if far {
-                self.rebuild()?;
+        let target = self.host.step + n;
+        let st = self.ptr(&self.st);
+        launch!(self, clear_halt, ONE; &st)?;
+        self.kick(1, true, false, f64::INFINITY, self.host.step)?;
+        let mut resume = false;
+        loop {
+            self.enqueue(target, resume)?;
+            self.host.st = self.read_st()?;
+            match self.host.finish(target)? {
+                Some(next) => {
+                    self.grow(next, list_capacity(self.host.st[words::NEED] as usize))?;
+                    launch!(self, clear_halt, ONE; &st)?;
+                    resume = true;
+                }
+                None => return Ok(()),
             }
-            self.zero_st()?;
-            self.forces(true)?;
-            if left == 0 {
+        }
+    }
+
+    /// The mirror's `enqueue`: the launches of the steps up to `target`.
+    /// With [`Options::sync_each_step`] the host reads the words after
+    /// each step and leaves out the launches that the words would gate off.
+    fn enqueue(&self, target: u64, mut resume: bool) -> Result<()> {
+        let p = &self.host.params;
+        let (limit, every) = (p.max_overlap_fraction, p.nan_check_every);
+        let st = self.ptr(&self.st);
+        let (mut build, mut sort) = (true, true);
+        let mut step = self.host.step;
+        loop {
+            step += 1;
+            if !resume {
+                let sort_every = p.sort_every;
+                launch!(self, step_begin, ONE; &st, &step, &sort_every)?;
+                if build {
+                    self.wrap_sort(sort)?;
+                }
+            }
+            if build || resume {
+                self.list_build(step)?;
+            }
+            resume = false;
+            self.forces()?;
+            if step == target {
                 break;
             }
-            let due = self.host.finite_check_due();
-            self.kick(2, true, due)?;
-            let st = self.read_st()?;
-            self.judge(&st)?;
-            far = st[0] != 0;
+            self.kick(2, true, step.is_multiple_of(every), limit, step)?;
+            if self.options.sync_each_step {
+                let w = self.read_st()?;
+                if w[words::HALT] != 0 {
+                    break;
+                }
+                build = w[words::FAR] != 0 || w[words::BUILDS] == 0 || w[words::NONFINITE] != 0;
+                let since = w[words::SINCE_SORT] as u32;
+                sort = build && p.sort_every > 0 && since.is_multiple_of(p.sort_every);
+            }
         }
-        let due = self.host.finite_check_due();
-        self.kick(1, false, due)?;
-        let st = self.read_st()?;
-        self.judge(&st)
+        self.kick(1, false, target.is_multiple_of(every), limit, target)
     }
 
-    fn launch_gather<T>(
-        &self,
-        f: &CudaFunction,
-        src: &CudaSlice<T>,
-        order: &CudaSlice<u32>,
-    ) -> Result<CudaSlice<T>>
-    where
-        T: DeviceRepr + cudarc::driver::ValidAsZeroBits,
-    {
-        let n = self.n() as u64;
-        let mut dst = self
-            .stream
-            .alloc_zeros::<T>(src.len())
-            .map_err(|e| gpu_err("alloc", e))?;
-        let mut b = self.stream.launch_builder(f);
-        b.arg(src).arg(&mut dst).arg(order).arg(&n);
-        unsafe { b.launch(cfg(self.n(), THREADS)) }.map_err(|e| gpu_err("gather", e))?;
-        Ok(dst)
+    /// Exclusive sums of `data` (`len` entries, the last a zero count that
+    /// becomes the total) in place, gated on `word`.
+    fn scan(&self, data: u64, len: usize, word: u32) -> Result<()> {
+        let (st, sums) = (self.ptr(&self.st), self.ptr(&self.work.sums));
+        let (len64, nb) = (len as u64, len.div_ceil(SCAN as usize) as u64);
+        launch!(self, scan_local, cfg(len, SCAN); &data, &sums, &len64, &st, &word)?;
+        launch!(self, scan_sums, cfg(1, SCAN); &sums, &nb, &st, &word)?;
+        launch!(self, scan_add, cfg(len, SCAN); &data, &sums, &len64, &st, &word)
     }
 
-    fn gather3(&self, d: &Dev3, order: &CudaSlice<u32>) -> Result<Dev3> {
-        let f = &self.k.gather_f64;
-        Ok(Dev3([
-            self.launch_gather(f, &d.0[0], order)?,
-            self.launch_gather(f, &d.0[1], order)?,
-            self.launch_gather(f, &d.0[2], order)?,
-        ]))
+    /// Bins the grains into `grid`, gated on `word`: the cell of each
+    /// grain and the cell starts in the work arrays, the members (ascending
+    /// in each cell) in `members`.
+    fn bin(&self, grid: &Grid, members: u64, word: u32) -> Result<()> {
+        let w = &self.work;
+        let (st, cell, start, cursor) = (
+            self.ptr(&self.st),
+            self.ptr(&w.cell),
+            self.ptr(&w.start),
+            self.ptr(&w.cursor),
+        );
+        let (n, ncells) = (self.n(), grid.ncells());
+        let (n64, nc, len) = (n as u64, ncells as u64, (ncells + 1) as u64);
+        let g = self.grains_p(&self.grains);
+        let gp = grid_p(grid);
+        launch!(self, zero_u32, cfg(ncells + 1, THREADS); &start, &len, &st, &word)?;
+        launch!(self, bin_count, cfg(n, THREADS); &g, &gp, &cell, &start, &st, &word)?;
+        self.scan(start, ncells + 1, word)?;
+        launch!(self, copy_u32, cfg(ncells + 1, THREADS); &start, &cursor, &len, &st, &word)?;
+        launch!(self, bin_fill, cfg(n, THREADS); &cell, &cursor, &members, &n64, &st, &word)?;
+        launch!(self, bin_sort, cfg(ncells, THREADS); &start, &members, &nc, &st, &word)
     }
 
-    /// Puts the grains in `order` (entry k: old index of new grain k).
-    fn permute(&mut self, order: &CudaSlice<u32>) -> Result<()> {
-        self.pos = self.gather3(&self.pos, order)?;
-        self.vel = self.gather3(&self.vel, order)?;
-        self.omega = self.gather3(&self.omega, order)?;
-        self.force = self.gather3(&self.force, order)?;
-        self.torque = self.gather3(&self.torque, order)?;
-        let f = &self.k.gather_f64;
-        self.radius = self.launch_gather(f, &self.radius, order)?;
-        self.mass = self.launch_gather(f, &self.mass, order)?;
-        self.inv_mass = self.launch_gather(f, &self.inv_mass, order)?;
-        self.inv_inertia = self.launch_gather(f, &self.inv_inertia, order)?;
-        self.frozen = self.launch_gather(&self.k.gather_u8, &self.frozen, order)?;
-        self.id = self.launch_gather(&self.k.gather_u64, &self.id, order)?;
-        self.origin = self.launch_gather(&self.k.gather_u32, &self.origin, order)?;
-        let slots = self.host.params.walls.len() as u32;
-        if slots > 0 {
-            let n = self.n() as u64;
-            let gather = |c: &CudaSlice<f64>| -> Result<CudaSlice<f64>> {
-                let mut dst = self
-                    .stream
-                    .alloc_zeros::<f64>(c.len())
-                    .map_err(|e| gpu_err("alloc", e))?;
-                let mut b = self.stream.launch_builder(&self.k.gather_slots);
-                b.arg(c).arg(&mut dst).arg(order).arg(&n).arg(&slots);
-                unsafe { b.launch(cfg(c.len(), THREADS)) }
-                    .map_err(|e| gpu_err("gather_slots", e))?;
-                Ok(dst)
-            };
-            let w = &self.wall_springs.0;
-            let (x, y, z) = (gather(&w[0])?, gather(&w[1])?, gather(&w[2])?);
-            self.wall_springs = Dev3([x, y, z]);
-        }
-        Ok(())
-    }
-
-    /// Exclusive sums of `data` in place (its last entry, a zero count,
-    /// becomes the total); returns the total.
-    fn scan(&self, data: &mut CudaSlice<u32>) -> Result<u32> {
-        let len = data.len() as u64;
-        let nb = (len as u32).div_ceil(SCAN) as u64;
-        let mut sums = self
-            .stream
-            .alloc_zeros::<u32>(nb as usize + 1)
-            .map_err(|e| gpu_err("alloc", e))?;
-        let mut b = self.stream.launch_builder(&self.k.scan_local);
-        b.arg(&mut *data).arg(&mut sums).arg(&len);
-        unsafe { b.launch(cfg(len as usize, SCAN)) }.map_err(|e| gpu_err("scan", e))?;
-        let mut b = self.stream.launch_builder(&self.k.scan_sums);
-        b.arg(&mut sums).arg(&nb);
-        unsafe { b.launch(cfg(1, SCAN)) }.map_err(|e| gpu_err("scan", e))?;
-        let mut b = self.stream.launch_builder(&self.k.scan_add);
-        b.arg(&mut *data).arg(&sums).arg(&len);
-        unsafe { b.launch(cfg(len as usize, SCAN)) }.map_err(|e| gpu_err("scan", e))?;
-        let total = self
-            .stream
-            .clone_dtoh(&sums.slice(nb as usize..))
-            .map_err(|e| gpu_err("scan total", e))?;
-        Ok(total[0])
-    }
-
-    /// Bins the grains into `grid`: (cell of each grain, cell starts,
-    /// members ascending in each cell).
-    fn bin(
-        &self,
-        grid: &super::grain_kernels::Grid,
-    ) -> Result<(CudaSlice<u32>, CudaSlice<u32>, CudaSlice<u32>)> {
-        let n = self.n();
-        let ncells = grid.ncells();
-        let gp = GridP {
-            dims: grid.dims.map(|d| d as u64),
-            lo: grid.lo,
-            inv_width: grid.inv_width,
-        };
-        let alloc = |len: usize| {
-            self.stream
-                .alloc_zeros::<u32>(len)
-                .map_err(|e| gpu_err("alloc", e))
-        };
-        let (mut cell, mut start, mut members) = (alloc(n)?, alloc(ncells + 1)?, alloc(n)?);
-        let g = self.grains();
-        let mut b = self.stream.launch_builder(&self.k.bin_count);
-        b.arg(&g).arg(&gp).arg(&mut cell).arg(&mut start);
-        unsafe { b.launch(cfg(n, THREADS)) }.map_err(|e| gpu_err("bin_count", e))?;
-        self.scan(&mut start)?;
-        let mut cursor = self
-            .stream
-            .clone_dtod(&start)
-            .map_err(|e| gpu_err("copy", e))?;
-        let n64 = n as u64;
-        let mut b = self.stream.launch_builder(&self.k.bin_fill);
-        b.arg(&cell).arg(&mut cursor).arg(&mut members).arg(&n64);
-        unsafe { b.launch(cfg(n, THREADS)) }.map_err(|e| gpu_err("bin_fill", e))?;
-        let nc = ncells as u64;
-        let mut b = self.stream.launch_builder(&self.k.bin_sort);
-        b.arg(&start).arg(&mut members).arg(&nc);
-        unsafe { b.launch(cfg(ncells, THREADS)) }.map_err(|e| gpu_err("bin_sort", e))?;
-        Ok((cell, start, members))
-    }
-
-    /// The mirror's [`Mirror::rebuild`] on the device.
-    fn rebuild(&mut self) -> Result<()> {
-        let n = self.n();
-        let p = self.host.params.clone();
+    /// The rebuild's first part (gated on BUILD): the wrap, and on SORT
+    /// the re-sort, gathered into the scratch arrays and copied back. With
+    /// `sort` false the re-sort's launches are left out (the host knows
+    /// none is due).
+    fn wrap_sort(&self, sort: bool) -> Result<()> {
+        let p = &self.host.params;
         let bx = Box3P {
             lo: p.bx.lo,
             length: p.bx.length,
             periodic: p.bx.periodic.map(|b| b as u32),
         };
-        let g = self.grains();
-        let mut b = self.stream.launch_builder(&self.k.wrap);
-        b.arg(&g).arg(&bx);
-        unsafe { b.launch(cfg(n, THREADS)) }.map_err(|e| gpu_err("wrap", e))?;
-        let every = p.sort_every;
-        let sorted = every > 0 && self.host.rebuilds_since_sort.is_multiple_of(every);
-        let order = if sorted {
-            let (_, _, members) = self.bin(&p.sort_grid)?;
-            self.permute(&members)?;
-            Some(members)
-        } else {
-            None
-        };
-        self.host.rebuilds_since_sort = self.host.rebuilds_since_sort.wrapping_add(1);
-        let (cell, start_cells, members) = self.bin(&p.list_grid)?;
+        let g = self.grains_p(&self.grains);
+        let st = self.ptr(&self.st);
+        launch!(self, wrap, cfg(self.n(), THREADS); &g, &bx, &st)?;
+        if !sort {
+            return Ok(());
+        }
+        let order = self.ptr(&self.work.order);
+        self.bin(&p.sort_grid, order, ON_SORT)?;
+        let (xg, s, xs) = (
+            self.extra_p(&self.grains),
+            self.grains_p(&self.scratch),
+            self.extra_p(&self.scratch),
+        );
+        let slots = p.walls.len() as u32;
+        let none = 0u64;
+        launch!(self, move_grains, cfg(self.n(), THREADS); &g, &xg, &s, &xs, &order, &slots, &st)?;
+        launch!(self, move_grains, cfg(self.n(), THREADS); &s, &xs, &g, &xg, &none, &slots, &st)
+    }
+
+    /// The rebuild's second part (gated on BUILD): bins of the list grid,
+    /// the rows counted and scanned, filled into the other list buffer (or
+    /// a halt when they do not fit), the springs remapped, the build
+    /// counted.
+    fn list_build(&self, step: u64) -> Result<()> {
+        let p = &self.host.params;
+        let n = self.n();
+        let members = self.ptr(&self.work.members);
+        self.bin(&p.list_grid, members, ON_BUILD)?;
         let args = ListArgsP {
-            grid: GridP {
-                dims: p.list_grid.dims.map(|d| d as u64),
-                lo: p.list_grid.lo,
-                inv_width: p.list_grid.inv_width,
-            },
-            start_cells: self.ptr(&start_cells),
-            members: self.ptr(&members),
-            cell: self.ptr(&cell),
+            grid: grid_p(&p.list_grid),
+            start_cells: self.ptr(&self.work.start),
+            members,
+            cell: self.ptr(&self.work.cell),
             length: p.bx.length,
             shifts: self.host.shifts,
             skin: p.skin,
             periodic: p.bx.periodic.map(|b| b as u32),
             block: p.block as u32,
         };
-        let mut start = self
-            .stream
-            .alloc_zeros::<u32>(n + 1)
-            .map_err(|e| gpu_err("alloc", e))?;
-        let g = self.grains();
-        let mut b = self.stream.launch_builder(&self.k.list_count);
-        b.arg(&g).arg(&args).arg(&mut start);
-        unsafe { b.launch(cfg(n, THREADS)) }.map_err(|e| gpu_err("list_count", e))?;
-        let total = self.scan(&mut start)? as usize;
-        let alloc_f = |len: usize| {
-            self.stream
-                .alloc_zeros::<f64>(len.max(1))
-                .map_err(|e| gpu_err("alloc", e))
-        };
-        let list = DevList {
-            start,
-            partner: self
-                .stream
-                .alloc_zeros::<u32>(total.max(1))
-                .map_err(|e| gpu_err("alloc", e))?,
-            image: self
-                .stream
-                .alloc_zeros::<u8>(total.max(1))
-                .map_err(|e| gpu_err("alloc", e))?,
-            springs: Dev3([alloc_f(total)?, alloc_f(total)?, alloc_f(total)?]),
-        };
-        let lp = self.list_p(&list);
-        let mut b = self.stream.launch_builder(&self.k.list_fill);
-        b.arg(&g).arg(&args).arg(&lp);
-        unsafe { b.launch(cfg(n, THREADS)) }.map_err(|e| gpu_err("list_fill", e))?;
-        let old = self.list_p(&self.list);
-        let old_of = order.as_ref().unwrap_or(&self.identity);
-        let n32 = n as u32;
-        let mut b = self.stream.launch_builder(&self.k.remap);
-        b.arg(&n32).arg(&lp).arg(&old).arg(old_of);
-        unsafe { b.launch(cfg(n, THREADS)) }.map_err(|e| gpu_err("remap_springs", e))?;
-        self.list = list;
-        for a in 0..3 {
-            self.stream
-                .memcpy_dtod(&self.pos.0[a], &mut self.reference.0[a])
-                .map_err(|e| gpu_err("copy", e))?;
-        }
-        self.host.builds += 1;
+        let (g, lists, st) = (
+            self.grains_p(&self.grains),
+            self.lists_p(),
+            self.ptr(&self.st),
+        );
+        let counts = self.ptr(&self.work.counts);
+        launch!(self, list_count, cfg(n, THREADS); &g, &args, &counts, &st)?;
+        self.scan(counts, n + 1, ON_BUILD)?;
+        launch!(self, list_fill, cfg(n, THREADS); &g, &args, &lists, &counts, &step, &st)?;
+        let order = self.ptr(&self.work.order);
+        launch!(self, remap, cfg(n, THREADS); &g, &lists, &order, &st)?;
+        launch!(self, build_end, ONE; &st)
+    }
+
+    /// List buffer `which` reallocated for `cap` entries (it holds no list
+    /// now: the stretch halted before filling it).
+    fn grow(&mut self, which: usize, cap: usize) -> Result<()> {
+        let s = &self.stream;
+        let l = &mut self.lists[which];
+        l.partner = zeros(s, cap)?;
+        l.image = zeros(s, cap)?;
+        l.springs = Dev3([zeros(s, cap)?, zeros(s, cap)?, zeros(s, cap)?]);
+        self.host.capacity[which] = cap;
         Ok(())
     }
 
@@ -747,41 +705,71 @@ impl Cuda {
     /// The state now, on the host (a copy of the device's arrays).
     pub fn host(&self) -> Result<Mirror> {
         let s = &self.stream;
-        let down = |d: &CudaSlice<f64>| s.clone_dtoh(d).map_err(|e| gpu_err("download", e));
-        let down3 = |d: &Dev3| -> Result<super::grain_kernels::Soa3> {
-            Ok(super::grain_kernels::Soa3 {
+        let e = |e| gpu_err("download", e);
+        let down = |d: &CudaSlice<f64>| s.clone_dtoh(d).map_err(e);
+        let down3 = |d: &Dev3| -> Result<Soa3> {
+            Ok(Soa3 {
                 x: down(&d.0[0])?,
                 y: down(&d.0[1])?,
                 z: down(&d.0[2])?,
             })
         };
         let mut m = self.host.clone();
-        m.pos = down3(&self.pos)?;
-        m.vel = down3(&self.vel)?;
-        m.omega = down3(&self.omega)?;
-        m.force = down3(&self.force)?;
-        m.torque = down3(&self.torque)?;
+        m.st = self.read_st()?;
+        let g = &self.grains;
+        m.pos = down3(&g.pos)?;
+        m.vel = down3(&g.vel)?;
+        m.omega = down3(&g.omega)?;
+        m.force = down3(&g.force)?;
+        m.torque = down3(&g.torque)?;
         m.reference = down3(&self.reference)?;
-        m.radius = down(&self.radius)?;
-        m.mass = down(&self.mass)?;
-        m.inv_mass = down(&self.inv_mass)?;
-        m.inv_inertia = down(&self.inv_inertia)?;
-        let e = |e| gpu_err("download", e);
-        m.frozen = s.clone_dtoh(&self.frozen).map_err(e)?;
-        m.id = s.clone_dtoh(&self.id).map_err(e)?;
-        m.origin = s.clone_dtoh(&self.origin).map_err(e)?;
-        m.list.start = s.clone_dtoh(&self.list.start).map_err(e)?;
+        m.radius = down(&g.radius)?;
+        m.mass = down(&g.mass)?;
+        m.inv_mass = down(&g.inv_mass)?;
+        m.inv_inertia = down(&g.inv_inertia)?;
+        m.frozen = s.clone_dtoh(&g.frozen).map_err(e)?;
+        m.id = s.clone_dtoh(&g.id).map_err(e)?;
+        m.origin = s.clone_dtoh(&g.origin).map_err(e)?;
+        let slots = m.len() * m.params.walls.len();
+        m.wall_springs = down3(&g.wall_springs)?;
+        for c in [
+            &mut m.wall_springs.x,
+            &mut m.wall_springs.y,
+            &mut m.wall_springs.z,
+        ] {
+            c.truncate(slots);
+        }
+        let l = &self.lists[(m.st[words::BUILDS] % 2) as usize];
+        m.list.start = s.clone_dtoh(&l.start).map_err(e)?;
         let total = m.list.start[m.len()] as usize;
-        m.list.partner = s.clone_dtoh(&self.list.partner).map_err(e)?;
-        m.list.image = s.clone_dtoh(&self.list.image).map_err(e)?;
-        m.list.partner.truncate(total);
-        m.list.image.truncate(total);
-        let mut springs = down3(&self.list.springs)?;
-        for c in [&mut springs.x, &mut springs.y, &mut springs.z] {
+        m.list.partner = s.clone_dtoh(&l.partner.slice(..total)).map_err(e)?;
+        m.list.image = s.clone_dtoh(&l.image.slice(..total)).map_err(e)?;
+        let sp = &l.springs.0;
+        m.springs = Soa3 {
+            x: down(&sp[0])?,
+            y: down(&sp[1])?,
+            z: down(&sp[2])?,
+        };
+        for c in [&mut m.springs.x, &mut m.springs.y, &mut m.springs.z] {
             c.truncate(total);
         }
-        m.springs = springs;
-        m.wall_springs = down3(&self.wall_springs)?;
         Ok(m)
     }
+}
+
+/// A host array on the device (an empty one as one zero: no buffer is
+/// allocated empty).
+fn up<T: DeviceRepr + Default + Copy>(s: &Arc<CudaStream>, v: &[T]) -> Result<CudaSlice<T>> {
+    let pad = [T::default()];
+    let v = if v.is_empty() { &pad[..] } else { v };
+    s.clone_htod(v).map_err(|e| gpu_err("upload", e))
+}
+
+/// `len` zeros on the device (at least one).
+fn zeros<T: DeviceRepr + cudarc::driver::ValidAsZeroBits>(
+    s: &Arc<CudaStream>,
+    len: usize,
+) -> Result<CudaSlice<T>> {
+    s.alloc_zeros::<T>(len.max(1))
+        .map_err(|e| gpu_err("alloc", e))
 }

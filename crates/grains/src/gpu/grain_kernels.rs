@@ -346,9 +346,17 @@ pub struct KickArgs<'a> {
 /// Velocity Verlet for grain `g` (LAMMPS `nve/sphere`): `kicks` half-kicks
 /// (the corrector of one step, the predictor of the next, or one of them),
 /// the drift when `drift`. Returns whether the grain now stands farther than
-/// the skin test allows from its reference (checked only after a drift).
+/// the skin test allows from its reference (checked only after a drift),
+/// and, when `check`, whether a mobile grain's position or velocity after
+/// the first kick is not finite.
 #[inline(always)]
-pub fn kick_drift(m: &mut Moving, a: &KickArgs, g: usize, kicks: u32, drift: bool) -> bool {
+pub fn kick_drift(
+    m: &mut Moving,
+    a: &KickArgs,
+    g: usize,
+    (kicks, drift, check): (u32, bool, bool),
+) -> (bool, bool) {
+    let mut bad = false;
     if a.frozen[g] == 0 {
         let half = 0.5 * a.dt;
         let kick = half * a.inv_mass[g];
@@ -357,9 +365,13 @@ pub fn kick_drift(m: &mut Moving, a: &KickArgs, g: usize, kicks: u32, drift: boo
         let tq = a.torque.get(g);
         let mut v = m.vel.get(g);
         let mut w = m.omega.get(g);
-        for _ in 0..kicks {
+        for k in 0..kicks {
             v = add(v, scale(f, kick));
             w = add(w, scale(tq, spin_kick));
+            if check && k == 0 {
+                let x = m.pos.get(g);
+                bad = !(x.iter().all(|c| c.is_finite()) && v.iter().all(|c| c.is_finite()));
+            }
         }
         m.vel.set(g, v);
         m.omega.set(g, w);
@@ -368,10 +380,10 @@ pub fn kick_drift(m: &mut Moving, a: &KickArgs, g: usize, kicks: u32, drift: boo
         }
     }
     if !drift {
-        return false;
+        return (false, bad);
     }
     let d = sub(m.pos.get(g), a.reference.get(g));
-    dot(d, d) > a.limit2
+    (dot(d, d) > a.limit2, bad)
 }
 
 /// The periodic box, per axis: lower bound, length (0 on an axis that is
@@ -587,20 +599,22 @@ pub fn mirrored(code: usize) -> usize {
 }
 
 /// The remap kernel for grain `g` after a rebuild: each new entry's spring
-/// from the old list, found through `old_of` (the old index of each grain),
-/// negated when the pair's lower index changed sides; zero when the pair
-/// is new or its spring was not stretched.
+/// from the old list, found through `old_of` (the old index of each grain
+/// after a re-sort; `None`: the grains kept their places), negated when the
+/// pair's lower index changed sides; zero when the pair is new or its
+/// spring was not stretched.
 pub fn remap_row(
     g: usize,
     (new, old): (&FullList, &FullList),
-    old_of: &[u32],
+    old_of: Option<&[u32]>,
     old_springs: &Soa3,
     springs: &mut Soa3,
 ) {
-    let og = old_of[g] as usize;
+    let at = |k: usize| old_of.map_or(k, |o| o[k] as usize);
+    let og = at(g);
     for e in new.row(g) {
         let p = new.partner[e] as usize;
-        let op = old_of[p] as usize;
+        let op = at(p);
         let mut s = [0.0; 3];
         for k in old.row(og) {
             if old.partner[k] as usize == op {
@@ -613,4 +627,78 @@ pub fn remap_row(
         }
         springs.set(e, s);
     }
+}
+
+/// The step words: flags and counters in device memory that the kernels
+/// read and write (`ST_*` of common.cuh), so that a stretch of steps runs
+/// with no decision on the host. Only integer stores, and the maximum of a
+/// non-negative double as the maximum of its bits.
+pub mod words {
+    /// A grain beyond the skin test (set by the drift).
+    pub const FAR: usize = 0;
+    /// A grain found not finite (set by a checking kick).
+    pub const NONFINITE: usize = 1;
+    /// Pair-contact ends, wall contacts, bits of the largest overlap
+    /// fraction: the last force evaluation's statistics.
+    pub const PAIR_ENDS: usize = 2;
+    pub const WALLS: usize = 3;
+    pub const MAX_FRACTION: usize = 4;
+    /// This step rebuilds the list; this step re-sorts too.
+    pub const BUILD: usize = 5;
+    pub const SORT: usize = 6;
+    /// List builds so far (its parity names the current list buffer), and
+    /// rebuilds since the last re-sort (the CPU engine's counters).
+    pub const BUILDS: usize = 7;
+    pub const SINCE_SORT: usize = 8;
+    /// Why the stretch stopped (0: it did not), at which step, and how
+    /// many entries the list needed when it overflowed its buffer.
+    pub const HALT: usize = 9;
+    pub const HALT_STEP: usize = 10;
+    pub const NEED: usize = 11;
+    pub const LEN: usize = 12;
+
+    /// HALT's values.
+    pub const HALT_OVERLAP: u64 = 1;
+    pub const HALT_NONFINITE: u64 = 2;
+    pub const HALT_OVERFLOW: u64 = 3;
+}
+
+/// Whether a gated kernel runs: nothing has halted the stretch and, unless
+/// `word` is `None`, that word is set.
+#[inline(always)]
+pub fn gate(st: &[u64; words::LEN], word: Option<usize>) -> bool {
+    st[words::HALT] == 0 && word.is_none_or(|w| st[w] != 0)
+}
+
+/// The one-thread kernel that opens step `step`: a grain found not finite
+/// by the last kick halts the stretch (at the step before); otherwise the
+/// rebuild (a grain beyond the skin test, or no list yet) and the re-sort
+/// (every `sort_every` rebuilds) are decided, and the step's flags and
+/// statistics cleared.
+pub fn step_begin(st: &mut [u64; words::LEN], step: u64, sort_every: u32) {
+    use words::*;
+    if st[HALT] != 0 {
+        return;
+    }
+    if st[NONFINITE] != 0 {
+        st[HALT] = HALT_NONFINITE;
+        st[HALT_STEP] = step - 1;
+        return;
+    }
+    let build = st[FAR] != 0 || st[BUILDS] == 0;
+    let since = st[SINCE_SORT] as u32;
+    st[BUILD] = build as u64;
+    st[SORT] = (build && sort_every > 0 && since.is_multiple_of(sort_every)) as u64;
+    if build {
+        st[SINCE_SORT] = since.wrapping_add(1) as u64;
+    }
+    for w in [FAR, PAIR_ENDS, WALLS, MAX_FRACTION] {
+        st[w] = 0;
+    }
+}
+
+/// Entries a list buffer is given for `need` entries: a quarter more, so
+/// that the list can grow a while before the stretch halts to reallocate.
+pub fn list_capacity(need: usize) -> usize {
+    need + need / 4 + 1024
 }

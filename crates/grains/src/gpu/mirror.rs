@@ -9,10 +9,12 @@
 //! outputs go through the CPU engine's code.
 
 use super::grain_kernels::{
-    add, dot, grain_forces, kick_drift, mirrored, order_row, remap_row, sub, visit_partners, wrap,
-    Bins, Box3, ForceArgs, FullList, GrainsIn, Grid, Hooke, KickArgs, ListArgs, Moving, Plane,
-    Soa3, V3,
+    add, dot, gate, grain_forces, kick_drift, list_capacity, mirrored, order_row, remap_row,
+    step_begin, sub, visit_partners, words, wrap, Box3, ForceArgs, FullList, GrainsIn, Grid, Hooke,
+    KickArgs, ListArgs, Moving, Plane, Soa3, V3,
 };
+use super::list_build::full_from_half;
+pub use super::list_build::{bin, exclusive_scan};
 use crate::dim::{Dim, D3};
 use crate::error::{Error, Result};
 use crate::io::Frame;
@@ -148,6 +150,13 @@ pub struct Mirror {
     pub rebuilds_since_sort: u32,
     pub builds: u64,
     pub stats: Stats,
+    /// The step words while a stretch runs ([`words`]).
+    pub st: [u64; words::LEN],
+    /// Entries each of the device's two list buffers holds: a list that
+    /// does not fit halts the stretch ([`Self::advance`]).
+    pub capacity: [usize; 2],
+    /// The last re-sort's permutation (old index of each grain).
+    old_of: Vec<u32>,
     /// The state built from: what an export does not take from the arrays.
     template: MdState<D3>,
 }
@@ -170,6 +179,7 @@ impl Mirror {
         let p = &s.particles;
         let n = p.len();
         let (list, springs) = full_from_half(&s.list, &s.springs, n, params.block);
+        let total = list.partner.len();
         let nw = params.walls.len();
         let slots = md.walls.len().max(1);
         let wall_springs = Soa3::from_vecs(
@@ -207,6 +217,9 @@ impl Mirror {
                 contacts: s.contacts,
                 max_fraction: s.max_overlap_fraction,
             },
+            st: [0; words::LEN],
+            capacity: [list_capacity(total); 2],
+            old_of: Vec::new(),
             template: s,
         })
     }
@@ -369,46 +382,129 @@ impl Mirror {
         }
     }
 
-    /// Advances `n` steps: the same bits as the CPU engine's
-    /// [`Md::advance`] (and as `n` single steps).
+    /// Advances `n` steps as the device does: the predictor kick, then the
+    /// steps with every decision (rebuild, re-sort, instability) taken on
+    /// the step words, which the host reads only when the stretch ends
+    /// ([`Self::finish`]); a list that outgrew its buffer halts the stretch
+    /// at that rebuild, and the stretch resumes there once the buffer is
+    /// grown. The same bits as the CPU engine's [`Md::advance`] (and as `n`
+    /// single steps).
     pub fn advance(&mut self, n: u64) -> Result<()> {
         if n == 0 {
             return Ok(());
         }
-        let mut far = self.kick_pass(1, true) || self.builds == 0;
-        for left in (0..n).rev() {
-            self.step += 1;
-            self.time = self.step as f64 * self.params.dt;
-            if far {
-                self.rebuild();
-            }
-            self.forces(true);
-            if left == 0 {
-                break;
-            }
-            if let Err(e) = self.check_overlap() {
-                self.kick_pass(1, false);
-                return Err(e);
-            }
-            if self.finite_check_due() {
-                self.kick_pass(1, false);
-                self.check_finite()?;
-                far = self.kick_pass(1, true);
-            } else {
-                far = self.kick_pass(2, true);
+        let target = self.step + n;
+        self.load_words();
+        // The predictor of the first step checks nothing (the CPU engine
+        // checks a step's forces after its own kicks).
+        self.kick_pass(1, true, false, f64::INFINITY, self.step);
+        let mut resume = false;
+        loop {
+            self.enqueue(target, resume);
+            match self.finish(target)? {
+                Some(next) => {
+                    self.capacity[next] = list_capacity(self.st[words::NEED] as usize);
+                    self.st[words::HALT] = 0;
+                    resume = true;
+                }
+                None => return Ok(()),
             }
         }
-        self.kick_pass(1, false);
-        self.check_overlap()?;
-        if self.finite_check_due() {
-            self.check_finite()?;
-        }
-        Ok(())
     }
 
-    /// The integration kernel over all grains; whether one is beyond the
-    /// skin test (after a drift).
-    fn kick_pass(&mut self, kicks: u32, drift: bool) -> bool {
+    /// The step words as the fields say at the start of a stretch.
+    fn load_words(&mut self) {
+        self.st = [0; words::LEN];
+        self.st[words::BUILDS] = self.builds;
+        self.st[words::SINCE_SORT] = self.rebuilds_since_sort as u64;
+        self.st[words::WALLS] = self.stats.contacts;
+        self.st[words::MAX_FRACTION] = self.stats.max_fraction.to_bits();
+    }
+
+    /// The passes of the steps after `self.step` up to `target`, in the
+    /// order the device runs them, each gated on the step words. `resume`:
+    /// the first step's rebuild halted on a full list buffer after its
+    /// wrap and re-sort, so it starts at the list build.
+    fn enqueue(&mut self, target: u64, mut resume: bool) {
+        let limit = self.params.max_overlap_fraction;
+        let every = self.params.nan_check_every;
+        let mut step = self.step;
+        loop {
+            step += 1;
+            if !resume {
+                step_begin(&mut self.st, step, self.params.sort_every);
+                self.wrap_sort_pass();
+            }
+            resume = false;
+            self.list_pass(step);
+            self.force_pass(true);
+            if step == target {
+                break;
+            }
+            self.kick_pass(2, true, step.is_multiple_of(every), limit, step);
+        }
+        self.kick_pass(1, false, target.is_multiple_of(every), limit, target);
+    }
+
+    /// The host's look at the step words when a stretch ends: the
+    /// counters and statistics, and why it stopped. `Ok(Some(buffer))`: the
+    /// list buffer that must grow to `NEED` entries before the stretch
+    /// resumes at `self.step + 1`.
+    pub fn finish(&mut self, target: u64) -> Result<Option<usize>> {
+        use words::*;
+        let st = self.st;
+        self.builds = st[BUILDS];
+        self.rebuilds_since_sort = st[SINCE_SORT] as u32;
+        self.stats = Stats {
+            contacts: st[PAIR_ENDS] / 2 + st[WALLS],
+            max_fraction: f64::from_bits(st[MAX_FRACTION]),
+        };
+        let halt = match st[HALT] {
+            0 if st[NONFINITE] != 0 => HALT_NONFINITE,
+            h => h,
+        };
+        self.step = match halt {
+            0 => target,
+            HALT_OVERFLOW => st[HALT_STEP] - 1,
+            _ if st[HALT] == 0 => target,
+            _ => st[HALT_STEP],
+        };
+        self.time = self.step as f64 * self.params.dt;
+        match halt {
+            0 => Ok(None),
+            HALT_OVERFLOW => Ok(Some(((st[BUILDS] + 1) % 2) as usize)),
+            HALT_OVERLAP => Err(Error::Unstable(format!(
+                "at step {} (t = {:.6e} s) two grains, or a grain and a wall, overlap by \
+                 {:.1}% of the smaller radius (limit {:.0}%): the contacts are too soft or \
+                 dt = {:.3e} s is too large",
+                self.step,
+                self.time,
+                100.0 * self.stats.max_fraction,
+                100.0 * self.params.max_overlap_fraction,
+                self.params.dt
+            ))),
+            _ => Err(Error::Unstable(format!(
+                "at step {} (t = {:.6e} s) a grain has a non-finite position or velocity; \
+                 dt = {:.3e} s may be too large",
+                self.step, self.time, self.params.dt
+            ))),
+        }
+    }
+
+    /// The integration kernel over all grains (gated on a halt): first
+    /// the overlap of the last force evaluation against `limit` (beyond
+    /// it the stretch halts at `step`, unkicked), then `kicks` half-kicks,
+    /// the drift when `drift` (setting FAR for a grain beyond the skin
+    /// test), the finiteness test after the first kick when `check`.
+    fn kick_pass(&mut self, kicks: u32, drift: bool, check: bool, limit: f64, step: u64) {
+        if !gate(&self.st, None) {
+            return;
+        }
+        if f64::from_bits(self.st[words::MAX_FRACTION]) > limit {
+            self.st[words::HALT] = words::HALT_OVERLAP;
+            self.st[words::HALT_STEP] = step;
+            return;
+        }
         let args = KickArgs {
             force: &self.force,
             torque: &self.torque,
@@ -424,15 +520,36 @@ impl Mirror {
             vel: &mut self.vel,
             omega: &mut self.omega,
         };
-        let mut far = false;
+        let (mut far, mut bad) = (false, false);
         for g in 0..self.id.len() {
-            far |= kick_drift(&mut m, &args, g, kicks, drift);
+            let (f, b) = kick_drift(&mut m, &args, g, (kicks, drift, check));
+            far |= f;
+            bad |= b;
         }
-        far
+        if far {
+            self.st[words::FAR] = 1;
+        }
+        if bad {
+            self.st[words::NONFINITE] = 1;
+        }
     }
 
-    /// The force kernel over all grains.
-    pub fn forces(&mut self, update: bool) {
+    /// The force kernel over all grains, gated on a halt, its statistics
+    /// added to the step words.
+    fn force_pass(&mut self, update: bool) {
+        if !gate(&self.st, None) {
+            return;
+        }
+        let (pair_ends, walls, worst) = self.forces(update);
+        self.st[words::PAIR_ENDS] += pair_ends;
+        self.st[words::WALLS] += walls;
+        let bits = &mut self.st[words::MAX_FRACTION];
+        *bits = (*bits).max(worst.to_bits());
+    }
+
+    /// The force kernel over all grains: pair-contact ends, wall contacts
+    /// and the largest overlap fraction.
+    pub fn forces(&mut self, update: bool) -> (u64, u64, f64) {
         let g = GrainsIn {
             pos: &self.pos,
             vel: &self.vel,
@@ -459,87 +576,66 @@ impl Mirror {
             walls += r.wall_contacts as u64;
             worst = worst.max(r.max_fraction);
         }
-        self.stats = Stats {
-            contacts: pair_ends / 2 + walls,
-            max_fraction: worst,
-        };
+        (pair_ends, walls, worst)
     }
 
-    /// The checks after a step whose statistics a device computed: the
-    /// overlap, and `non_finite` (a grain's state found not finite).
-    pub fn step_checks(&self, non_finite: bool) -> Result<()> {
-        self.check_overlap()?;
-        if non_finite {
-            return Err(Error::Unstable(format!(
-                "at step {} (t = {:.6e} s) a grain has a non-finite position or velocity; \
-                 dt = {:.3e} s may be too large",
-                self.step, self.time, self.params.dt
-            )));
+    /// The rebuild's first part, gated on BUILD: wrap into the periodic
+    /// box, and on SORT re-sort the grains by cell (the permutation kept
+    /// for the springs' remap).
+    fn wrap_sort_pass(&mut self) {
+        if !gate(&self.st, Some(words::BUILD)) {
+            return;
         }
-        Ok(())
-    }
-
-    /// Whether this step's checks include the finite-state test.
-    pub fn finite_check_due(&self) -> bool {
-        self.step.is_multiple_of(self.params.nan_check_every)
-    }
-
-    fn check_overlap(&self) -> Result<()> {
-        if self.stats.max_fraction > self.params.max_overlap_fraction {
-            return Err(Error::Unstable(format!(
-                "at step {} (t = {:.6e} s) two grains, or a grain and a wall, overlap by \
-                 {:.1}% of the smaller radius (limit {:.0}%): the contacts are too soft or \
-                 dt = {:.3e} s is too large",
-                self.step,
-                self.time,
-                100.0 * self.stats.max_fraction,
-                100.0 * self.params.max_overlap_fraction,
-                self.params.dt
-            )));
-        }
-        Ok(())
-    }
-
-    fn check_finite(&self) -> Result<()> {
-        let bad = (0..self.len()).find(|&i| {
-            !(self.pos.get(i).iter().all(|x| x.is_finite())
-                && self.vel.get(i).iter().all(|x| x.is_finite()))
-        });
-        match bad {
-            Some(i) => Err(Error::Unstable(format!(
-                "at step {} (t = {:.6e} s) grain {} has a non-finite position or velocity; \
-                 dt = {:.3e} s may be too large",
-                self.step, self.time, self.id[i], self.params.dt
-            ))),
-            None => Ok(()),
-        }
-    }
-
-    /// The rebuild: wrap, re-sort when due, build the list, remap the
-    /// springs onto it.
-    pub fn rebuild(&mut self) {
-        let n = self.len();
-        for g in 0..n {
+        for g in 0..self.len() {
             self.pos.set(g, wrap(&self.params.bx, self.pos.get(g)));
         }
-        let every = self.params.sort_every;
-        let old_of: Vec<u32> = if every > 0 && self.rebuilds_since_sort.is_multiple_of(every) {
+        if self.st[words::SORT] != 0 {
             let order = bin(&self.params.sort_grid, &self.pos).members;
             self.permute(&order);
-            order
-        } else {
-            (0..n as u32).collect()
-        };
-        self.rebuilds_since_sort = self.rebuilds_since_sort.wrapping_add(1);
+            self.old_of = order;
+        }
+    }
+
+    /// The rebuild's second part, gated on BUILD: the list into the other
+    /// buffer, or, when it does not fit, a halt at `step` with the entries
+    /// it needs; the springs remapped onto it, the reference positions,
+    /// the build counted (which makes the other buffer current).
+    fn list_pass(&mut self, step: u64) {
+        if !gate(&self.st, Some(words::BUILD)) {
+            return;
+        }
         let list = self.build_list();
+        let next = ((self.st[words::BUILDS] + 1) % 2) as usize;
+        if list.partner.len() > self.capacity[next] {
+            self.st[words::HALT] = words::HALT_OVERFLOW;
+            self.st[words::HALT_STEP] = step;
+            self.st[words::NEED] = list.partner.len() as u64;
+            return;
+        }
+        let old_of = (self.st[words::SORT] != 0).then_some(&self.old_of[..]);
         let mut springs = Soa3::zeros(list.partner.len());
-        for g in 0..n {
-            remap_row(g, (&list, &self.list), &old_of, &self.springs, &mut springs);
+        for g in 0..self.len() {
+            remap_row(g, (&list, &self.list), old_of, &self.springs, &mut springs);
         }
         self.list = list;
         self.springs = springs;
         self.reference = self.pos.clone();
-        self.builds += 1;
+        self.st[words::BUILDS] += 1;
+    }
+
+    /// A rebuild now, whatever the skin test says (a re-sort when one is
+    /// due): wrap, re-sort, build the list, remap the springs onto it.
+    pub fn rebuild(&mut self) {
+        self.load_words();
+        self.st[words::FAR] = 1;
+        step_begin(&mut self.st, self.step, self.params.sort_every);
+        self.wrap_sort_pass();
+        let capacity = self.capacity;
+        self.capacity = [usize::MAX; 2];
+        self.list_pass(self.step);
+        self.capacity = capacity;
+        self.builds = self.st[words::BUILDS];
+        self.rebuilds_since_sort = self.st[words::SINCE_SORT] as u32;
     }
 
     /// Puts the grains in `order` (entry k: the old index of new grain k).
@@ -604,106 +700,4 @@ impl Mirror {
         }
         list
     }
-}
-
-/// `counts` followed by their exclusive prefix sums' total: entry k is the
-/// sum of the counts before k (n + 1 entries).
-pub fn exclusive_scan(counts: &[u32]) -> Vec<u32> {
-    let mut start = Vec::with_capacity(counts.len() + 1);
-    let mut sum = 0u32;
-    start.push(0);
-    for &c in counts {
-        sum += c;
-        start.push(sum);
-    }
-    start
-}
-
-/// Bins the grains into `grid`'s cells, count–scan–fill, each cell's
-/// members then sorted by index (on the GPU the fill's order depends on
-/// the threads; the sort makes the bins a function of the positions).
-pub fn bin(grid: &Grid, pos: &Soa3) -> Bins {
-    let n = pos.len();
-    let cell: Vec<u32> = (0..n).map(|i| grid.cell_of(pos.get(i)) as u32).collect();
-    let mut count = vec![0u32; grid.ncells()];
-    for &c in &cell {
-        count[c as usize] += 1;
-    }
-    let start = exclusive_scan(&count);
-    let mut cursor = start.clone();
-    let mut members = vec![0u32; n];
-    for (i, &c) in cell.iter().enumerate() {
-        members[cursor[c as usize] as usize] = i as u32;
-        cursor[c as usize] += 1;
-    }
-    for c in 0..grid.ncells() {
-        let m = &mut members[start[c] as usize..start[c + 1] as usize];
-        for k in 1..m.len() {
-            let x = m[k];
-            let mut j = k;
-            while j > 0 && m[j - 1] > x {
-                m[j] = m[j - 1];
-                j -= 1;
-            }
-            m[j] = x;
-        }
-    }
-    Bins {
-        start,
-        members,
-        cell,
-    }
-}
-
-/// The full list of a half list (pairs (i, j), i < j, grouped by i), rows
-/// in the order of [`super::grain_kernels::row_key`], with the springs.
-fn full_from_half(
-    half: &ListState<D3>,
-    springs: &[DVec3],
-    n: usize,
-    block: usize,
-) -> (FullList, Soa3) {
-    let mut count = vec![0u32; n];
-    for &[i, j] in &half.pairs {
-        count[i as usize] += 1;
-        count[j as usize] += 1;
-    }
-    let start = exclusive_scan(&count);
-    let total = start[n] as usize;
-    let mut list = FullList {
-        start,
-        partner: vec![0; total],
-        image: vec![0; total],
-    };
-    // The spring of each entry, as the pair's index in the half list, so
-    // that the rows can be ordered first and the springs placed after.
-    let mut cursor = list.start.clone();
-    let mut pair_of = vec![0u32; total];
-    for (k, &[i, j]) in half.pairs.iter().enumerate() {
-        for (g, p) in [(i, j), (j, i)] {
-            let e = cursor[g as usize] as usize;
-            list.partner[e] = p;
-            list.image[e] = half.image[k];
-            pair_of[e] = k as u32;
-            cursor[g as usize] += 1;
-        }
-    }
-    // Rows are in ascending partner order for lower partners and in list
-    // order for higher ones: the stable order puts them in place. The
-    // pair index moves with its entry through a lookup by partner.
-    for g in 0..n {
-        let r = list.row(g);
-        let mut row: Vec<(u32, u8, u32)> = r
-            .clone()
-            .map(|e| (list.partner[e], list.image[e], pair_of[e]))
-            .collect();
-        row.sort_by_key(|&(p, _, _)| super::grain_kernels::row_key(g, p as usize, block));
-        for (e, (p, code, k)) in r.zip(row) {
-            list.partner[e] = p;
-            list.image[e] = code;
-            pair_of[e] = k;
-        }
-    }
-    let springs = Soa3::from_vecs(pair_of.iter().map(|&k| springs[k as usize].to_array()));
-    (list, springs)
 }

@@ -2,15 +2,20 @@
 //! data in cell order, a full neighbour list, no floating-point atomics
 //! (see docs/gpu.md).
 //!
-//! [`grain_kernels`] holds what one thread does for one grain; [`mirror`]
-//! runs the pipeline as plain loops on the CPU (always compiled, the same
-//! bits as the CPU engine); `cuda` (feature `cuda`) runs the same kernels,
-//! written in CUDA C under `kernels/`, on the device; [`pipeline`] is what
-//! a scenario run drives of either.
+//! [`grain_kernels`] holds what one thread does for one grain, and the step
+//! words through which the device decides rebuilds; [`mirror`] runs the
+//! pipeline as plain loops on the CPU (always compiled, the same bits as
+//! the CPU engine), with [`list_build`]'s bins and prefix sums; `cuda`
+//! (feature `cuda`) runs the same kernels, written in CUDA C under
+//! `kernels/`, on the device, with their parameter structs in
+//! `kernel_params`; [`pipeline`] is what a scenario run drives of either.
 
 #[cfg(feature = "cuda")]
 pub mod cuda;
 pub mod grain_kernels;
+#[cfg(feature = "cuda")]
+mod kernel_params;
+pub mod list_build;
 pub mod mirror;
 pub mod pipeline;
 

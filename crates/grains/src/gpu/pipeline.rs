@@ -15,8 +15,9 @@ pub trait Pipeline: Send + Sized {
     /// `run.device`'s value for this pipeline, for messages and summaries.
     const NAME: &'static str;
     /// The pipeline for `md` as it stands (its list built, its forces
-    /// evaluated: as built from a scenario or restored from a checkpoint).
-    fn start(md: &Md<D3>) -> Result<Self>;
+    /// evaluated: as built from a scenario or restored from a checkpoint);
+    /// `fma`: the kernels with fused multiply-add, where there are such.
+    fn start(md: &Md<D3>, fma: bool) -> Result<Self>;
     /// Steps taken since step 0.
     fn step(&self) -> u64;
     /// Simulated time (s).
@@ -37,7 +38,7 @@ pub trait Pipeline: Send + Sized {
 
 impl Pipeline for Mirror {
     const NAME: &'static str = "mirror";
-    fn start(md: &Md<D3>) -> Result<Self> {
+    fn start(md: &Md<D3>, _fma: bool) -> Result<Self> {
         Mirror::from_md(md)
     }
     fn step(&self) -> u64 {
@@ -63,8 +64,12 @@ impl Pipeline for Mirror {
 #[cfg(feature = "cuda")]
 impl Pipeline for super::cuda::Cuda {
     const NAME: &'static str = "gpu";
-    fn start(md: &Md<D3>) -> Result<Self> {
-        Self::new(Mirror::from_md(md)?)
+    fn start(md: &Md<D3>, fma: bool) -> Result<Self> {
+        let options = super::cuda::Options {
+            fma,
+            ..Default::default()
+        };
+        Self::with(Mirror::from_md(md)?, options)
     }
     fn step(&self) -> u64 {
         self.counters().step

@@ -27,12 +27,15 @@ pub(super) struct DeviceMd<P> {
     md: Md<D3>,
     pipe: P,
     fresh: Option<u64>,
+    /// `run.gpu_fma`, for a pipeline started again from a checkpoint.
+    fma: bool,
 }
 
 impl<P: Pipeline> DeviceMd<P> {
-    fn new(md: Md<D3>) -> Result<Self> {
+    fn new(md: Md<D3>, fma: bool) -> Result<Self> {
         Ok(Self {
-            pipe: P::start(&md)?,
+            pipe: P::start(&md, fma)?,
+            fma,
             fresh: Some(md.step),
             md,
         })
@@ -80,7 +83,7 @@ impl<P: Pipeline> Engine for DeviceMd<P> {
     }
     fn import(&mut self, bytes: &[u8], origin: &str) -> Result<()> {
         Engine::import(&mut self.md, bytes, origin)?;
-        self.pipe = P::start(&self.md)?;
+        self.pipe = P::start(&self.md, self.fma)?;
         self.fresh = Some(self.md.step);
         Ok(())
     }
@@ -140,7 +143,8 @@ pub(super) fn run(
         start: Start<D3, Md<D3>>,
         progress: &mut dyn Progress,
     ) -> Result<Value> {
-        let start = start.with_engine(DeviceMd::<P>::new)?;
+        let fma = loaded.scenario.run.gpu_fma;
+        let start = start.with_engine(|md| DeviceMd::<P>::new(md, fma))?;
         run_loop(loaded, opts, start, progress)
     }
     match loaded.scenario.run.device {

@@ -13,6 +13,12 @@ use crate::gpu;
 /// passes at once.
 pub fn check_device(loaded: &Loaded) -> Result<()> {
     let s = &loaded.scenario;
+    if s.run.gpu_fma && s.run.device != Device::Gpu {
+        return Err(Error::input(
+            "run.gpu_fma = true goes with run.device = \"gpu\" (the CPU engine and the \
+             mirror run without fused multiply-add)",
+        ));
+    }
     if s.run.device == Device::Cpu {
         return Ok(());
     }

@@ -457,6 +457,10 @@ pub struct RunSpec {
     /// they did before the key.
     #[serde(default, skip_serializing_if = "Device::is_cpu")]
     pub device: Device,
+    /// With `device = "gpu"`: the kernels compiled with fused multiply-add
+    /// (faster; deterministic, but not the CPU engine's bits: docs/gpu.md).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub gpu_fma: bool,
 }
 
 /// The processor an MD run steps on.

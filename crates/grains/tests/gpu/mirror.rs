@@ -129,6 +129,50 @@ fn bed_with_walls_same_bits_in_any_stretches() {
     assert_same_bits(&cpu, &mirror, "bed after 1500 steps");
 }
 
+/// The device's way through a full list buffer: with no room in either
+/// buffer, each first rebuild into a buffer halts the stretch after its
+/// wrap and re-sort, the host grows the buffer, and the stretch resumes at
+/// the list build. The bed with walls, re-sorted at every rebuild, in
+/// uneven stretches: the same bits as the CPU engine, and both buffers
+/// grown to hold the list they were refused.
+#[test]
+fn a_list_that_outgrows_its_buffer_resumes_with_the_same_bits() {
+    let mut cpu = bed();
+    cpu.settings.sort_every = 1;
+    let mut mirror = Mirror::from_md(&cpu).unwrap();
+    mirror.capacity = [0, 0];
+    cpu.run(1500).unwrap();
+    for n in [3, 497, 1000] {
+        mirror.advance(n).unwrap();
+    }
+    assert!(mirror.builds >= 3, "{} list builds", mirror.builds);
+    let entries = mirror.list.partner.len();
+    for (b, &cap) in mirror.capacity.iter().enumerate() {
+        assert!(
+            cap >= entries / 2 && cap < 2 * entries + 2048,
+            "buffer {b}: {cap} entries for a list of {entries}"
+        );
+    }
+    assert_same_bits(&cpu, &mirror, "bed after 1500 steps through full buffers");
+}
+
+/// The step words stop a stretch at the step the CPU engine stops: an
+/// overlap beyond the limit halts the device's stretch, and the host
+/// reports it at that step.
+#[test]
+fn an_overlap_beyond_the_limit_stops_at_the_cpu_engines_step() {
+    let mut cpu = bed();
+    cpu.settings.max_overlap_fraction = 0.002;
+    let mut mirror = Mirror::from_md(&cpu).unwrap();
+    let a = cpu.run(2000).unwrap_err().to_string();
+    let b = mirror.advance(2000).unwrap_err().to_string();
+    let at = |e: &str| e.split(" (t =").next().unwrap().to_string();
+    assert!(a.contains("overlap"), "{a}");
+    assert_eq!(at(&a), at(&b), "CPU: {a}\nmirror: {b}");
+    let step: u64 = at(&a).rsplit(' ').next().unwrap().parse().unwrap();
+    assert!(step > 100, "{a}: the check should stop a stretch midway");
+}
+
 /// The list build against all pairs and all 27 images: the same set of
 /// pairs within r_i + r_j + skin (frozen pairs left out), each in both
 /// rows with the lower index's image code, rows in the reduction's order.
@@ -249,6 +293,14 @@ fn scenario_device_gpu_is_refused_by_name() {
     }
     let plain = load_file(&path, &[]).unwrap();
     assert!(grains::scenario::device::check_device(&plain).is_ok());
+    let sets = [
+        "run.device=mirror".to_string(),
+        "run.gpu_fma=true".to_string(),
+    ];
+    let e = grains::scenario::device::check_device(&load_file(&path, &sets).unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("run.gpu_fma"), "{e}");
     let bad = load_file(&path, &["run.device=tpu".to_string()]);
     let e = match bad {
         Ok(_) => panic!("device tpu accepted"),

@@ -54,6 +54,13 @@ struct List {
     Soa3 springs;
 };
 
+// The two list buffers: the current one is l[builds % 2], the rebuild
+// fills the other.
+struct Lists {
+    List l[2];
+    u64 cap[2];
+};
+
 struct Hooke {
     double kn, gamma_n, gamma_t, kt, mu;
 };
@@ -64,13 +71,32 @@ struct Plane {
 
 #define MAX_WALLS 8
 
-// Step flags and statistics, zeroed by the host before a step:
-// [0] a grain beyond the skin, [1] a grain not finite, [2] pair-contact
-// ends, [3] wall contacts, [4] bits of the largest overlap fraction.
+// The step words (grain_kernels.rs `words`): flags and counters the
+// kernels read and write, so that a stretch of steps runs with no decision
+// on the host.
 #define ST_FAR 0
 #define ST_NONFINITE 1
 #define ST_PAIR_ENDS 2
 #define ST_WALLS 3
 #define ST_MAX_FRACTION 4
+#define ST_BUILD 5
+#define ST_SORT 6
+#define ST_BUILDS 7
+#define ST_SINCE_SORT 8
+#define ST_HALT 9
+#define ST_HALT_STEP 10
+#define ST_NEED 11
+#define ST_LEN 12
+#define HALT_OVERLAP 1
+#define HALT_NONFINITE 2
+#define HALT_OVERFLOW 3
+// A gate argument: run always (unless halted), on BUILD, on SORT.
+#define GATE_ALWAYS 0xffffffffu
+
+// Whether a gated kernel runs (grain_kernels.rs `gate`). Every thread of a
+// launch reads the same words: no kernel writes the words it is gated on.
+__device__ __forceinline__ bool gate(const u64 *st, u32 word) {
+    return st[ST_HALT] == 0 && (word == GATE_ALWAYS || st[word] != 0);
+}
 
 __device__ __forceinline__ u64 thread_index() { return (u64)blockIdx.x * blockDim.x + threadIdx.x; }

@@ -56,7 +56,9 @@ struct ForceArgs {
     u32 update;
 };
 
-extern "C" __global__ void forces(Grains g, List l, Soa3 wall_springs, ForceArgs a, u64 *st) {
+extern "C" __global__ void forces(Grains g, Lists ls, Soa3 wall_springs, ForceArgs a, u64 *st) {
+    if (!gate(st, GATE_ALWAYS)) return;
+    const List l = ls.l[st[ST_BUILDS] & 1];
     u64 gi = thread_index();
     u64 pair_ends = 0, walls = 0;
     double worst = 0.0;

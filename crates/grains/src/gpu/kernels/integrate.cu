@@ -2,13 +2,58 @@
 // per grain. Mirrors kick_drift and wrap of grain_kernels.rs.
 #include "common.cuh"
 
-// `kicks` half-kicks, then the drift if `drift`, and the skin test (a
-// grain beyond it stores 1 in st[ST_FAR]: the same value whichever thread
-// stores it). `check` tests the state after the first kick for finiteness.
+// The one-thread kernel that opens a step (grain_kernels.rs step_begin):
+// a grain found not finite halts the stretch; otherwise the rebuild and the
+// re-sort are decided and the step's flags and statistics cleared.
+extern "C" __global__ void step_begin(u64 *st, u64 step, u32 sort_every) {
+    if (thread_index() != 0 || st[ST_HALT] != 0) return;
+    if (st[ST_NONFINITE] != 0) {
+        st[ST_HALT] = HALT_NONFINITE;
+        st[ST_HALT_STEP] = step - 1;
+        return;
+    }
+    bool build = st[ST_FAR] != 0 || st[ST_BUILDS] == 0;
+    u32 since = (u32)st[ST_SINCE_SORT];
+    st[ST_BUILD] = build;
+    st[ST_SORT] = build && sort_every > 0 && since % sort_every == 0;
+    if (build) st[ST_SINCE_SORT] = (u64)(u32)(since + 1u);
+    st[ST_FAR] = 0;
+    st[ST_PAIR_ENDS] = 0;
+    st[ST_WALLS] = 0;
+    st[ST_MAX_FRACTION] = 0;
+}
+
+// A stretch starts (or resumes) unhalted.
+extern "C" __global__ void clear_halt(u64 *st) {
+    if (thread_index() != 0) return;
+    st[ST_HALT] = 0;
+    st[ST_NONFINITE] = 0;
+}
+
+// The rebuild counted, after the list, its springs and the reference
+// positions: the other list buffer becomes the current one.
+extern "C" __global__ void build_end(u64 *st) {
+    if (thread_index() != 0 || !gate(st, ST_BUILD)) return;
+    st[ST_BUILDS] += 1;
+}
+
+// First the last force evaluation's overlap against `overlap_limit`
+// (beyond it the stretch halts at `step`, unkicked: every thread reads the
+// same value and returns), then `kicks` half-kicks, the drift if `drift`,
+// and the skin test (a grain beyond it stores 1 in st[ST_FAR]: the same
+// value whichever thread stores it). `check` tests the state after the
+// first kick for finiteness.
 extern "C" __global__ void kick_drift(Grains g, double dt, double limit2, u32 kicks, u32 drift,
-                                      u32 check, u64 *st) {
+                                      u32 check, double overlap_limit, u64 step, u64 *st) {
     u64 i = thread_index();
-    if (i >= g.n) return;
+    if (i >= g.n || !gate(st, GATE_ALWAYS)) return;
+    if (__longlong_as_double((long long)st[ST_MAX_FRACTION]) > overlap_limit) {
+        if (i == 0) {
+            st[ST_HALT] = HALT_OVERLAP;
+            st[ST_HALT_STEP] = step;
+        }
+        return;
+    }
     if (g.frozen[i] == 0) {
         double half = 0.5 * dt;
         double kick = half * g.inv_mass[i];
@@ -41,9 +86,9 @@ struct Box3 {
     u32 periodic[3];
 };
 
-extern "C" __global__ void wrap_grains(Grains g, Box3 b) {
+extern "C" __global__ void wrap_grains(Grains g, Box3 b, const u64 *st) {
     u64 i = thread_index();
-    if (i >= g.n) return;
+    if (i >= g.n || !gate(st, ST_BUILD)) return;
     double p[3] = {g.pos.x[i], g.pos.y[i], g.pos.z[i]};
     for (int a = 0; a < 3; a++) {
         if (!b.periodic[a]) continue;
@@ -60,28 +105,42 @@ extern "C" __global__ void wrap_grains(Grains g, Box3 b) {
     g.pos.z[i] = p[2];
 }
 
-// dst[k] = src[order[k]], for each kind of per-grain array.
-extern "C" __global__ void gather_f64(const double *src, double *dst, const u32 *order, u64 n) {
+// What moves with a grain besides the Grains arrays.
+struct Extra {
+    u64 *id;
+    u32 *origin;
+    Soa3 wall_springs;
+};
+
+// The re-sort, gated on SORT: dst's grain k is src's grain order[k] (k
+// itself when `order` is null: the copy back from the scratch arrays).
+// The reference positions are not moved: the rebuild sets them.
+extern "C" __global__ void move_grains(Grains src, Extra xs, Grains dst, Extra xd,
+                                       const u32 *order, u32 slots, const u64 *st) {
     u64 k = thread_index();
-    if (k < n) dst[k] = src[order[k]];
+    if (k >= src.n || !gate(st, ST_SORT)) return;
+    u64 j = order ? order[k] : k;
+    set(dst.pos, k, get(src.pos, j));
+    set(dst.vel, k, get(src.vel, j));
+    set(dst.omega, k, get(src.omega, j));
+    set(dst.force, k, get(src.force, j));
+    set(dst.torque, k, get(src.torque, j));
+    dst.radius[k] = src.radius[j];
+    dst.mass[k] = src.mass[j];
+    dst.inv_mass[k] = src.inv_mass[j];
+    dst.inv_inertia[k] = src.inv_inertia[j];
+    dst.frozen[k] = src.frozen[j];
+    xd.id[k] = xs.id[j];
+    xd.origin[k] = xs.origin[j];
+    for (u32 w = 0; w < slots; w++) set(xd.wall_springs, k * slots + w, get(xs.wall_springs, j * slots + w));
 }
-extern "C" __global__ void gather_u64(const u64 *src, u64 *dst, const u32 *order, u64 n) {
+
+// Gated fills and copies of integer arrays (bins, cursors).
+extern "C" __global__ void zero_u32(u32 *dst, u64 n, const u64 *st, u32 word) {
     u64 k = thread_index();
-    if (k < n) dst[k] = src[order[k]];
+    if (k < n && gate(st, word)) dst[k] = 0;
 }
-extern "C" __global__ void gather_u32(const u32 *src, u32 *dst, const u32 *order, u64 n) {
+extern "C" __global__ void copy_u32(const u32 *src, u32 *dst, u64 n, const u64 *st, u32 word) {
     u64 k = thread_index();
-    if (k < n) dst[k] = src[order[k]];
-}
-extern "C" __global__ void gather_u8(const u8 *src, u8 *dst, const u32 *order, u64 n) {
-    u64 k = thread_index();
-    if (k < n) dst[k] = src[order[k]];
-}
-// The walls' springs: `slots` consecutive entries per grain.
-extern "C" __global__ void gather_slots(const double *src, double *dst, const u32 *order, u64 n,
-                                        u32 slots) {
-    u64 k = thread_index();
-    if (k >= n * slots) return;
-    u64 g = k / slots, w = k % slots;
-    dst[k] = src[(u64)order[g] * slots + w];
+    if (k < n && gate(st, word)) dst[k] = src[k];
 }

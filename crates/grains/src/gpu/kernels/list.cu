@@ -17,10 +17,15 @@ __device__ __forceinline__ u64 coord(const Grid &gr, int a, double x) {
     return f < top ? (u64)f : gr.dims[a] - 1;
 }
 
+// The kernels of the rebuild are gated on a step word (ST_BUILD, ST_SORT:
+// `word`), so that they are launched every step and do nothing at a step
+// without a rebuild.
+
 // Cell of each grain, and the count of each cell (integer atomics).
-extern "C" __global__ void bin_count(Grains g, Grid gr, u32 *cell, u32 *count) {
+extern "C" __global__ void bin_count(Grains g, Grid gr, u32 *cell, u32 *count, const u64 *st,
+                                     u32 word) {
     u64 i = thread_index();
-    if (i >= g.n) return;
+    if (i >= g.n || !gate(st, word)) return;
     u64 c = coord(gr, 0, g.pos.x[i]) +
             gr.dims[0] * (coord(gr, 1, g.pos.y[i]) + gr.dims[1] * coord(gr, 2, g.pos.z[i]));
     cell[i] = (u32)c;
@@ -30,7 +35,8 @@ extern "C" __global__ void bin_count(Grains g, Grid gr, u32 *cell, u32 *count) {
 // Exclusive prefix sums of `data` (n entries) in place, in three passes:
 // each block of 1024 its own, the block totals, the totals added back.
 #define SCAN_BLOCK 1024
-extern "C" __global__ void scan_local(u32 *data, u32 *sums, u64 n) {
+extern "C" __global__ void scan_local(u32 *data, u32 *sums, u64 n, const u64 *st, u32 word) {
+    if (!gate(st, word)) return;
     __shared__ u32 s[SCAN_BLOCK];
     u64 i = thread_index();
     u32 t = threadIdx.x;
@@ -48,7 +54,8 @@ extern "C" __global__ void scan_local(u32 *data, u32 *sums, u64 n) {
 }
 // One block: the block totals' exclusive sums, 1024 at a time; the grand
 // total goes to sums[nb].
-extern "C" __global__ void scan_sums(u32 *sums, u64 nb) {
+extern "C" __global__ void scan_sums(u32 *sums, u64 nb, const u64 *st, u32 word) {
+    if (!gate(st, word)) return;
     __shared__ u32 s[SCAN_BLOCK];
     __shared__ u32 carry;
     u32 t = threadIdx.x;
@@ -72,21 +79,23 @@ extern "C" __global__ void scan_sums(u32 *sums, u64 nb) {
     }
     if (t == 0) sums[nb] = carry;
 }
-extern "C" __global__ void scan_add(u32 *data, const u32 *sums, u64 n) {
+extern "C" __global__ void scan_add(u32 *data, const u32 *sums, u64 n, const u64 *st, u32 word) {
     u64 i = thread_index();
-    if (i < n) data[i] += sums[blockIdx.x];
+    if (i < n && gate(st, word)) data[i] += sums[blockIdx.x];
 }
 
 // Fill the bins in whatever order the threads come, then sort each cell.
-extern "C" __global__ void bin_fill(const u32 *cell, u32 *cursor, u32 *members, u64 n) {
+extern "C" __global__ void bin_fill(const u32 *cell, u32 *cursor, u32 *members, u64 n,
+                                    const u64 *st, u32 word) {
     u64 i = thread_index();
-    if (i >= n) return;
+    if (i >= n || !gate(st, word)) return;
     u32 slot = atomicAdd(&cursor[cell[i]], 1u);
     members[slot] = (u32)i;
 }
-extern "C" __global__ void bin_sort(const u32 *start, u32 *members, u64 ncells) {
+extern "C" __global__ void bin_sort(const u32 *start, u32 *members, u64 ncells, const u64 *st,
+                                    u32 word) {
     u64 c = thread_index();
-    if (c >= ncells) return;
+    if (c >= ncells || !gate(st, word)) return;
     u32 a = start[c], b = start[c + 1];
     for (u32 k = a + 1; k < b; k++) {
         u32 x = members[k];
@@ -188,10 +197,12 @@ __device__ __forceinline__ AxisCells axis_cells(u64 n, u32 periodic, u64 c) {
                 }                                                                                \
     }
 
-// Partners of each grain; the host scans them into row starts.
-extern "C" __global__ void list_count(Grains g, ListArgs a, u32 *count) {
+// Partners of each grain (count[n] = 0: the scan makes it the total);
+// scanned into row starts.
+extern "C" __global__ void list_count(Grains g, ListArgs a, u32 *count, const u64 *st) {
     u32 i = (u32)thread_index();
-    if (i >= g.n) return;
+    if (i >= g.n || !gate(st, ST_BUILD)) return;
+    if (i == 0) count[g.n] = 0;
     u32 c = 0;
 #define COUNT_ONE(p, code) c++
     VISIT_PARTNERS(COUNT_ONE)
@@ -205,17 +216,34 @@ __device__ __forceinline__ u64 row_key(u32 g, u32 p, u32 block) {
     return (2ull << 32) | p;
 }
 
-extern "C" __global__ void list_fill(Grains g, ListArgs a, List l) {
+// The rows into the other buffer, from the scanned counts `start`; when
+// they do not fit its capacity, a halt at `step` with the entries needed
+// (every thread reads the same total and returns).
+extern "C" __global__ void list_fill(Grains g, ListArgs a, Lists ls, const u32 *start, u64 step,
+                                     u64 *st) {
     u32 i = (u32)thread_index();
-    if (i >= g.n) return;
-    u32 k = l.start[i];
+    if (i >= g.n || !gate(st, ST_BUILD)) return;
+    u32 next = (u32)((st[ST_BUILDS] + 1) & 1);
+    u64 total = start[g.n];
+    if (total > ls.cap[next]) {
+        if (i == 0) {
+            st[ST_HALT] = HALT_OVERFLOW;
+            st[ST_HALT_STEP] = step;
+            st[ST_NEED] = total;
+        }
+        return;
+    }
+    List l = ls.l[next];
+    l.start[i] = start[i];
+    if (i + 1 == g.n) l.start[g.n] = start[g.n];
+    u32 k = start[i];
 #define FILL_ONE(p, code)                                   \
     l.partner[k] = p;                                       \
     l.image[k] = (u8)(p > i ? code : 26 - code);            \
     k++
     VISIT_PARTNERS(FILL_ONE)
     // The row in the reduction's order: a stable insertion sort in place.
-    u32 r0 = l.start[i], r1 = l.start[i + 1];
+    u32 r0 = start[i], r1 = start[i + 1];
     for (u32 e = r0 + 1; e < r1; e++) {
         u32 p = l.partner[e];
         u8 code = l.image[e];
@@ -232,14 +260,18 @@ extern "C" __global__ void list_fill(Grains g, ListArgs a, List l) {
 }
 
 // Each new entry's spring from the old list (old_of: old index of each
-// grain), negated when the pair's lower index changed sides.
-extern "C" __global__ void remap_springs(u32 n, List nl, List ol, const u32 *old_of) {
+// grain after a re-sort), negated when the pair's lower index changed
+// sides; and the grain's reference position for the skin test.
+extern "C" __global__ void remap_springs(Grains gr, Lists ls, const u32 *old_of, const u64 *st) {
     u32 g = (u32)thread_index();
-    if (g >= n) return;
-    u32 og = old_of[g];
+    if (g >= gr.n || !gate(st, ST_BUILD)) return;
+    u32 cur = (u32)(st[ST_BUILDS] & 1);
+    List nl = ls.l[cur ^ 1u], ol = ls.l[cur];
+    bool sorted = st[ST_SORT] != 0;
+    u32 og = sorted ? old_of[g] : g;
     for (u32 e = nl.start[g]; e < nl.start[g + 1]; e++) {
         u32 p = nl.partner[e];
-        u32 op = old_of[p];
+        u32 op = sorted ? old_of[p] : p;
         v3 s = mk(0.0, 0.0, 0.0);
         for (u32 k = ol.start[og]; k < ol.start[og + 1]; k++) {
             if (ol.partner[k] == op) {
@@ -250,4 +282,5 @@ extern "C" __global__ void remap_springs(u32 n, List nl, List ol, const u32 *old
         }
         set(nl.springs, e, s);
     }
+    set(gr.reference, g, get(gr.pos, g));
 }
