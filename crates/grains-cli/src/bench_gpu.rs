@@ -4,7 +4,7 @@
 //! every grain's bits (with `--fma`: a second GPU run), docs/gpu.md.
 
 use crate::bench::BenchArgs;
-use grains::gpu::mirror::Mirror;
+use grains::gpu::mirror::{CellOrder, Mirror};
 use grains::scenario::{build_md, Loaded};
 use grains::{Error, Result, D3};
 use serde_json::json;
@@ -32,7 +32,15 @@ pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
     }
     let setup = Instant::now();
     let (md, _) = build_md::<D3>(loaded)?;
-    let mirror = Mirror::from_md(&md)?;
+    let order = if args.cpu_order {
+        CellOrder::Cpu
+    } else {
+        CellOrder::Morton
+    };
+    let mut mirror = Mirror::from_md_in(&md, order)?;
+    if let Some(every) = args.sort_every {
+        mirror.params.sort_every = every;
+    }
     let mobile = md.particles.n_mobile();
     drop(md);
     let (wall, memory, verified) = if device == "mirror" {
@@ -58,6 +66,8 @@ pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
                 "same_bits_as_mirror": verified.filter(|_| !args.fma),
                 "same_bits_on_rerun": verified.filter(|_| args.fma),
                 "fma": args.fma, "sync_each_step": args.sync_each_step,
+                "cell_order": if args.cpu_order { "cpu" } else { "morton" },
+                "sort_every": args.sort_every,
             })
         );
     } else {

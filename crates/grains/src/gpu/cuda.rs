@@ -19,26 +19,7 @@ use cudarc::driver::{
     CudaContext, CudaFunction, CudaSlice, CudaStream, DevicePtr, DeviceRepr, LaunchConfig,
     PushKernelArg,
 };
-use cudarc::nvrtc::Ptx;
 use std::sync::Arc;
-
-/// The checked-in PTX, without fused multiply-add (the CPU engine's bits).
-const PTX: [(&str, &str); 3] = [
-    ("integrate", include_str!("kernels/ptx/integrate.ptx")),
-    ("list", include_str!("kernels/ptx/list.ptx")),
-    ("forces", include_str!("kernels/ptx/forces.ptx")),
-];
-
-/// The same kernels with fused multiply-add (`--fmad=true`): faster, the
-/// same bits for any launch, not the CPU engine's bits (docs/gpu.md).
-const PTX_FMA: [(&str, &str); 3] = [
-    (
-        "integrate.fma",
-        include_str!("kernels/ptx/integrate.fma.ptx"),
-    ),
-    ("list.fma", include_str!("kernels/ptx/list.fma.ptx")),
-    ("forces.fma", include_str!("kernels/ptx/forces.fma.ptx")),
-];
 
 /// How the engine runs.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -59,10 +40,6 @@ const THREADS: u32 = 128;
 const SCAN: u32 = 1024;
 pub use super::kernel_params::MAX_WALLS;
 
-fn gpu_err(what: &str, e: impl std::fmt::Debug) -> Error {
-    Error::input(format!("GPU engine: {what}: {e:?}"))
-}
-
 /// A vector per grain or entry on the device.
 struct Dev3([CudaSlice<f64>; 3]);
 
@@ -82,6 +59,8 @@ struct Kernels {
     scan_add: CudaFunction,
     bin_fill: CudaFunction,
     bin_sort: CudaFunction,
+    place_counts: CudaFunction,
+    sort_slots: CudaFunction,
     list_count: CudaFunction,
     list_fill: CudaFunction,
     remap: CudaFunction,
@@ -124,8 +103,11 @@ struct Work {
     cursor: CudaSlice<u32>,
     members: CudaSlice<u32>,
     order: CudaSlice<u32>,
-    /// Partners per grain, scanned into the new list's row starts.
+    /// Partners per grain, scanned into the new list's row starts; the
+    /// re-sort's new ranks.
     counts: CudaSlice<u32>,
+    /// The sort grid's cells' places in the stored order.
+    places: CudaSlice<u32>,
     /// The scans' block totals.
     sums: CudaSlice<u32>,
 }
@@ -143,52 +125,14 @@ pub struct Cuda {
     /// Where a re-sort gathers to before copying back.
     scratch: GrainSet,
     reference: Dev3,
+    /// Each grain's index in the CPU engine's order, and by old index
+    /// before the last re-sort.
+    rank: CudaSlice<u32>,
+    rank_before: CudaSlice<u32>,
     lists: [DevList; 2],
     work: Work,
     /// The step words ([`words`]).
     st: CudaSlice<u64>,
-}
-
-/// Loads one PTX file. NVRTC 13.5 writes PTX ISA 9.5, which a driver older
-/// than CUDA 13.5 refuses; the kernels use nothing newer than ISA 8.0
-/// (CUDA 12.0), so on refusal the file is loaded again with its `.version`
-/// lowered to what the driver reads (8.0 for 12.x, 9.0 for 13.x), with a
-/// note on stderr.
-fn load_ptx(
-    ctx: &Arc<CudaContext>,
-    name: &str,
-    ptx: &str,
-) -> Result<Arc<cudarc::driver::CudaModule>> {
-    let first = match ctx.load_module(Ptx::from_src(ptx)) {
-        Ok(m) => return Ok(m),
-        Err(e) => e,
-    };
-    let mut driver = 0;
-    // SAFETY: writes one int; the driver library is loaded (the context exists).
-    unsafe { cudarc::driver::sys::cuDriverGetVersion(&mut driver) };
-    let isa = if driver >= 13000 { "9.0" } else { "8.0" };
-    let lowered: String = ptx
-        .lines()
-        .map(|l| {
-            if l.starts_with(".version ") {
-                format!(".version {isa}\n")
-            } else {
-                format!("{l}\n")
-            }
-        })
-        .collect();
-    eprintln!(
-        "grains: {name}.ptx refused by driver {driver} ({first:?}); loading it as PTX ISA {isa}"
-    );
-    ctx.load_module(Ptx::from_src(lowered)).map_err(|e| {
-        gpu_err(
-            &format!(
-                "loading {name}.ptx (driver {driver}; also as PTX ISA {isa}): rebuild the PTX \
-                 with an NVRTC no newer than the driver (tools/make_ptx.py)"
-            ),
-            e,
-        )
-    })
 }
 
 fn cfg(n: usize, threads: u32) -> LaunchConfig {
@@ -274,6 +218,8 @@ impl Cuda {
             scan_add: f(1, "scan_add")?,
             bin_fill: f(1, "bin_fill")?,
             bin_sort: f(1, "bin_sort")?,
+            place_counts: f(1, "place_counts")?,
+            sort_slots: f(1, "sort_slots")?,
             list_count: f(1, "list_count")?,
             list_fill: f(1, "list_fill")?,
             remap: f(1, "remap_springs")?,
@@ -374,6 +320,7 @@ impl Cuda {
             members: zeros(&stream, n)?,
             order: zeros(&stream, n)?,
             counts: zeros(&stream, n + 1)?,
+            places: up(&stream, &p.places)?,
             sums: zeros(&stream, longest.div_ceil(SCAN as usize) + 1)?,
         };
         let mut st0 = [0u64; words::LEN];
@@ -384,6 +331,8 @@ impl Cuda {
         let st = stream.clone_htod(&st0).map_err(|e| gpu_err("upload", e))?;
         Ok(Self {
             reference: up3(&host.reference)?,
+            rank: up(&stream, &host.rank)?,
+            rank_before: up(&stream, &host.rank)?,
             grains,
             scratch,
             lists,
@@ -431,6 +380,7 @@ impl Cuda {
             inv_mass: self.ptr(&s.inv_mass),
             inv_inertia: self.ptr(&s.inv_inertia),
             frozen: self.ptr(&s.frozen),
+            rank: self.ptr(&self.rank),
             n: self.n() as u32,
         }
     }
@@ -598,7 +548,7 @@ impl Cuda {
     }
 
     /// Bins the grains into `grid`, gated on `word`: the cell of each
-    /// grain and the cell starts in the work arrays, the members (ascending
+    /// grain and the cell starts in the work arrays, the members (by rank
     /// in each cell) in `members`.
     fn bin(&self, grid: &Grid, members: u64, word: u32) -> Result<()> {
         let w = &self.work;
@@ -617,13 +567,14 @@ impl Cuda {
         self.scan(start, ncells + 1, word)?;
         launch!(self, copy_u32, cfg(ncells + 1, THREADS); &start, &cursor, &len, &st, &word)?;
         launch!(self, bin_fill, cfg(n, THREADS); &cell, &cursor, &members, &n64, &st, &word)?;
-        launch!(self, bin_sort, cfg(ncells, THREADS); &start, &members, &nc, &st, &word)
+        let rank = self.ptr(&self.rank);
+        launch!(self, bin_sort, cfg(ncells, THREADS); &start, &members, &nc, &rank, &st, &word)
     }
 
     /// The rebuild's first part (gated on BUILD): the wrap, and on SORT
-    /// the re-sort, gathered into the scratch arrays and copied back. With
-    /// `sort` false the re-sort's launches are left out (the host knows
-    /// none is due).
+    /// the re-sort (the mirror's `sort_slots`), gathered into the scratch
+    /// arrays and copied back, the new ranks copied in. With `sort` false
+    /// the re-sort's launches are left out (the host knows none is due).
     fn wrap_sort(&self, sort: bool) -> Result<()> {
         let p = &self.host.params;
         let bx = Box3P {
@@ -637,8 +588,27 @@ impl Cuda {
         if !sort {
             return Ok(());
         }
-        let order = self.ptr(&self.work.order);
-        self.bin(&p.sort_grid, order, ON_SORT)?;
+        let w = &self.work;
+        let (members, order, cell, start, first, new_rank) = (
+            self.ptr(&w.members),
+            self.ptr(&w.order),
+            self.ptr(&w.cell),
+            self.ptr(&w.start),
+            self.ptr(&w.cursor),
+            self.ptr(&w.counts),
+        );
+        let (places, rank, before) = (
+            self.ptr(&w.places),
+            self.ptr(&self.rank),
+            self.ptr(&self.rank_before),
+        );
+        let ncells = p.sort_grid.ncells();
+        let (n, nc) = (self.n() as u64, ncells as u64);
+        self.bin(&p.sort_grid, members, ON_SORT)?;
+        launch!(self, place_counts, cfg(ncells, THREADS); &start, &places, &first, &nc, &st)?;
+        self.scan(first, ncells + 1, ON_SORT)?;
+        launch!(self, sort_slots, cfg(self.n(), THREADS);
+            &members, &cell, &start, &places, &first, &rank, &before, &order, &new_rank, &n, &st)?;
         let (xg, s, xs) = (
             self.extra_p(&self.grains),
             self.grains_p(&self.scratch),
@@ -647,7 +617,8 @@ impl Cuda {
         let slots = p.walls.len() as u32;
         let none = 0u64;
         launch!(self, move_grains, cfg(self.n(), THREADS); &g, &xg, &s, &xs, &order, &slots, &st)?;
-        launch!(self, move_grains, cfg(self.n(), THREADS); &s, &xs, &g, &xg, &none, &slots, &st)
+        launch!(self, move_grains, cfg(self.n(), THREADS); &s, &xs, &g, &xg, &none, &slots, &st)?;
+        launch!(self, copy_u32, cfg(self.n(), THREADS); &new_rank, &rank, &n, &st, &ON_SORT)
     }
 
     /// The rebuild's second part (gated on BUILD): bins of the list grid,
@@ -679,8 +650,8 @@ impl Cuda {
         launch!(self, list_count, cfg(n, THREADS); &g, &args, &counts, &st)?;
         self.scan(counts, n + 1, ON_BUILD)?;
         launch!(self, list_fill, cfg(n, THREADS); &g, &args, &lists, &counts, &step, &st)?;
-        let order = self.ptr(&self.work.order);
-        launch!(self, remap, cfg(n, THREADS); &g, &lists, &order, &st)?;
+        let (order, before) = (self.ptr(&self.work.order), self.ptr(&self.rank_before));
+        launch!(self, remap, cfg(n, THREADS); &g, &lists, &order, &before, &st)?;
         launch!(self, build_end, ONE; &st)
     }
 
@@ -730,6 +701,7 @@ impl Cuda {
         m.frozen = s.clone_dtoh(&g.frozen).map_err(e)?;
         m.id = s.clone_dtoh(&g.id).map_err(e)?;
         m.origin = s.clone_dtoh(&g.origin).map_err(e)?;
+        m.rank = s.clone_dtoh(&self.rank).map_err(e)?;
         let slots = m.len() * m.params.walls.len();
         m.wall_springs = down3(&g.wall_springs)?;
         for c in [

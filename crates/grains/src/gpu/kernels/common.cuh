@@ -39,11 +39,14 @@ __device__ __forceinline__ void set(Soa3 s, u64 i, v3 v) {
     s.z[i] = v.z;
 }
 
-// The grains, in cell order.
+// The grains, in cell order (Morton or the CPU engine's); rank: each
+// grain's index in the CPU engine's order, which orients the pairs and
+// orders the rows.
 struct Grains {
     Soa3 pos, vel, omega, force, torque, reference;
     double *radius, *mass, *inv_mass, *inv_inertia;
     u8 *frozen;
+    u32 *rank;
     u32 n;
 };
 
