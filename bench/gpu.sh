@@ -65,10 +65,11 @@ step 120 chute --device gpu --steps 1000 --verify --sort-every 2
 step 60 bed3d --device gpu --particles 20000 --steps 300 --verify --sort-every 2
 step 60 chute --device gpu --steps 300 --verify --sort-every 2 --cpu-order
 step 60 chute --device gpu --steps 300 --verify --sync-each-step
+step 60 chute --device gpu --steps 300 --verify --graph --sort-every 2
 step 60 chute --device gpu --steps 300 --verify --fma --sort-every 2
 
 # 2. Throughput. Set-up (scenario, CPU engine, upload) is not timed.
-for mode in "" --sync-each-step --fma --cpu-order; do
+for mode in "" --sync-each-step --graph --fma --cpu-order; do
     step 60 chute --device gpu --steps 3000 $mode
 done
 step 150 bed3d --device gpu --particles 1000000 --steps 300
@@ -87,6 +88,7 @@ for line in open(sys.argv[1]):
     same = r.get("same_bits_as_mirror")
     rerun = r.get("same_bits_on_rerun")
     mode = "fma" if r.get("fma") else "sync" if r.get("sync_each_step") else "-"
+    mode += "+graph" if r.get("graph") else ""
     mode += "/" + str(r.get("cell_order"))
     print(f'{r["workload"]:6} {r["particles"]:>9} grains {r["steps"]:>5} steps {mode:10}: '
           f'{r["particle_steps_per_second"]:.3e} particle-steps/s, '

@@ -63,6 +63,10 @@ pub struct BenchArgs {
     /// launches with no look at the device until the end.
     #[arg(long)]
     pub(crate) sync_each_step: bool,
+    /// With --device gpu: launch the steps of a stretch by sixteen as one
+    /// CUDA graph (not with --sync-each-step).
+    #[arg(long)]
+    pub(crate) graph: bool,
     /// With --device gpu|mirror: store the grains in the CPU engine's cell
     /// order instead of Morton order (the same bits either way).
     #[arg(long)]
@@ -228,12 +232,13 @@ pub fn run(args: BenchArgs) -> Result<()> {
         Some("gpu") | Some("mirror") => return crate::bench_gpu::run(&args, &loaded, steps),
         _ if args.verify
             || args.fma
+            || args.graph
             || args.sync_each_step
             || args.cpu_order
             || args.sort_every.is_some() =>
         {
             return Err(Error::input(
-                "--verify, --fma, --sync-each-step, --cpu-order and --sort-every go with \
+                "--verify, --fma, --graph, --sync-each-step, --cpu-order and --sort-every go with \
                  --device gpu (the last two also with --device mirror)",
             ))
         }

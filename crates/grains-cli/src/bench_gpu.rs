@@ -25,9 +25,9 @@ pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
     if device == "gpu" && !cfg!(feature = "cuda") {
         return Err(Error::input(grains::gpu::NO_FEATURE));
     }
-    if device == "mirror" && (args.fma || args.sync_each_step || args.verify) {
+    if device == "mirror" && (args.fma || args.graph || args.sync_each_step || args.verify) {
         return Err(Error::input(
-            "--verify, --fma and --sync-each-step go with --device gpu",
+            "--verify, --fma, --graph and --sync-each-step go with --device gpu",
         ));
     }
     let setup = Instant::now();
@@ -65,7 +65,7 @@ pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
                 "device_memory_total_bytes": memory.map(|m: (usize, usize)| m.1),
                 "same_bits_as_mirror": verified.filter(|_| !args.fma),
                 "same_bits_on_rerun": verified.filter(|_| args.fma),
-                "fma": args.fma, "sync_each_step": args.sync_each_step,
+                "fma": args.fma, "sync_each_step": args.sync_each_step, "graph": args.graph,
                 "cell_order": if args.cpu_order { "cpu" } else { "morton" },
                 "sort_every": args.sort_every,
             })
@@ -109,6 +109,7 @@ fn gpu(mirror: Mirror, steps: u64, args: &BenchArgs) -> Result<Timed> {
     let options = Options {
         fma: args.fma,
         sync_each_step: args.sync_each_step,
+        graph: args.graph,
     };
     let reference = args.verify.then(|| mirror.clone());
     let mut engine = Cuda::with(mirror, options)?;

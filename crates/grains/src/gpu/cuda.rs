@@ -16,8 +16,7 @@ use super::kernel_params::*;
 use super::mirror::Mirror;
 use crate::error::{Error, Result};
 use cudarc::driver::{
-    CudaContext, CudaFunction, CudaSlice, CudaStream, DevicePtr, DeviceRepr, LaunchConfig,
-    PushKernelArg,
+    CudaContext, CudaFunction, CudaGraph, CudaSlice, CudaStream, DevicePtr, PushKernelArg,
 };
 use std::sync::Arc;
 
@@ -31,6 +30,11 @@ pub struct Options {
     /// synchronisation per step instead of some twenty gated launches; the
     /// same bits either way. For measuring which costs less.
     pub sync_each_step: bool,
+    /// Launch the steps of a stretch by sixteen as one CUDA graph
+    /// (`--graph`): one launch instead of some four hundred, on a stream
+    /// of its own (the legacy default stream cannot be captured); the
+    /// same bits. Not with `sync_each_step`.
+    pub graph: bool,
 }
 
 /// Threads per block of the per-grain kernels (whole warps: the force
@@ -133,22 +137,21 @@ pub struct Cuda {
     work: Work,
     /// The step words ([`words`]).
     st: CudaSlice<u64>,
+    /// [`GRAPH_STEPS`] steps captured ([`Options::graph`]).
+    graph: Option<Graph>,
 }
 
-fn cfg(n: usize, threads: u32) -> LaunchConfig {
-    LaunchConfig {
-        grid_dim: ((n as u32).div_ceil(threads).max(1), 1, 1),
-        block_dim: (threads, 1, 1),
-        shared_mem_bytes: 0,
-    }
-}
+/// A captured graph, owned by one engine.
+struct Graph(CudaGraph);
 
-/// One thread.
-const ONE: LaunchConfig = LaunchConfig {
-    grid_dim: (1, 1, 1),
-    block_dim: (1, 1, 1),
-    shared_mem_bytes: 0,
-};
+// SAFETY: CUDA graph objects are not internally synchronised and must not
+// be used from two threads at once; a Graph is reached only through its
+// engine's `&mut self`, so moving the engine to another thread keeps every
+// use serialised.
+unsafe impl Send for Graph {}
+
+/// Steps in one graph launch.
+pub const GRAPH_STEPS: u64 = 16;
 
 /// The gate arguments of the rebuild's kernels (GATE_* and ST_* of
 /// common.cuh).
@@ -177,6 +180,11 @@ impl Cuda {
 
     /// Uploads `m` to device 0 and loads the kernels `options` name.
     pub fn with(m: Mirror, options: Options) -> Result<Self> {
+        if options.graph && options.sync_each_step {
+            return Err(Error::input(
+                "GPU engine: a graph of steps and a read after each step exclude each other",
+            ));
+        }
         if m.params.walls.len() > MAX_WALLS {
             return Err(Error::input(format!(
                 "run.device = \"gpu\": {} walls; the GPU engine takes at most {MAX_WALLS}",
@@ -193,7 +201,11 @@ impl Cuda {
         // One stream, launches in order: cudarc's per-buffer events would
         // only cost time.
         unsafe { ctx.disable_event_tracking() };
-        let stream = ctx.default_stream();
+        let stream = if options.graph {
+            ctx.new_stream().map_err(|e| gpu_err("stream", e))?
+        } else {
+            ctx.default_stream()
+        };
         let mut modules = Vec::new();
         for (name, ptx) in if options.fma { PTX_FMA } else { PTX } {
             modules.push(load_ptx(&ctx, name, ptx)?);
@@ -328,6 +340,7 @@ impl Cuda {
         st0[words::SINCE_SORT] = host.rebuilds_since_sort as u64;
         st0[words::WALLS] = host.stats.contacts;
         st0[words::MAX_FRACTION] = host.stats.max_fraction.to_bits();
+        st0[words::STEP] = host.step;
         let st = stream.clone_htod(&st0).map_err(|e| gpu_err("upload", e))?;
         Ok(Self {
             reference: up3(&host.reference)?,
@@ -338,6 +351,7 @@ impl Cuda {
             lists,
             work,
             st,
+            graph: None,
             host,
             options,
             stream,
@@ -421,13 +435,13 @@ impl Cuda {
     }
 
     /// The integration kernel (see [`Mirror::advance`]'s kick pass).
-    fn kick(&self, kicks: u32, drift: bool, check: bool, limit: f64, step: u64) -> Result<()> {
+    fn kick(&self, kicks: u32, drift: bool, check_every: u64, limit: f64) -> Result<()> {
         let g = self.grains_p(&self.grains);
         let p = &self.host.params;
         let (dt, limit2) = (p.dt, 0.25 * p.skin * p.skin);
-        let (drift, check, st) = (drift as u32, check as u32, self.ptr(&self.st));
+        let (drift, st) = (drift as u32, self.ptr(&self.st));
         launch!(self, kick_drift, cfg(self.n(), THREADS);
-            &g, &dt, &limit2, &kicks, &drift, &check, &limit, &step, &st)
+            &g, &dt, &limit2, &kicks, &drift, &check_every, &limit, &st)
     }
 
     fn forces(&self) -> Result<()> {
@@ -480,8 +494,9 @@ impl Cuda {
         }
         let target = self.host.step + n;
         let st = self.ptr(&self.st);
-        launch!(self, clear_halt, ONE; &st)?;
-        self.kick(1, true, false, f64::INFINITY, self.host.step)?;
+        let step = self.host.step;
+        launch!(self, clear_halt, ONE; &st, &step)?;
+        self.kick(1, true, 0, f64::INFINITY)?;
         let mut resume = false;
         loop {
             self.enqueue(target, resume)?;
@@ -489,7 +504,9 @@ impl Cuda {
             match self.host.finish(target)? {
                 Some(next) => {
                     self.grow(next, list_capacity(self.host.st[words::NEED] as usize))?;
-                    launch!(self, clear_halt, ONE; &st)?;
+                    // The halted step has begun: its count stands.
+                    let step = self.host.step + 1;
+                    launch!(self, clear_halt, ONE; &st, &step)?;
                     resume = true;
                 }
                 None => return Ok(()),
@@ -497,33 +514,82 @@ impl Cuda {
         }
     }
 
+    /// One step's launches after the first (none is the stretch's last):
+    /// the same every step, all decisions on the step words.
+    fn plain_step(&self) -> Result<()> {
+        let p = &self.host.params;
+        let (st, sort_every) = (self.ptr(&self.st), p.sort_every);
+        launch!(self, step_begin, ONE; &st, &sort_every)?;
+        self.wrap_sort(true)?;
+        self.list_build()?;
+        self.forces()?;
+        self.kick(2, true, p.nan_check_every, p.max_overlap_fraction)
+    }
+
+    /// [`GRAPH_STEPS`] plain steps as a CUDA graph, captured at first use
+    /// (and again after a list buffer moved).
+    fn graph(&mut self) -> Result<&CudaGraph> {
+        if self.graph.is_none() {
+            let mode =
+                cudarc::driver::sys::CUstreamCaptureMode::CU_STREAM_CAPTURE_MODE_THREAD_LOCAL;
+            self.stream
+                .begin_capture(mode)
+                .map_err(|e| gpu_err("graph capture", e))?;
+            let mut captured = Ok(());
+            for _ in 0..GRAPH_STEPS {
+                captured = captured.and_then(|_| self.plain_step());
+            }
+            let flags = cudarc::driver::sys::CUgraphInstantiate_flags(0);
+            let graph = self
+                .stream
+                .end_capture(flags)
+                .map_err(|e| gpu_err("graph capture", e))?;
+            captured?;
+            let graph = graph.ok_or_else(|| gpu_err("graph capture", "empty graph"))?;
+            graph.upload().map_err(|e| gpu_err("graph upload", e))?;
+            self.graph = Some(Graph(graph));
+        }
+        Ok(&self.graph.as_ref().expect("captured above").0)
+    }
+
     /// The mirror's `enqueue`: the launches of the steps up to `target`.
     /// With [`Options::sync_each_step`] the host reads the words after
-    /// each step and leaves out the launches that the words would gate off.
-    fn enqueue(&self, target: u64, mut resume: bool) -> Result<()> {
-        let p = &self.host.params;
+    /// each step and leaves out the launches that the words would gate off;
+    /// with [`Options::graph`] the steps between the first and the last go
+    /// by [`GRAPH_STEPS`] as one graph launch.
+    fn enqueue(&mut self, target: u64, resume: bool) -> Result<()> {
+        let p = self.host.params.clone();
         let (limit, every) = (p.max_overlap_fraction, p.nan_check_every);
         let st = self.ptr(&self.st);
         let (mut build, mut sort) = (true, true);
         let mut step = self.host.step;
+        let mut first = true;
         loop {
+            if !first && self.options.graph && target - step > GRAPH_STEPS {
+                self.graph()?
+                    .launch()
+                    .map_err(|e| gpu_err("graph launch", e))?;
+                step += GRAPH_STEPS;
+                continue;
+            }
             step += 1;
-            if !resume {
+            let resumed = first && resume;
+            first = false;
+            if !resumed {
                 let sort_every = p.sort_every;
-                launch!(self, step_begin, ONE; &st, &step, &sort_every)?;
+                launch!(self, step_begin, ONE; &st, &sort_every)?;
                 if build {
                     self.wrap_sort(sort)?;
                 }
             }
-            if build || resume {
-                self.list_build(step)?;
+            if build || resumed {
+                self.list_build()?;
             }
-            resume = false;
             self.forces()?;
             if step == target {
                 break;
             }
-            self.kick(2, true, step.is_multiple_of(every), limit, step)?;
+            self.kick(2, true, every, limit)?;
             if self.options.sync_each_step {
                 let w = self.read_st()?;
                 if w[words::HALT] != 0 {
@@ -534,7 +600,7 @@ impl Cuda {
                 sort = build && p.sort_every > 0 && since.is_multiple_of(p.sort_every);
             }
         }
-        self.kick(1, false, target.is_multiple_of(every), limit, target)
+        self.kick(1, false, every, limit)
     }
 
     /// Exclusive sums of `data` (`len` entries, the last a zero count that
@@ -625,7 +691,7 @@ impl Cuda {
     /// the rows counted and scanned, filled into the other list buffer (or
     /// a halt when they do not fit), the springs remapped, the build
     /// counted.
-    fn list_build(&self, step: u64) -> Result<()> {
+    fn list_build(&self) -> Result<()> {
         let p = &self.host.params;
         let n = self.n();
         let members = self.ptr(&self.work.members);
@@ -649,7 +715,7 @@ impl Cuda {
         let counts = self.ptr(&self.work.counts);
         launch!(self, list_count, cfg(n, THREADS); &g, &args, &counts, &st)?;
         self.scan(counts, n + 1, ON_BUILD)?;
-        launch!(self, list_fill, cfg(n, THREADS); &g, &args, &lists, &counts, &step, &st)?;
+        launch!(self, list_fill, cfg(n, THREADS); &g, &args, &lists, &counts, &st)?;
         let (order, before) = (self.ptr(&self.work.order), self.ptr(&self.rank_before));
         launch!(self, remap, cfg(n, THREADS); &g, &lists, &order, &before, &st)?;
         launch!(self, build_end, ONE; &st)
@@ -664,6 +730,8 @@ impl Cuda {
         l.image = zeros(s, cap)?;
         l.springs = Dev3([zeros(s, cap)?, zeros(s, cap)?, zeros(s, cap)?]);
         self.host.capacity[which] = cap;
+        // The graph holds the old buffer's addresses.
+        self.graph = None;
         Ok(())
     }
 
@@ -727,21 +795,4 @@ impl Cuda {
         }
         Ok(m)
     }
-}
-
-/// A host array on the device (an empty one as one zero: no buffer is
-/// allocated empty).
-fn up<T: DeviceRepr + Default + Copy>(s: &Arc<CudaStream>, v: &[T]) -> Result<CudaSlice<T>> {
-    let pad = [T::default()];
-    let v = if v.is_empty() { &pad[..] } else { v };
-    s.clone_htod(v).map_err(|e| gpu_err("upload", e))
-}
-
-/// `len` zeros on the device (at least one).
-fn zeros<T: DeviceRepr + cudarc::driver::ValidAsZeroBits>(
-    s: &Arc<CudaStream>,
-    len: usize,
-) -> Result<CudaSlice<T>> {
-    s.alloc_zeros::<T>(len.max(1))
-        .map_err(|e| gpu_err("alloc", e))
 }

@@ -670,7 +670,10 @@ pub mod words {
     pub const HALT: usize = 9;
     pub const HALT_STEP: usize = 10;
     pub const NEED: usize = 11;
-    pub const LEN: usize = 12;
+    /// Steps taken: the launches of a step read it rather than take it as
+    /// an argument, so that every step launches the same (a CUDA graph).
+    pub const STEP: usize = 12;
+    pub const LEN: usize = 13;
 
     /// HALT's values.
     pub const HALT_OVERLAP: u64 = 1;
@@ -685,21 +688,22 @@ pub fn gate(st: &[u64; words::LEN], word: Option<usize>) -> bool {
     st[words::HALT] == 0 && word.is_none_or(|w| st[w] != 0)
 }
 
-/// The one-thread kernel that opens step `step`: a grain found not finite
-/// by the last kick halts the stretch (at the step before); otherwise the
-/// rebuild (a grain beyond the skin test, or no list yet) and the re-sort
-/// (every `sort_every` rebuilds) are decided, and the step's flags and
-/// statistics cleared.
-pub fn step_begin(st: &mut [u64; words::LEN], step: u64, sort_every: u32) {
+/// The one-thread kernel that opens the next step: a grain found not
+/// finite by the last kick halts the stretch (at the step before);
+/// otherwise the step is counted, the rebuild (a grain beyond the skin
+/// test, or no list yet) and the re-sort (every `sort_every` rebuilds)
+/// decided, and the step's flags and statistics cleared.
+pub fn step_begin(st: &mut [u64; words::LEN], sort_every: u32) {
     use words::*;
     if st[HALT] != 0 {
         return;
     }
     if st[NONFINITE] != 0 {
         st[HALT] = HALT_NONFINITE;
-        st[HALT_STEP] = step - 1;
+        st[HALT_STEP] = st[STEP];
         return;
     }
+    st[STEP] += 1;
     let build = st[FAR] != 0 || st[BUILDS] == 0;
     let since = st[SINCE_SORT] as u32;
     st[BUILD] = build as u64;

@@ -1,11 +1,12 @@
 //! What the host hands the CUDA kernels (feature `cuda`): their PTX,
-//! checked in and loaded by the driver, and their parameter structs, laid
-//! out as the structs of `kernels/common.cuh` and the `.cu` files (plain
-//! `#[repr(C)]` numbers and device addresses, passed by value).
+//! checked in and loaded by the driver; their parameter structs, laid out
+//! as the structs of `kernels/common.cuh` and the `.cu` files (plain
+//! `#[repr(C)]` numbers and device addresses, passed by value); launch
+//! shapes and buffers.
 
 use super::grain_kernels::Grid;
 use crate::error::{Error, Result};
-use cudarc::driver::{CudaContext, DeviceRepr};
+use cudarc::driver::{CudaContext, CudaSlice, CudaStream, DeviceRepr, LaunchConfig};
 use cudarc::nvrtc::Ptx;
 use std::sync::Arc;
 
@@ -194,4 +195,39 @@ pub(super) fn grid_p(g: &Grid) -> GridP {
         lo: g.lo,
         inv_width: g.inv_width,
     }
+}
+
+pub(super) fn cfg(n: usize, threads: u32) -> LaunchConfig {
+    LaunchConfig {
+        grid_dim: ((n as u32).div_ceil(threads).max(1), 1, 1),
+        block_dim: (threads, 1, 1),
+        shared_mem_bytes: 0,
+    }
+}
+
+/// One thread.
+pub(super) const ONE: LaunchConfig = LaunchConfig {
+    grid_dim: (1, 1, 1),
+    block_dim: (1, 1, 1),
+    shared_mem_bytes: 0,
+};
+
+/// A host array on the device (an empty one as one zero: no buffer is
+/// allocated empty).
+pub(super) fn up<T: DeviceRepr + Default + Copy>(
+    s: &Arc<CudaStream>,
+    v: &[T],
+) -> Result<CudaSlice<T>> {
+    let pad = [T::default()];
+    let v = if v.is_empty() { &pad[..] } else { v };
+    s.clone_htod(v).map_err(|e| gpu_err("upload", e))
+}
+
+/// `len` zeros on the device (at least one).
+pub(super) fn zeros<T: DeviceRepr + cudarc::driver::ValidAsZeroBits>(
+    s: &Arc<CudaStream>,
+    len: usize,
+) -> Result<CudaSlice<T>> {
+    s.alloc_zeros::<T>(len.max(1))
+        .map_err(|e| gpu_err("alloc", e))
 }

@@ -473,7 +473,7 @@ impl Mirror {
         self.load_words();
         // The predictor of the first step checks nothing (the CPU engine
         // checks a step's forces after its own kicks).
-        self.kick_pass(1, true, false, f64::INFINITY, self.step);
+        self.kick_pass(1, true, 0, f64::INFINITY);
         let mut resume = false;
         loop {
             self.enqueue(target, resume);
@@ -495,6 +495,7 @@ impl Mirror {
         self.st[words::SINCE_SORT] = self.rebuilds_since_sort as u64;
         self.st[words::WALLS] = self.stats.contacts;
         self.st[words::MAX_FRACTION] = self.stats.max_fraction.to_bits();
+        self.st[words::STEP] = self.step;
     }
 
     /// The passes of the steps after `self.step` up to `target`, in the
@@ -508,18 +509,18 @@ impl Mirror {
         loop {
             step += 1;
             if !resume {
-                step_begin(&mut self.st, step, self.params.sort_every);
+                step_begin(&mut self.st, self.params.sort_every);
                 self.wrap_sort_pass();
             }
             resume = false;
-            self.list_pass(step);
+            self.list_pass();
             self.force_pass(true);
             if step == target {
                 break;
             }
-            self.kick_pass(2, true, step.is_multiple_of(every), limit, step);
+            self.kick_pass(2, true, every, limit);
         }
-        self.kick_pass(1, false, target.is_multiple_of(every), limit, target);
+        self.kick_pass(1, false, every, limit);
     }
 
     /// The host's look at the step words when a stretch ends: the
@@ -569,18 +570,21 @@ impl Mirror {
 
     /// The integration kernel over all grains (gated on a halt): first
     /// the overlap of the last force evaluation against `limit` (beyond
-    /// it the stretch halts at `step`, unkicked), then `kicks` half-kicks,
-    /// the drift when `drift` (setting FAR for a grain beyond the skin
-    /// test), the finiteness test after the first kick when `check`.
-    fn kick_pass(&mut self, kicks: u32, drift: bool, check: bool, limit: f64, step: u64) {
+    /// it the stretch halts at this step, unkicked), then `kicks`
+    /// half-kicks, the drift when `drift` (setting FAR for a grain beyond
+    /// the skin test), the finiteness test after the first kick at a step
+    /// that is a multiple of `check_every` (0: never).
+    fn kick_pass(&mut self, kicks: u32, drift: bool, check_every: u64, limit: f64) {
         if !gate(&self.st, None) {
             return;
         }
+        let step = self.st[words::STEP];
         if f64::from_bits(self.st[words::MAX_FRACTION]) > limit {
             self.st[words::HALT] = words::HALT_OVERLAP;
             self.st[words::HALT_STEP] = step;
             return;
         }
+        let check = check_every > 0 && step.is_multiple_of(check_every);
         let args = KickArgs {
             force: &self.force,
             torque: &self.torque,
@@ -679,7 +683,7 @@ impl Mirror {
     /// buffer, or, when it does not fit, a halt at `step` with the entries
     /// it needs; the springs remapped onto it, the reference positions,
     /// the build counted (which makes the other buffer current).
-    fn list_pass(&mut self, step: u64) {
+    fn list_pass(&mut self) {
         if !gate(&self.st, Some(words::BUILD)) {
             return;
         }
@@ -687,7 +691,7 @@ impl Mirror {
         let next = ((self.st[words::BUILDS] + 1) % 2) as usize;
         if list.partner.len() > self.capacity[next] {
             self.st[words::HALT] = words::HALT_OVERFLOW;
-            self.st[words::HALT_STEP] = step;
+            self.st[words::HALT_STEP] = self.st[words::STEP];
             self.st[words::NEED] = list.partner.len() as u64;
             return;
         }
@@ -715,11 +719,11 @@ impl Mirror {
     pub fn rebuild(&mut self) {
         self.load_words();
         self.st[words::FAR] = 1;
-        step_begin(&mut self.st, self.step, self.params.sort_every);
+        step_begin(&mut self.st, self.params.sort_every);
         self.wrap_sort_pass();
         let capacity = self.capacity;
         self.capacity = [usize::MAX; 2];
-        self.list_pass(self.step);
+        self.list_pass();
         self.capacity = capacity;
         self.builds = self.st[words::BUILDS];
         self.rebuilds_since_sort = self.st[words::SINCE_SORT] as u32;

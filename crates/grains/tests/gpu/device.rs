@@ -22,8 +22,9 @@ fn chute() -> Mirror {
 
 /// The chute over 300 steps in two stretches, without fused multiply-add,
 /// re-sorted into Morton order: the rebuild decided on the device (and, as
-/// variants, by the host after every step, with list buffers too small to
-/// start with, in the CPU engine's cell order): the mirror's bits.
+/// variants, by the host after every step, in graphs of 16 steps, with
+/// list buffers too small to start with, in the CPU engine's cell order):
+/// the mirror's bits.
 #[test]
 fn gpu_engine_same_bits_as_the_mirror_on_the_chute() {
     let mut mirror = chute();
@@ -45,6 +46,10 @@ fn gpu_engine_same_bits_as_the_mirror_on_the_chute() {
     for n in [1, 299] {
         cpu_mirror.advance(n).unwrap();
     }
+    let graph = Options {
+        graph: true,
+        ..Options::default()
+    };
     let sync = Options {
         sync_each_step: true,
         ..Options::default()
@@ -52,6 +57,7 @@ fn gpu_engine_same_bits_as_the_mirror_on_the_chute() {
     for (what, m, options) in [
         ("device decides", start.clone(), Options::default()),
         ("host decides", start.clone(), sync),
+        ("graph of steps", start.clone(), graph),
         ("full buffers", tight, Options::default()),
         ("CPU cell order", cpu_order.clone(), Options::default()),
     ] {

@@ -89,7 +89,8 @@ struct Plane {
 #define ST_HALT 9
 #define ST_HALT_STEP 10
 #define ST_NEED 11
-#define ST_LEN 12
+#define ST_STEP 12
+#define ST_LEN 13
 #define HALT_OVERLAP 1
 #define HALT_NONFINITE 2
 #define HALT_OVERFLOW 3

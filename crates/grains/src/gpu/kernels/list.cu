@@ -244,10 +244,9 @@ __device__ __forceinline__ u64 row_key(u32 g, u32 p, u32 block) {
 }
 
 // The rows into the other buffer, from the scanned counts `start`; when
-// they do not fit its capacity, a halt at `step` with the entries needed
-// (every thread reads the same total and returns).
-extern "C" __global__ void list_fill(Grains g, ListArgs a, Lists ls, const u32 *start, u64 step,
-                                     u64 *st) {
+// they do not fit its capacity, a halt at this step with the entries
+// needed (every thread reads the same total and returns).
+extern "C" __global__ void list_fill(Grains g, ListArgs a, Lists ls, const u32 *start, u64 *st) {
     u32 i = (u32)thread_index();
     if (i >= g.n || !gate(st, ST_BUILD)) return;
     u32 next = (u32)((st[ST_BUILDS] + 1) & 1);
@@ -255,7 +254,7 @@ extern "C" __global__ void list_fill(Grains g, ListArgs a, Lists ls, const u32 *
     if (total > ls.cap[next]) {
         if (i == 0) {
             st[ST_HALT] = HALT_OVERFLOW;
-            st[ST_HALT_STEP] = step;
+            st[ST_HALT_STEP] = st[ST_STEP];
             st[ST_NEED] = total;
         }
         return;
