@@ -215,6 +215,27 @@ fn an_overlap_beyond_the_limit_stops_at_the_cpu_engines_step() {
     assert!(step > 100, "{a}: the check should stop a stretch midway");
 }
 
+/// A grain whose velocity is not finite stops the stretch at the CPU
+/// engine's step: the kick of a checking step flags it, the next step's
+/// start halts the stretch, and the host reports the flagged step.
+#[test]
+fn a_non_finite_grain_stops_at_the_cpu_engines_step() {
+    let mut cpu = bed();
+    cpu.settings.nan_check_every = 7;
+    let mut mirror = Mirror::from_md(&cpu).unwrap();
+    cpu.particles.vel[100].x = f64::NAN;
+    mirror.vel.x[100] = f64::NAN;
+    let a = cpu.run(50).unwrap_err().to_string();
+    let b = mirror.advance(50).unwrap_err().to_string();
+    let at = |e: &str| e.split(" (t =").next().unwrap().to_string();
+    assert!(
+        a.contains("non-finite") && b.contains("non-finite"),
+        "{a}\n{b}"
+    );
+    assert_eq!(at(&a), at(&b), "CPU: {a}\nmirror: {b}");
+    assert!(at(&a).ends_with("step 7"), "{a}");
+}
+
 /// The list build against all pairs and all 27 images: the same set of
 /// pairs within r_i + r_j + skin (frozen pairs left out), each in both
 /// rows with the lower index's image code, rows in the reduction's order.
