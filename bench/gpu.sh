@@ -57,15 +57,19 @@ step() {
 }
 
 # 1. Same bits as the mirror (which matches the CPU engine bit for bit:
-#    tests/gpu/mirror.rs): the chute over 1000 steps, a bed with a floor,
-#    the rebuild decided by the host each step; FMA runs repeat their bits.
-step 120 chute --device gpu --steps 1000 --verify
-step 60 bed3d --device gpu --particles 20000 --steps 300 --verify
+#    tests/gpu/mirror.rs): the chute over 1000 steps and a bed with a
+#    floor, re-sorted every second build (into Morton order), the chute in
+#    the CPU's cell order, the chute with the rebuild decided by the host
+#    each step; FMA runs repeat their bits.
+step 120 chute --device gpu --steps 1000 --verify --sort-every 2
+step 60 bed3d --device gpu --particles 20000 --steps 300 --verify --sort-every 2
+step 60 chute --device gpu --steps 300 --verify --sort-every 2 --cpu-order
 step 60 chute --device gpu --steps 300 --verify --sync-each-step
-step 60 chute --device gpu --steps 300 --verify --fma
+step 60 chute --device gpu --steps 300 --verify --graph --sort-every 2
+step 60 chute --device gpu --steps 300 --verify --fma --sort-every 2
 
 # 2. Throughput. Set-up (scenario, CPU engine, upload) is not timed.
-for mode in "" --sync-each-step --fma; do
+for mode in "" --sync-each-step --graph --fma --cpu-order; do
     step 60 chute --device gpu --steps 3000 $mode
 done
 step 150 bed3d --device gpu --particles 1000000 --steps 300
@@ -84,7 +88,9 @@ for line in open(sys.argv[1]):
     same = r.get("same_bits_as_mirror")
     rerun = r.get("same_bits_on_rerun")
     mode = "fma" if r.get("fma") else "sync" if r.get("sync_each_step") else "-"
-    print(f'{r["workload"]:6} {r["particles"]:>9} grains {r["steps"]:>5} steps {mode:4}: '
+    mode += "+graph" if r.get("graph") else ""
+    mode += "/" + str(r.get("cell_order"))
+    print(f'{r["workload"]:6} {r["particles"]:>9} grains {r["steps"]:>5} steps {mode:10}: '
           f'{r["particle_steps_per_second"]:.3e} particle-steps/s, '
           f'{r["ns_per_particle_step"]:.3f} ns, {mem:.2f} GiB'
           + ("" if same is None else f", same bits as the mirror: {same}")

@@ -63,6 +63,18 @@ pub struct BenchArgs {
     /// launches with no look at the device until the end.
     #[arg(long)]
     pub(crate) sync_each_step: bool,
+    /// With --device gpu: launch the steps of a stretch by sixteen as one
+    /// CUDA graph (not with --sync-each-step).
+    #[arg(long)]
+    pub(crate) graph: bool,
+    /// With --device gpu|mirror: store the grains in the CPU engine's cell
+    /// order instead of Morton order (the same bits either way).
+    #[arg(long)]
+    pub(crate) cpu_order: bool,
+    /// With --device gpu|mirror: re-sort every this many list builds
+    /// instead of the engine's 20 (to exercise the re-sort in a short run).
+    #[arg(long)]
+    pub(crate) sort_every: Option<u32>,
 }
 
 /// Finds `scenarios/<file>` from the working directory or the source tree.
@@ -218,9 +230,16 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let steps = args.steps.unwrap_or(default_steps);
     match args.device.as_deref() {
         Some("gpu") | Some("mirror") => return crate::bench_gpu::run(&args, &loaded, steps),
-        _ if args.verify || args.fma || args.sync_each_step => {
+        _ if args.verify
+            || args.fma
+            || args.graph
+            || args.sync_each_step
+            || args.cpu_order
+            || args.sort_every.is_some() =>
+        {
             return Err(Error::input(
-                "--verify, --fma and --sync-each-step go with --device gpu",
+                "--verify, --fma, --graph, --sync-each-step, --cpu-order and --sort-every go with \
+                 --device gpu (the last two also with --device mirror)",
             ))
         }
         _ => {}

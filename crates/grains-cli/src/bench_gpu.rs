@@ -4,7 +4,7 @@
 //! every grain's bits (with `--fma`: a second GPU run), docs/gpu.md.
 
 use crate::bench::BenchArgs;
-use grains::gpu::mirror::Mirror;
+use grains::gpu::mirror::{CellOrder, Mirror};
 use grains::scenario::{build_md, Loaded};
 use grains::{Error, Result, D3};
 use serde_json::json;
@@ -25,14 +25,22 @@ pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
     if device == "gpu" && !cfg!(feature = "cuda") {
         return Err(Error::input(grains::gpu::NO_FEATURE));
     }
-    if device == "mirror" && (args.fma || args.sync_each_step || args.verify) {
+    if device == "mirror" && (args.fma || args.graph || args.sync_each_step || args.verify) {
         return Err(Error::input(
-            "--verify, --fma and --sync-each-step go with --device gpu",
+            "--verify, --fma, --graph and --sync-each-step go with --device gpu",
         ));
     }
     let setup = Instant::now();
     let (md, _) = build_md::<D3>(loaded)?;
-    let mirror = Mirror::from_md(&md)?;
+    let order = if args.cpu_order {
+        CellOrder::Cpu
+    } else {
+        CellOrder::Morton
+    };
+    let mut mirror = Mirror::from_md_in(&md, order)?;
+    if let Some(every) = args.sort_every {
+        mirror.params.sort_every = every;
+    }
     let mobile = md.particles.n_mobile();
     drop(md);
     let (wall, memory, verified) = if device == "mirror" {
@@ -57,7 +65,9 @@ pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
                 "device_memory_total_bytes": memory.map(|m: (usize, usize)| m.1),
                 "same_bits_as_mirror": verified.filter(|_| !args.fma),
                 "same_bits_on_rerun": verified.filter(|_| args.fma),
-                "fma": args.fma, "sync_each_step": args.sync_each_step,
+                "fma": args.fma, "sync_each_step": args.sync_each_step, "graph": args.graph,
+                "cell_order": if args.cpu_order { "cpu" } else { "morton" },
+                "sort_every": args.sort_every,
             })
         );
     } else {
@@ -99,6 +109,7 @@ fn gpu(mirror: Mirror, steps: u64, args: &BenchArgs) -> Result<Timed> {
     let options = Options {
         fma: args.fma,
         sync_each_step: args.sync_each_step,
+        graph: args.graph,
     };
     let reference = args.verify.then(|| mirror.clone());
     let mut engine = Cuda::with(mirror, options)?;

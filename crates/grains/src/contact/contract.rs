@@ -62,6 +62,11 @@ pub trait ContactModel: Sync {
     /// without branches that keep the compiler from vectorizing it.
     const LANES: bool = false;
 
+    /// Whether the law's coefficients come from a table indexed by
+    /// [`Contact::pair`] (materials): the lanes then fix the entry of a
+    /// batch whose contacts share one, so that the loads leave the loop.
+    const PAIR_TABLE: bool = false;
+
     /// Whether the law has a rolling torque ([`ContactModel::rolling`]).
     const ROLLING: bool = false;
     /// Whether that torque keeps a rolling spring per contact.

@@ -220,6 +220,7 @@ impl HertzMindlin {
 
 impl ContactModel for HertzMindlin {
     const LANES: bool = true;
+    const PAIR_TABLE: bool = true;
     #[inline(always)]
     fn rotation(&self) -> bool {
         self.rotation
@@ -308,6 +309,7 @@ pub struct Rolled<'a, const MODEL: u8, const JKR: bool>(&'a HertzMindlin);
 
 impl<const MODEL: u8, const JKR: bool> ContactModel for Rolled<'_, MODEL, JKR> {
     const LANES: bool = true;
+    const PAIR_TABLE: bool = true;
     const ROLLING: bool = MODEL != 0;
     const ROLLING_HISTORY: bool = MODEL == 2;
     const BONDED: bool = JKR;

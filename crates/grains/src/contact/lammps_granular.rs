@@ -62,6 +62,8 @@ pub struct GranularPair {
     mu: f64,
     mu_r: f64,
     k_roll: f64,
+    /// 1/k_r (∞ without rolling, never read then).
+    inv_k_roll: f64,
     gamma_roll: f64,
 }
 
@@ -96,6 +98,7 @@ impl GranularPair {
                 .rolling_friction
                 .unwrap_or_else(|| geom(a.rolling_friction, b.rolling_friction)),
             k_roll: rolling.stiffness,
+            inv_k_roll: 1.0 / rolling.stiffness,
             gamma_roll: rolling.damping,
         }
     }
@@ -148,36 +151,43 @@ impl<L, const ROLL: bool> LammpsGranular<'_, L, ROLL> {
 /// rolling spring alike: turn the spring into the tangent plane keeping its
 /// length (when its normal part matters), add `v dt`, take −(k s + γ v), and
 /// when that exceeds `cap`, scale the force down to it and set the spring to
-/// the length that gives exactly that force. Selections, not branches, so
-/// that the lanes vectorize it.
+/// the length that gives exactly that force. `inv_k` is 1/k (the rolling
+/// spring's is tabulated). Selections, not branches, so that the lanes
+/// vectorize it; one root and one division each for the turn and the cap
+/// (LAMMPS takes two roots for the turn and three divisions for the cap:
+/// the same values to rounding).
 #[inline(always)]
 fn spring_force<D: Dim>(
     spring: &mut D::V,
     v: D::V,
     n: D::V,
-    (k, gamma, cap): (f64, f64, f64),
+    (k, inv_k, gamma, cap): (f64, f64, f64, f64),
     step: Step,
 ) -> D::V {
     if step.update {
         let s = *spring;
         let along = D::dot(s, n);
         let turn = along.abs() * k > FRAME_EPSILON * cap;
-        let len = D::norm(s);
         let projected = s - n * along;
-        let plen = D::norm(projected);
-        let scale = if plen > 0.0 { len / plen } else { 0.0 };
+        // |s| / |projected| as √(|s|² / |projected|²).
+        let plen2 = D::norm2(projected);
+        let scale = if plen2 > 0.0 {
+            (D::norm2(s) / plen2).sqrt()
+        } else {
+            0.0
+        };
         let turned = if turn { projected * scale } else { s };
         *spring = turned + v * step.dt;
     }
     let f = -(*spring * k + v * gamma);
     let f2 = D::norm2(f);
     let sliding = f2 > cap * cap;
-    let fmag = f2.sqrt();
     let has = D::norm2(*spring) != 0.0;
-    let unit = f * (1.0 / fmag);
-    let cut = -((unit * cap + v * gamma) * (1.0 / k));
+    // The force scaled to the cap, and the spring that gives it:
+    // −(k s + γ v) = capped  ⇔  s = −(capped + γ v) / k.
+    let capped = f * (cap / f2.sqrt());
+    let cut = -((capped + v * gamma) * inv_k);
     *spring = if sliding && has { cut } else { *spring };
-    let capped = f * (cap / fmag);
     if !sliding {
         f
     } else if has {
@@ -189,6 +199,7 @@ fn spring_force<D: Dim>(
 
 impl<L: ContactModel, const ROLL: bool> ContactModel for LammpsGranular<'_, L, ROLL> {
     const LANES: bool = true;
+    const PAIR_TABLE: bool = true;
     const ROLLING: bool = ROLL;
     const ROLLING_HISTORY: bool = ROLL;
     #[inline(always)]
@@ -230,7 +241,7 @@ impl<L: ContactModel, const ROLL: bool> ContactModel for LammpsGranular<'_, L, R
         let vt = c.v_rel - n * vn;
         let kt = p.eight_g_star * a;
         let cap = p.mu * fn_total.abs();
-        let tangential = spring_force::<D>(spring, vt, n, (kt, damp, cap), step);
+        let tangential = spring_force::<D>(spring, vt, n, (kt, 1.0 / kt, damp, cap), step);
         ContactOutcome {
             force: n * fn_total + tangential,
             tangential,
@@ -249,7 +260,13 @@ impl<L: ContactModel, const ROLL: bool> ContactModel for LammpsGranular<'_, L, R
         let r_star = r_star(c.ri, c.rj);
         let vr = D::ang_cross(c.omega_rel, c.normal) * r_star;
         let cap = p.mu_r * out.normal_force.abs();
-        let fr = spring_force::<D>(spring, vr, c.normal, (p.k_roll, p.gamma_roll, cap), step);
+        let fr = spring_force::<D>(
+            spring,
+            vr,
+            c.normal,
+            (p.k_roll, p.inv_k_roll, p.gamma_roll, cap),
+            step,
+        );
         D::torque(c.normal, fr) * r_star
     }
 }
@@ -318,12 +335,12 @@ mod tests {
         };
         let n = DVec3::new(1.0, 0.0, 1.0).normalize();
         let mut s = DVec3::new(0.3, 0.4, 0.0);
-        let f = spring_force::<D3>(&mut s, DVec3::ZERO, n, (10.0, 0.0, 1e9), step);
+        let f = spring_force::<D3>(&mut s, DVec3::ZERO, n, (10.0, 0.1, 0.0, 1e9), step);
         assert!(s.dot(n).abs() < 1e-15);
         assert!((s.length() - 0.5).abs() < 1e-15);
         assert!((f + s * 10.0).length() < 1e-14);
         let v = DVec3::new(0.0, 1.0, 0.0);
-        let f = spring_force::<D3>(&mut s, v, n, (10.0, 2.0, 1.0), step);
+        let f = spring_force::<D3>(&mut s, v, n, (10.0, 0.1, 2.0, 1.0), step);
         assert!((f.length() - 1.0).abs() < 1e-14);
         assert!((-(s * 10.0 + v * 2.0) - f).length() < 1e-14);
     }

@@ -90,9 +90,31 @@ pub fn evaluate_lanes<D: Dim, L: ContactModel>(law: &L, c: &mut ContactLanes, st
     });
 }
 
-/// The lane loop, for one instruction set.
+/// The lane loop, for one instruction set. A law with a table of pair
+/// coefficients (`PAIR_TABLE`) gets a batch whose contacts all take one
+/// entry (grains of one material) with that entry fixed: its coefficients
+/// are then loaded once, outside the loop, instead of gathered lane by
+/// lane, which is what lets the compiler vectorize the loop. The same
+/// arithmetic either way.
 #[inline(always)]
 fn lanes<D: Dim, L: ContactModel>(law: &L, c: &mut ContactLanes, step: Step) {
+    let first = c.pair[0];
+    if L::PAIR_TABLE && c.pair.iter().all(|&p| p == first) {
+        lane_loop::<D, L>(law, c, step, |_| first);
+    } else {
+        let pairs = c.pair;
+        lane_loop::<D, L>(law, c, step, |l| pairs[l]);
+    }
+}
+
+/// [`lanes`]'s loop, with lane l's table entry `pair(l)`.
+#[inline(always)]
+fn lane_loop<D: Dim, L: ContactModel>(
+    law: &L,
+    c: &mut ContactLanes,
+    step: Step,
+    pair: impl Fn(usize) -> u32,
+) {
     let three = |r: &[Row; 3], l: usize| [r[0][l], r[1][l], r[2][l]];
     for l in 0..LANES {
         let del = D::from_xyz(three(&c.del, l));
@@ -118,7 +140,7 @@ fn lanes<D: Dim, L: ContactModel>(law: &L, c: &mut ContactLanes, step: Step) {
             } else {
                 D::A::default()
             },
-            pair: c.pair[l],
+            pair: pair(l),
         };
         let out = law.evaluate(&contact, &mut spring, step);
         // Lever arms −r_i n and +r_j n, force on j is −F: both torques are
@@ -400,7 +422,10 @@ mod tests {
             RollingModel::Epsd,
         ] {
             law.rolling = model;
-            law.with_rolling(SameBits::<D>(&mut rng, 4, 0.0, PhantomData));
+            // One entry (the uniform batches) and four.
+            for pairs in [1, 4] {
+                law.with_rolling(SameBits::<D>(&mut rng, pairs, 0.0, PhantomData));
+            }
         }
         // JKR (δ_c about 1e-3 of r_i + r_j here), contacts in compression and
         // kept beyond touching, without and with constant rolling.
@@ -413,7 +438,9 @@ mod tests {
         let mut law = law.with_cohesion(CohesionModel::Jkr);
         for model in [RollingModel::None, RollingModel::Constant] {
             law.rolling = model;
-            law.with_rolling(SameBits::<D>(&mut rng, 4, 1.5e-3, PhantomData));
+            for pairs in [1, 4] {
+                law.with_rolling(SameBits::<D>(&mut rng, pairs, 1.5e-3, PhantomData));
+            }
         }
     }
 
@@ -444,7 +471,9 @@ mod tests {
         ] {
             let law = HertzMindlin::new(&mats, &[], vec![0, 1], vec![], true)
                 .with_lammps_granular(GranularTable::new(&mats, &[], rolling));
-            law.with_rolling(SameBits::<D>(&mut rng, 4, 0.0, PhantomData));
+            for pairs in [1, 4] {
+                law.with_rolling(SameBits::<D>(&mut rng, pairs, 0.0, PhantomData));
+            }
         }
     }
 

@@ -16,29 +16,9 @@ use super::kernel_params::*;
 use super::mirror::Mirror;
 use crate::error::{Error, Result};
 use cudarc::driver::{
-    CudaContext, CudaFunction, CudaSlice, CudaStream, DevicePtr, DeviceRepr, LaunchConfig,
-    PushKernelArg,
+    CudaContext, CudaFunction, CudaGraph, CudaSlice, CudaStream, DevicePtr, PushKernelArg,
 };
-use cudarc::nvrtc::Ptx;
 use std::sync::Arc;
-
-/// The checked-in PTX, without fused multiply-add (the CPU engine's bits).
-const PTX: [(&str, &str); 3] = [
-    ("integrate", include_str!("kernels/ptx/integrate.ptx")),
-    ("list", include_str!("kernels/ptx/list.ptx")),
-    ("forces", include_str!("kernels/ptx/forces.ptx")),
-];
-
-/// The same kernels with fused multiply-add (`--fmad=true`): faster, the
-/// same bits for any launch, not the CPU engine's bits (docs/gpu.md).
-const PTX_FMA: [(&str, &str); 3] = [
-    (
-        "integrate.fma",
-        include_str!("kernels/ptx/integrate.fma.ptx"),
-    ),
-    ("list.fma", include_str!("kernels/ptx/list.fma.ptx")),
-    ("forces.fma", include_str!("kernels/ptx/forces.fma.ptx")),
-];
 
 /// How the engine runs.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -50,6 +30,11 @@ pub struct Options {
     /// synchronisation per step instead of some twenty gated launches; the
     /// same bits either way. For measuring which costs less.
     pub sync_each_step: bool,
+    /// Launch the steps of a stretch by sixteen as one CUDA graph
+    /// (`--graph`): one launch instead of some four hundred, on a stream
+    /// of its own (the legacy default stream cannot be captured); the
+    /// same bits. Not with `sync_each_step`.
+    pub graph: bool,
 }
 
 /// Threads per block of the per-grain kernels (whole warps: the force
@@ -58,10 +43,6 @@ const THREADS: u32 = 128;
 /// The scan kernels' block (SCAN_BLOCK in list.cu).
 const SCAN: u32 = 1024;
 pub use super::kernel_params::MAX_WALLS;
-
-fn gpu_err(what: &str, e: impl std::fmt::Debug) -> Error {
-    Error::input(format!("GPU engine: {what}: {e:?}"))
-}
 
 /// A vector per grain or entry on the device.
 struct Dev3([CudaSlice<f64>; 3]);
@@ -82,6 +63,8 @@ struct Kernels {
     scan_add: CudaFunction,
     bin_fill: CudaFunction,
     bin_sort: CudaFunction,
+    place_counts: CudaFunction,
+    sort_slots: CudaFunction,
     list_count: CudaFunction,
     list_fill: CudaFunction,
     remap: CudaFunction,
@@ -124,8 +107,11 @@ struct Work {
     cursor: CudaSlice<u32>,
     members: CudaSlice<u32>,
     order: CudaSlice<u32>,
-    /// Partners per grain, scanned into the new list's row starts.
+    /// Partners per grain, scanned into the new list's row starts; the
+    /// re-sort's new ranks.
     counts: CudaSlice<u32>,
+    /// The sort grid's cells' places in the stored order.
+    places: CudaSlice<u32>,
     /// The scans' block totals.
     sums: CudaSlice<u32>,
 }
@@ -143,68 +129,29 @@ pub struct Cuda {
     /// Where a re-sort gathers to before copying back.
     scratch: GrainSet,
     reference: Dev3,
+    /// Each grain's index in the CPU engine's order, and by old index
+    /// before the last re-sort.
+    rank: CudaSlice<u32>,
+    rank_before: CudaSlice<u32>,
     lists: [DevList; 2],
     work: Work,
     /// The step words ([`words`]).
     st: CudaSlice<u64>,
+    /// [`GRAPH_STEPS`] steps captured ([`Options::graph`]).
+    graph: Option<Graph>,
 }
 
-/// Loads one PTX file. NVRTC 13.5 writes PTX ISA 9.5, which a driver older
-/// than CUDA 13.5 refuses; the kernels use nothing newer than ISA 8.0
-/// (CUDA 12.0), so on refusal the file is loaded again with its `.version`
-/// lowered to what the driver reads (8.0 for 12.x, 9.0 for 13.x), with a
-/// note on stderr.
-fn load_ptx(
-    ctx: &Arc<CudaContext>,
-    name: &str,
-    ptx: &str,
-) -> Result<Arc<cudarc::driver::CudaModule>> {
-    let first = match ctx.load_module(Ptx::from_src(ptx)) {
-        Ok(m) => return Ok(m),
-        Err(e) => e,
-    };
-    let mut driver = 0;
-    // SAFETY: writes one int; the driver library is loaded (the context exists).
-    unsafe { cudarc::driver::sys::cuDriverGetVersion(&mut driver) };
-    let isa = if driver >= 13000 { "9.0" } else { "8.0" };
-    let lowered: String = ptx
-        .lines()
-        .map(|l| {
-            if l.starts_with(".version ") {
-                format!(".version {isa}\n")
-            } else {
-                format!("{l}\n")
-            }
-        })
-        .collect();
-    eprintln!(
-        "grains: {name}.ptx refused by driver {driver} ({first:?}); loading it as PTX ISA {isa}"
-    );
-    ctx.load_module(Ptx::from_src(lowered)).map_err(|e| {
-        gpu_err(
-            &format!(
-                "loading {name}.ptx (driver {driver}; also as PTX ISA {isa}): rebuild the PTX \
-                 with an NVRTC no newer than the driver (tools/make_ptx.py)"
-            ),
-            e,
-        )
-    })
-}
+/// A captured graph, owned by one engine.
+struct Graph(CudaGraph);
 
-fn cfg(n: usize, threads: u32) -> LaunchConfig {
-    LaunchConfig {
-        grid_dim: ((n as u32).div_ceil(threads).max(1), 1, 1),
-        block_dim: (threads, 1, 1),
-        shared_mem_bytes: 0,
-    }
-}
+// SAFETY: CUDA graph objects are not internally synchronised and must not
+// be used from two threads at once; a Graph is reached only through its
+// engine's `&mut self`, so moving the engine to another thread keeps every
+// use serialised.
+unsafe impl Send for Graph {}
 
-/// One thread.
-const ONE: LaunchConfig = LaunchConfig {
-    grid_dim: (1, 1, 1),
-    block_dim: (1, 1, 1),
-    shared_mem_bytes: 0,
-};
+/// Steps in one graph launch.
+pub const GRAPH_STEPS: u64 = 16;
 
 /// The gate arguments of the rebuild's kernels (GATE_* and ST_* of
 /// common.cuh).
@@ -233,6 +180,11 @@ impl Cuda {
 
     /// Uploads `m` to device 0 and loads the kernels `options` name.
     pub fn with(m: Mirror, options: Options) -> Result<Self> {
+        if options.graph && options.sync_each_step {
+            return Err(Error::input(
+                "GPU engine: a graph of steps and a read after each step exclude each other",
+            ));
+        }
         if m.params.walls.len() > MAX_WALLS {
             return Err(Error::input(format!(
                 "run.device = \"gpu\": {} walls; the GPU engine takes at most {MAX_WALLS}",
@@ -249,7 +201,11 @@ impl Cuda {
         // One stream, launches in order: cudarc's per-buffer events would
         // only cost time.
         unsafe { ctx.disable_event_tracking() };
-        let stream = ctx.default_stream();
+        let stream = if options.graph {
+            ctx.new_stream().map_err(|e| gpu_err("stream", e))?
+        } else {
+            ctx.default_stream()
+        };
         let mut modules = Vec::new();
         for (name, ptx) in if options.fma { PTX_FMA } else { PTX } {
             modules.push(load_ptx(&ctx, name, ptx)?);
@@ -274,6 +230,8 @@ impl Cuda {
             scan_add: f(1, "scan_add")?,
             bin_fill: f(1, "bin_fill")?,
             bin_sort: f(1, "bin_sort")?,
+            place_counts: f(1, "place_counts")?,
+            sort_slots: f(1, "sort_slots")?,
             list_count: f(1, "list_count")?,
             list_fill: f(1, "list_fill")?,
             remap: f(1, "remap_springs")?,
@@ -374,6 +332,7 @@ impl Cuda {
             members: zeros(&stream, n)?,
             order: zeros(&stream, n)?,
             counts: zeros(&stream, n + 1)?,
+            places: up(&stream, &p.places)?,
             sums: zeros(&stream, longest.div_ceil(SCAN as usize) + 1)?,
         };
         let mut st0 = [0u64; words::LEN];
@@ -381,14 +340,18 @@ impl Cuda {
         st0[words::SINCE_SORT] = host.rebuilds_since_sort as u64;
         st0[words::WALLS] = host.stats.contacts;
         st0[words::MAX_FRACTION] = host.stats.max_fraction.to_bits();
+        st0[words::STEP] = host.step;
         let st = stream.clone_htod(&st0).map_err(|e| gpu_err("upload", e))?;
         Ok(Self {
             reference: up3(&host.reference)?,
+            rank: up(&stream, &host.rank)?,
+            rank_before: up(&stream, &host.rank)?,
             grains,
             scratch,
             lists,
             work,
             st,
+            graph: None,
             host,
             options,
             stream,
@@ -431,6 +394,7 @@ impl Cuda {
             inv_mass: self.ptr(&s.inv_mass),
             inv_inertia: self.ptr(&s.inv_inertia),
             frozen: self.ptr(&s.frozen),
+            rank: self.ptr(&self.rank),
             n: self.n() as u32,
         }
     }
@@ -471,13 +435,13 @@ impl Cuda {
     }
 
     /// The integration kernel (see [`Mirror::advance`]'s kick pass).
-    fn kick(&self, kicks: u32, drift: bool, check: bool, limit: f64, step: u64) -> Result<()> {
+    fn kick(&self, kicks: u32, drift: bool, check_every: u64, limit: f64) -> Result<()> {
         let g = self.grains_p(&self.grains);
         let p = &self.host.params;
         let (dt, limit2) = (p.dt, 0.25 * p.skin * p.skin);
-        let (drift, check, st) = (drift as u32, check as u32, self.ptr(&self.st));
+        let (drift, st) = (drift as u32, self.ptr(&self.st));
         launch!(self, kick_drift, cfg(self.n(), THREADS);
-            &g, &dt, &limit2, &kicks, &drift, &check, &limit, &step, &st)
+            &g, &dt, &limit2, &kicks, &drift, &check_every, &limit, &st)
     }
 
     fn forces(&self) -> Result<()> {
@@ -530,8 +494,9 @@ impl Cuda {
         }
         let target = self.host.step + n;
         let st = self.ptr(&self.st);
-        launch!(self, clear_halt, ONE; &st)?;
-        self.kick(1, true, false, f64::INFINITY, self.host.step)?;
+        let step = self.host.step;
+        launch!(self, clear_halt, ONE; &st, &step)?;
+        self.kick(1, true, 0, f64::INFINITY)?;
         let mut resume = false;
         loop {
             self.enqueue(target, resume)?;
@@ -539,7 +504,9 @@ impl Cuda {
             match self.host.finish(target)? {
                 Some(next) => {
                     self.grow(next, list_capacity(self.host.st[words::NEED] as usize))?;
-                    launch!(self, clear_halt, ONE; &st)?;
+                    // The halted step has begun: its count stands.
+                    let step = self.host.step + 1;
+                    launch!(self, clear_halt, ONE; &st, &step)?;
                     resume = true;
                 }
                 None => return Ok(()),
@@ -547,33 +514,82 @@ impl Cuda {
         }
     }
 
+    /// One step's launches after the first (none is the stretch's last):
+    /// the same every step, all decisions on the step words.
+    fn plain_step(&self) -> Result<()> {
+        let p = &self.host.params;
+        let (st, sort_every) = (self.ptr(&self.st), p.sort_every);
+        launch!(self, step_begin, ONE; &st, &sort_every)?;
+        self.wrap_sort(true)?;
+        self.list_build()?;
+        self.forces()?;
+        self.kick(2, true, p.nan_check_every, p.max_overlap_fraction)
+    }
+
+    /// [`GRAPH_STEPS`] plain steps as a CUDA graph, captured at first use
+    /// (and again after a list buffer moved).
+    fn graph(&mut self) -> Result<&CudaGraph> {
+        if self.graph.is_none() {
+            let mode =
+                cudarc::driver::sys::CUstreamCaptureMode::CU_STREAM_CAPTURE_MODE_THREAD_LOCAL;
+            self.stream
+                .begin_capture(mode)
+                .map_err(|e| gpu_err("graph capture", e))?;
+            let mut captured = Ok(());
+            for _ in 0..GRAPH_STEPS {
+                captured = captured.and_then(|_| self.plain_step());
+            }
+            let flags = cudarc::driver::sys::CUgraphInstantiate_flags(0);
+            let graph = self
+                .stream
+                .end_capture(flags)
+                .map_err(|e| gpu_err("graph capture", e))?;
+            captured?;
+            let graph = graph.ok_or_else(|| gpu_err("graph capture", "empty graph"))?;
+            graph.upload().map_err(|e| gpu_err("graph upload", e))?;
+            self.graph = Some(Graph(graph));
+        }
+        Ok(&self.graph.as_ref().expect("captured above").0)
+    }
+
     /// The mirror's `enqueue`: the launches of the steps up to `target`.
     /// With [`Options::sync_each_step`] the host reads the words after
-    /// each step and leaves out the launches that the words would gate off.
-    fn enqueue(&self, target: u64, mut resume: bool) -> Result<()> {
-        let p = &self.host.params;
+    /// each step and leaves out the launches that the words would gate off;
+    /// with [`Options::graph`] the steps between the first and the last go
+    /// by [`GRAPH_STEPS`] as one graph launch.
+    fn enqueue(&mut self, target: u64, resume: bool) -> Result<()> {
+        let p = self.host.params.clone();
         let (limit, every) = (p.max_overlap_fraction, p.nan_check_every);
         let st = self.ptr(&self.st);
         let (mut build, mut sort) = (true, true);
         let mut step = self.host.step;
+        let mut first = true;
         loop {
+            if !first && self.options.graph && target - step > GRAPH_STEPS {
+                self.graph()?
+                    .launch()
+                    .map_err(|e| gpu_err("graph launch", e))?;
+                step += GRAPH_STEPS;
+                continue;
+            }
             step += 1;
-            if !resume {
+            let resumed = first && resume;
+            first = false;
+            if !resumed {
                 let sort_every = p.sort_every;
-                launch!(self, step_begin, ONE; &st, &step, &sort_every)?;
+                launch!(self, step_begin, ONE; &st, &sort_every)?;
                 if build {
                     self.wrap_sort(sort)?;
                 }
             }
-            if build || resume {
-                self.list_build(step)?;
+            if build || resumed {
+                self.list_build()?;
             }
-            resume = false;
             self.forces()?;
             if step == target {
                 break;
             }
-            self.kick(2, true, step.is_multiple_of(every), limit, step)?;
+            self.kick(2, true, every, limit)?;
             if self.options.sync_each_step {
                 let w = self.read_st()?;
                 if w[words::HALT] != 0 {
@@ -584,7 +600,7 @@ impl Cuda {
                 sort = build && p.sort_every > 0 && since.is_multiple_of(p.sort_every);
             }
         }
-        self.kick(1, false, target.is_multiple_of(every), limit, target)
+        self.kick(1, false, every, limit)
     }
 
     /// Exclusive sums of `data` (`len` entries, the last a zero count that
@@ -598,7 +614,7 @@ impl Cuda {
     }
 
     /// Bins the grains into `grid`, gated on `word`: the cell of each
-    /// grain and the cell starts in the work arrays, the members (ascending
+    /// grain and the cell starts in the work arrays, the members (by rank
     /// in each cell) in `members`.
     fn bin(&self, grid: &Grid, members: u64, word: u32) -> Result<()> {
         let w = &self.work;
@@ -617,13 +633,14 @@ impl Cuda {
         self.scan(start, ncells + 1, word)?;
         launch!(self, copy_u32, cfg(ncells + 1, THREADS); &start, &cursor, &len, &st, &word)?;
         launch!(self, bin_fill, cfg(n, THREADS); &cell, &cursor, &members, &n64, &st, &word)?;
-        launch!(self, bin_sort, cfg(ncells, THREADS); &start, &members, &nc, &st, &word)
+        let rank = self.ptr(&self.rank);
+        launch!(self, bin_sort, cfg(ncells, THREADS); &start, &members, &nc, &rank, &st, &word)
     }
 
     /// The rebuild's first part (gated on BUILD): the wrap, and on SORT
-    /// the re-sort, gathered into the scratch arrays and copied back. With
-    /// `sort` false the re-sort's launches are left out (the host knows
-    /// none is due).
+    /// the re-sort (the mirror's `sort_slots`), gathered into the scratch
+    /// arrays and copied back, the new ranks copied in. With `sort` false
+    /// the re-sort's launches are left out (the host knows none is due).
     fn wrap_sort(&self, sort: bool) -> Result<()> {
         let p = &self.host.params;
         let bx = Box3P {
@@ -637,8 +654,27 @@ impl Cuda {
         if !sort {
             return Ok(());
         }
-        let order = self.ptr(&self.work.order);
-        self.bin(&p.sort_grid, order, ON_SORT)?;
+        let w = &self.work;
+        let (members, order, cell, start, first, new_rank) = (
+            self.ptr(&w.members),
+            self.ptr(&w.order),
+            self.ptr(&w.cell),
+            self.ptr(&w.start),
+            self.ptr(&w.cursor),
+            self.ptr(&w.counts),
+        );
+        let (places, rank, before) = (
+            self.ptr(&w.places),
+            self.ptr(&self.rank),
+            self.ptr(&self.rank_before),
+        );
+        let ncells = p.sort_grid.ncells();
+        let (n, nc) = (self.n() as u64, ncells as u64);
+        self.bin(&p.sort_grid, members, ON_SORT)?;
+        launch!(self, place_counts, cfg(ncells, THREADS); &start, &places, &first, &nc, &st)?;
+        self.scan(first, ncells + 1, ON_SORT)?;
+        launch!(self, sort_slots, cfg(self.n(), THREADS);
+            &members, &cell, &start, &places, &first, &rank, &before, &order, &new_rank, &n, &st)?;
         let (xg, s, xs) = (
             self.extra_p(&self.grains),
             self.grains_p(&self.scratch),
@@ -647,14 +683,15 @@ impl Cuda {
         let slots = p.walls.len() as u32;
         let none = 0u64;
         launch!(self, move_grains, cfg(self.n(), THREADS); &g, &xg, &s, &xs, &order, &slots, &st)?;
-        launch!(self, move_grains, cfg(self.n(), THREADS); &s, &xs, &g, &xg, &none, &slots, &st)
+        launch!(self, move_grains, cfg(self.n(), THREADS); &s, &xs, &g, &xg, &none, &slots, &st)?;
+        launch!(self, copy_u32, cfg(self.n(), THREADS); &new_rank, &rank, &n, &st, &ON_SORT)
     }
 
     /// The rebuild's second part (gated on BUILD): bins of the list grid,
     /// the rows counted and scanned, filled into the other list buffer (or
     /// a halt when they do not fit), the springs remapped, the build
     /// counted.
-    fn list_build(&self, step: u64) -> Result<()> {
+    fn list_build(&self) -> Result<()> {
         let p = &self.host.params;
         let n = self.n();
         let members = self.ptr(&self.work.members);
@@ -678,9 +715,9 @@ impl Cuda {
         let counts = self.ptr(&self.work.counts);
         launch!(self, list_count, cfg(n, THREADS); &g, &args, &counts, &st)?;
         self.scan(counts, n + 1, ON_BUILD)?;
-        launch!(self, list_fill, cfg(n, THREADS); &g, &args, &lists, &counts, &step, &st)?;
-        let order = self.ptr(&self.work.order);
-        launch!(self, remap, cfg(n, THREADS); &g, &lists, &order, &st)?;
+        launch!(self, list_fill, cfg(n, THREADS); &g, &args, &lists, &counts, &st)?;
+        let (order, before) = (self.ptr(&self.work.order), self.ptr(&self.rank_before));
+        launch!(self, remap, cfg(n, THREADS); &g, &lists, &order, &before, &st)?;
         launch!(self, build_end, ONE; &st)
     }
 
@@ -693,6 +730,8 @@ impl Cuda {
         l.image = zeros(s, cap)?;
         l.springs = Dev3([zeros(s, cap)?, zeros(s, cap)?, zeros(s, cap)?]);
         self.host.capacity[which] = cap;
+        // The graph holds the old buffer's addresses.
+        self.graph = None;
         Ok(())
     }
 
@@ -730,6 +769,7 @@ impl Cuda {
         m.frozen = s.clone_dtoh(&g.frozen).map_err(e)?;
         m.id = s.clone_dtoh(&g.id).map_err(e)?;
         m.origin = s.clone_dtoh(&g.origin).map_err(e)?;
+        m.rank = s.clone_dtoh(&self.rank).map_err(e)?;
         let slots = m.len() * m.params.walls.len();
         m.wall_springs = down3(&g.wall_springs)?;
         for c in [
@@ -755,21 +795,4 @@ impl Cuda {
         }
         Ok(m)
     }
-}
-
-/// A host array on the device (an empty one as one zero: no buffer is
-/// allocated empty).
-fn up<T: DeviceRepr + Default + Copy>(s: &Arc<CudaStream>, v: &[T]) -> Result<CudaSlice<T>> {
-    let pad = [T::default()];
-    let v = if v.is_empty() { &pad[..] } else { v };
-    s.clone_htod(v).map_err(|e| gpu_err("upload", e))
-}
-
-/// `len` zeros on the device (at least one).
-fn zeros<T: DeviceRepr + cudarc::driver::ValidAsZeroBits>(
-    s: &Arc<CudaStream>,
-    len: usize,
-) -> Result<CudaSlice<T>> {
-    s.alloc_zeros::<T>(len.max(1))
-        .map_err(|e| gpu_err("alloc", e))
 }

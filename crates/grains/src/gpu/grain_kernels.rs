@@ -185,6 +185,9 @@ pub struct GrainsIn<'a> {
     pub radius: &'a [f64],
     pub mass: &'a [f64],
     pub frozen: &'a [u8],
+    /// Each grain's index in the CPU engine's order: it decides a pair's
+    /// orientation (lower rank first), whatever order the arrays are in.
+    pub rank: &'a [u32],
 }
 
 /// The full neighbour list: grain g's entries are `start[g]..start[g + 1]`,
@@ -252,7 +255,11 @@ pub fn grain_forces(
     let mut t = [0.0; 3];
     for e in a.list.row(gi) {
         let p = a.list.partner[e] as usize;
-        let (i, j) = if gi < p { (gi, p) } else { (p, gi) };
+        let (i, j) = if g.rank[gi] < g.rank[p] {
+            (gi, p)
+        } else {
+            (p, gi)
+        };
         let del = sub(
             g.pos.get(i),
             add(g.pos.get(j), a.shifts[a.list.image[e] as usize]),
@@ -493,6 +500,8 @@ pub struct ListArgs<'a> {
     pub pos: &'a Soa3,
     pub radius: &'a [f64],
     pub frozen: &'a [u8],
+    /// CPU-order index of each grain (rows are ordered by it).
+    pub rank: &'a [u32],
     pub bins: &'a Bins,
     pub grid: Grid,
     pub periodic: [bool; 3],
@@ -504,7 +513,7 @@ pub struct ListArgs<'a> {
 }
 
 /// The list kernel for grain `g`: visits its stencil (z, y, x; members
-/// ascending) and calls `found(partner, image code of g's side)` for every
+/// by ascending rank) and calls `found(partner, image code of g's side)` for every
 /// partner within r_g + r_p + skin. Run twice: to count, then to fill.
 #[inline(always)]
 pub fn visit_partners(a: &ListArgs, g: usize, mut found: impl FnMut(usize, usize)) {
@@ -557,10 +566,11 @@ pub fn visit_partners(a: &ListArgs, g: usize, mut found: impl FnMut(usize, usize
     }
 }
 
-/// Where an entry of grain g's row goes: lower partners of g's own block
-/// first (ascending), then higher partners (in stencil order), then lower
-/// partners of earlier blocks (ascending): the order in which the CPU
-/// engine's block reduction sums g's contacts.
+/// Where an entry of the row of the grain of rank g goes (p: the partner's
+/// rank): lower partners of g's own block first (ascending), then higher
+/// partners (in stencil order), then lower partners of earlier blocks
+/// (ascending): the order in which the CPU engine's block reduction sums
+/// g's contacts.
 #[inline(always)]
 pub fn row_key(g: usize, p: usize, block: usize) -> (u32, u32) {
     if p > g {
@@ -573,15 +583,16 @@ pub fn row_key(g: usize, p: usize, block: usize) -> (u32, u32) {
 }
 
 /// The fill kernel's last part for grain `g`: its row, written in stencil
-/// order, put in the order of [`row_key`] by a stable insertion sort in
-/// place (rows hold about a dozen entries).
-pub fn order_row(list: &mut FullList, g: usize, block: usize) {
+/// order, put in the order of [`row_key`] (on ranks) by a stable insertion
+/// sort in place (rows hold about a dozen entries).
+pub fn order_row(list: &mut FullList, g: usize, block: usize, rank: &[u32]) {
     let r = list.row(g);
+    let key_of = |p: u32| row_key(rank[g] as usize, rank[p as usize] as usize, block);
     for k in r.start + 1..r.end {
         let (p, code) = (list.partner[k], list.image[k]);
-        let key = row_key(g, p as usize, block);
+        let key = key_of(p);
         let mut m = k;
-        while m > r.start && row_key(g, list.partner[m - 1] as usize, block) > key {
+        while m > r.start && key_of(list.partner[m - 1]) > key {
             list.partner[m] = list.partner[m - 1];
             list.image[m] = list.image[m - 1];
             m -= 1;
@@ -601,14 +612,14 @@ pub fn mirrored(code: usize) -> usize {
 /// The remap kernel for grain `g` after a rebuild: each new entry's spring
 /// from the old list, found through `old_of` (the old index of each grain
 /// after a re-sort; `None`: the grains kept their places), negated when the
-/// pair's lower index changed sides; zero when the pair is new or its
-/// spring was not stretched.
+/// pair's lower rank changed sides (`rank` now, `old_rank` by old index);
+/// zero when the pair is new or its spring was not stretched.
 pub fn remap_row(
     g: usize,
     (new, old): (&FullList, &FullList),
     old_of: Option<&[u32]>,
-    old_springs: &Soa3,
-    springs: &mut Soa3,
+    (rank, old_rank): (&[u32], &[u32]),
+    (old_springs, springs): (&Soa3, &mut Soa3),
 ) {
     let at = |k: usize| old_of.map_or(k, |o| o[k] as usize);
     let og = at(g);
@@ -620,7 +631,11 @@ pub fn remap_row(
             if old.partner[k] as usize == op {
                 let o = old_springs.get(k);
                 if !is_zero(o) {
-                    s = if (g < p) == (og < op) { o } else { neg(o) };
+                    s = if (rank[g] < rank[p]) == (old_rank[og] < old_rank[op]) {
+                        o
+                    } else {
+                        neg(o)
+                    };
                 }
                 break;
             }
@@ -655,7 +670,10 @@ pub mod words {
     pub const HALT: usize = 9;
     pub const HALT_STEP: usize = 10;
     pub const NEED: usize = 11;
-    pub const LEN: usize = 12;
+    /// Steps taken: the launches of a step read it rather than take it as
+    /// an argument, so that every step launches the same (a CUDA graph).
+    pub const STEP: usize = 12;
+    pub const LEN: usize = 13;
 
     /// HALT's values.
     pub const HALT_OVERLAP: u64 = 1;
@@ -670,21 +688,22 @@ pub fn gate(st: &[u64; words::LEN], word: Option<usize>) -> bool {
     st[words::HALT] == 0 && word.is_none_or(|w| st[w] != 0)
 }
 
-/// The one-thread kernel that opens step `step`: a grain found not finite
-/// by the last kick halts the stretch (at the step before); otherwise the
-/// rebuild (a grain beyond the skin test, or no list yet) and the re-sort
-/// (every `sort_every` rebuilds) are decided, and the step's flags and
-/// statistics cleared.
-pub fn step_begin(st: &mut [u64; words::LEN], step: u64, sort_every: u32) {
+/// The one-thread kernel that opens the next step: a grain found not
+/// finite by the last kick halts the stretch (at the step before);
+/// otherwise the step is counted, the rebuild (a grain beyond the skin
+/// test, or no list yet) and the re-sort (every `sort_every` rebuilds)
+/// decided, and the step's flags and statistics cleared.
+pub fn step_begin(st: &mut [u64; words::LEN], sort_every: u32) {
     use words::*;
     if st[HALT] != 0 {
         return;
     }
     if st[NONFINITE] != 0 {
         st[HALT] = HALT_NONFINITE;
-        st[HALT_STEP] = step - 1;
+        st[HALT_STEP] = st[STEP];
         return;
     }
+    st[STEP] += 1;
     let build = st[FAR] != 0 || st[BUILDS] == 0;
     let since = st[SINCE_SORT] as u32;
     st[BUILD] = build as u64;
@@ -701,4 +720,63 @@ pub fn step_begin(st: &mut [u64; words::LEN], step: u64, sort_every: u32) {
 /// that the list can grow a while before the stretch halts to reallocate.
 pub fn list_capacity(need: usize) -> usize {
     need + need / 4 + 1024
+}
+
+/// Each cell's place in Morton order (bits of the x, y, z cell coordinates
+/// interleaved, x lowest): cells near in space get near places, so grains
+/// stored cell by cell in this order lie near in memory along all three
+/// axes, not only along x.
+pub fn morton_places(grid: &Grid) -> Vec<u32> {
+    fn spread(mut v: u64) -> u64 {
+        // 21 bits, each moved to every third place.
+        v &= 0x1f_ffff;
+        v = (v | v << 32) & 0x1f00000000ffff;
+        v = (v | v << 16) & 0x1f0000ff0000ff;
+        v = (v | v << 8) & 0x100f00f00f00f00f;
+        v = (v | v << 4) & 0x10c30c30c30c30c3;
+        (v | v << 2) & 0x1249249249249249
+    }
+    let [nx, ny, _] = grid.dims;
+    let mut cells: Vec<(u64, u32)> = (0..grid.ncells())
+        .map(|c| {
+            let (x, y, z) = (c % nx, c / nx % ny, c / nx / ny);
+            let code = spread(x as u64) | spread(y as u64) << 1 | spread(z as u64) << 2;
+            (code, c as u32)
+        })
+        .collect();
+    cells.sort_unstable();
+    let mut place = vec![0u32; cells.len()];
+    for (k, &(_, c)) in cells.iter().enumerate() {
+        place[c as usize] = k as u32;
+    }
+    place
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// On a 4 × 4 × 4 grid every Morton code below 64 is a cell, so a
+    /// cell's place is its code: x bits at 0 and 3, y at 1 and 4, z at 2
+    /// and 5. On an uneven grid the places are a permutation.
+    #[test]
+    fn morton_places_interleave_the_cell_bits() {
+        let grid = |dims| Grid {
+            dims,
+            lo: [0.0; 3],
+            inv_width: [1.0; 3],
+        };
+        let places = morton_places(&grid([4, 4, 4]));
+        let bit = |v: usize, b: usize| (v >> b) & 1;
+        for (c, &place) in places.iter().enumerate() {
+            let (x, y, z) = (c % 4, c / 4 % 4, c / 16);
+            let code = (0..2)
+                .map(|b| (bit(x, b) | bit(y, b) << 1 | bit(z, b) << 2) << (3 * b))
+                .sum::<usize>();
+            assert_eq!(place as usize, code, "cell ({x}, {y}, {z})");
+        }
+        let mut uneven = morton_places(&grid([5, 3, 7]));
+        uneven.sort_unstable();
+        assert_eq!(uneven, (0..105).collect::<Vec<u32>>());
+    }
 }

@@ -21,9 +21,10 @@ pub fn exclusive_scan(counts: &[u32]) -> Vec<u32> {
 }
 
 /// Bins the grains into `grid`'s cells, count–scan–fill, each cell's
-/// members then sorted by index (on the GPU the fill's order depends on
-/// the threads; the sort makes the bins a function of the positions).
-pub fn bin(grid: &Grid, pos: &Soa3) -> Bins {
+/// members then sorted by rank (on the GPU the fill's order depends on
+/// the threads; the sort makes the bins a function of the positions, and
+/// the order within a cell the CPU engine's).
+pub fn bin(grid: &Grid, pos: &Soa3, rank: &[u32]) -> Bins {
     let n = pos.len();
     let cell: Vec<u32> = (0..n).map(|i| grid.cell_of(pos.get(i)) as u32).collect();
     let mut count = vec![0u32; grid.ncells()];
@@ -42,7 +43,7 @@ pub fn bin(grid: &Grid, pos: &Soa3) -> Bins {
         for k in 1..m.len() {
             let x = m[k];
             let mut j = k;
-            while j > 0 && m[j - 1] > x {
+            while j > 0 && rank[m[j - 1] as usize] > rank[x as usize] {
                 m[j] = m[j - 1];
                 j -= 1;
             }
@@ -107,4 +108,29 @@ pub(super) fn full_from_half(
     }
     let springs = Soa3::from_vecs(pair_of.iter().map(|&k| springs[k as usize].to_array()));
     (list, springs)
+}
+
+/// The re-sort's permutation from the sort grid's bins (members by rank):
+/// the CPU engine's new order is the bins read cell by cell, so a grain's
+/// new rank is its place q there; it is stored at its cell's start in the
+/// cells' `place` order (Morton, or the cells' own for the CPU's order)
+/// plus its place within the cell. Returns the old index of each stored
+/// grain and its new rank. On the device: one thread per cell for the
+/// counts in place order, a scan, one thread per q.
+pub fn sort_slots(b: &Bins, place: &[u32]) -> (Vec<u32>, Vec<u32>) {
+    let ncells = b.start.len() - 1;
+    let mut counts = vec![0u32; ncells];
+    for c in 0..ncells {
+        counts[place[c] as usize] = b.start[c + 1] - b.start[c];
+    }
+    let first = exclusive_scan(&counts);
+    let n = b.members.len();
+    let (mut order, mut rank) = (vec![0u32; n], vec![0u32; n]);
+    for (q, &k) in b.members.iter().enumerate() {
+        let c = b.cell[k as usize] as usize;
+        let slot = (first[place[c] as usize] + q as u32 - b.start[c]) as usize;
+        order[slot] = k;
+        rank[slot] = q as u32;
+    }
+    (order, rank)
 }

@@ -9,12 +9,12 @@
 //! outputs go through the CPU engine's code.
 
 use super::grain_kernels::{
-    add, dot, gate, grain_forces, kick_drift, list_capacity, mirrored, order_row, remap_row,
-    step_begin, sub, visit_partners, words, wrap, Box3, ForceArgs, FullList, GrainsIn, Grid, Hooke,
-    KickArgs, ListArgs, Moving, Plane, Soa3, V3,
+    add, dot, gate, grain_forces, kick_drift, list_capacity, mirrored, morton_places, order_row,
+    remap_row, step_begin, sub, visit_partners, words, wrap, Box3, ForceArgs, FullList, GrainsIn,
+    Grid, Hooke, KickArgs, ListArgs, Moving, Plane, Soa3, V3,
 };
-use super::list_build::full_from_half;
 pub use super::list_build::{bin, exclusive_scan};
+use super::list_build::{full_from_half, sort_slots};
 use crate::dim::{Dim, D3};
 use crate::error::{Error, Result};
 use crate::io::Frame;
@@ -31,6 +31,18 @@ const MAX_CELLS: usize = 1 << 24;
 /// (`md::pair_forces::block_size`): the row order follows its blocks.
 pub fn block_size(n: usize) -> usize {
     n.div_ceil(64).next_power_of_two().clamp(1024, 8192)
+}
+
+/// How the pipeline stores its grains between re-sorts: the sort grid's
+/// cells in Morton order (near in memory along all axes), or in the CPU
+/// engine's order (linear cell index, x fastest). Either way each grain
+/// keeps its rank in the CPU engine's order, which decides the sums' order
+/// and the pairs' orientation, so the bits are the CPU engine's.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CellOrder {
+    #[default]
+    Morton,
+    Cpu,
 }
 
 /// What stays fixed through a run.
@@ -50,12 +62,15 @@ pub struct Params {
     /// The grid of the spatial sort and that of the list build.
     pub sort_grid: Grid,
     pub list_grid: Grid,
+    /// The sort grid's cells' places in the stored order (`CellOrder`).
+    pub order: CellOrder,
+    pub places: Vec<u32>,
 }
 
 impl Params {
     /// The fixed part of `md`'s run, refusing by name what the pipeline
     /// does not do (see [`super::check_supported`]).
-    pub fn of(md: &Md<D3>) -> Result<Self> {
+    pub fn of(md: &Md<D3>, order: CellOrder) -> Result<Self> {
         let law = super::check_supported(md)?;
         let s = &md.settings;
         let d = &md.domain;
@@ -77,6 +92,11 @@ impl Params {
             inv_width: shape.inv_width,
         };
         let max_cells = (CELLS_PER_PARTICLE * n).clamp(MIN_CELLS, MAX_CELLS);
+        let sort_grid = grid(GridShape::new(d, reach, usize::MAX));
+        let places = match order {
+            CellOrder::Morton => morton_places(&sort_grid),
+            CellOrder::Cpu => (0..sort_grid.ncells() as u32).collect(),
+        };
         let periodic = [0, 1, 2].map(|a| d.is_periodic(a));
         Ok(Self {
             dt: s.dt,
@@ -93,8 +113,10 @@ impl Params {
             max_overlap_fraction: s.max_overlap_fraction,
             nan_check_every: s.nan_check_every.max(1),
             block: block_size(n),
-            sort_grid: grid(GridShape::new(d, reach, usize::MAX)),
+            sort_grid,
             list_grid: grid(GridShape::new(d, reach, max_cells)),
+            order,
+            places,
         })
     }
 
@@ -135,6 +157,10 @@ pub struct Mirror {
     pub id: Vec<u64>,
     /// Each grain's index in the state the mirror was built from.
     pub origin: Vec<u32>,
+    /// Each grain's index in the CPU engine's order, and the same before
+    /// the last re-sort (by the index then).
+    pub rank: Vec<u32>,
+    old_rank: Vec<u32>,
     /// Positions at the last list build.
     pub reference: Soa3,
     pub list: FullList,
@@ -174,7 +200,13 @@ impl Mirror {
     /// forces evaluated): the same grains in the same order, its half list
     /// turned into the full list.
     pub fn from_md(md: &Md<D3>) -> Result<Self> {
-        let params = Params::of(md)?;
+        Self::from_md_in(md, CellOrder::default())
+    }
+
+    /// [`Self::from_md`] storing the grains in `order` from the first
+    /// re-sort on.
+    pub fn from_md_in(md: &Md<D3>, order: CellOrder) -> Result<Self> {
+        let params = Params::of(md, order)?;
         let s = md.export_state()?;
         let p = &s.particles;
         let n = p.len();
@@ -203,6 +235,8 @@ impl Mirror {
             frozen: p.frozen.iter().map(|&f| f as u8).collect(),
             id: p.id.clone(),
             origin: (0..n as u32).collect(),
+            rank: (0..n as u32).collect(),
+            old_rank: (0..n as u32).collect(),
             reference,
             list,
             springs,
@@ -256,9 +290,47 @@ impl Mirror {
         self.id.is_empty()
     }
 
-    /// The state as the CPU engine keeps it: its import continues the run
-    /// with the same bits.
+    /// The same pipeline state with the grains stored in the CPU engine's
+    /// order (rank k at index k), the list renumbered.
+    fn cpu_ordered(&self) -> Mirror {
+        let n = self.len();
+        let mut by_rank = vec![0u32; n];
+        for (k, &r) in self.rank.iter().enumerate() {
+            by_rank[r as usize] = k as u32;
+        }
+        let mut m = self.clone();
+        m.permute(&by_rank);
+        m.reference = self.reference.gather(&by_rank);
+        let (mut start, mut partner, mut image) = (vec![0u32], Vec::new(), Vec::new());
+        let mut springs = Vec::new();
+        for &k in &by_rank {
+            for e in self.list.row(k as usize) {
+                partner.push(self.rank[self.list.partner[e] as usize]);
+                image.push(self.list.image[e]);
+                springs.push(self.springs.get(e));
+            }
+            start.push(partner.len() as u32);
+        }
+        m.list = FullList {
+            start,
+            partner,
+            image,
+        };
+        m.springs = Soa3::from_vecs(springs.into_iter());
+        m.rank = (0..n as u32).collect();
+        m
+    }
+
+    fn in_cpu_order(&self) -> bool {
+        self.rank.iter().enumerate().all(|(k, &r)| r as usize == k)
+    }
+
+    /// The state as the CPU engine keeps it (in its order): its import
+    /// continues the run with the same bits.
     pub fn to_state(&self) -> MdState<D3> {
+        if !self.in_cpu_order() {
+            return self.cpu_ordered().to_state();
+        }
         let t = &self.template;
         let mut particles = t.particles.clone();
         particles.permute(&self.origin);
@@ -363,8 +435,12 @@ impl Mirror {
         (max, worst)
     }
 
-    /// The grains now as a frame (the CPU engine's [`Md::frame`] layout).
+    /// The grains now as a frame (the CPU engine's [`Md::frame`] layout
+    /// and order).
     pub fn frame(&self, domain: &crate::domain::Domain<D3>) -> Frame {
+        if !self.in_cpu_order() {
+            return self.cpu_ordered().frame(domain);
+        }
         let kind = &self.template.particles.kind;
         Frame {
             step: self.step,
@@ -397,7 +473,7 @@ impl Mirror {
         self.load_words();
         // The predictor of the first step checks nothing (the CPU engine
         // checks a step's forces after its own kicks).
-        self.kick_pass(1, true, false, f64::INFINITY, self.step);
+        self.kick_pass(1, true, 0, f64::INFINITY);
         let mut resume = false;
         loop {
             self.enqueue(target, resume);
@@ -419,6 +495,7 @@ impl Mirror {
         self.st[words::SINCE_SORT] = self.rebuilds_since_sort as u64;
         self.st[words::WALLS] = self.stats.contacts;
         self.st[words::MAX_FRACTION] = self.stats.max_fraction.to_bits();
+        self.st[words::STEP] = self.step;
     }
 
     /// The passes of the steps after `self.step` up to `target`, in the
@@ -432,18 +509,18 @@ impl Mirror {
         loop {
             step += 1;
             if !resume {
-                step_begin(&mut self.st, step, self.params.sort_every);
+                step_begin(&mut self.st, self.params.sort_every);
                 self.wrap_sort_pass();
             }
             resume = false;
-            self.list_pass(step);
+            self.list_pass();
             self.force_pass(true);
             if step == target {
                 break;
             }
-            self.kick_pass(2, true, step.is_multiple_of(every), limit, step);
+            self.kick_pass(2, true, every, limit);
         }
-        self.kick_pass(1, false, target.is_multiple_of(every), limit, target);
+        self.kick_pass(1, false, every, limit);
     }
 
     /// The host's look at the step words when a stretch ends: the
@@ -493,18 +570,21 @@ impl Mirror {
 
     /// The integration kernel over all grains (gated on a halt): first
     /// the overlap of the last force evaluation against `limit` (beyond
-    /// it the stretch halts at `step`, unkicked), then `kicks` half-kicks,
-    /// the drift when `drift` (setting FAR for a grain beyond the skin
-    /// test), the finiteness test after the first kick when `check`.
-    fn kick_pass(&mut self, kicks: u32, drift: bool, check: bool, limit: f64, step: u64) {
+    /// it the stretch halts at this step, unkicked), then `kicks`
+    /// half-kicks, the drift when `drift` (setting FAR for a grain beyond
+    /// the skin test), the finiteness test after the first kick at a step
+    /// that is a multiple of `check_every` (0: never).
+    fn kick_pass(&mut self, kicks: u32, drift: bool, check_every: u64, limit: f64) {
         if !gate(&self.st, None) {
             return;
         }
+        let step = self.st[words::STEP];
         if f64::from_bits(self.st[words::MAX_FRACTION]) > limit {
             self.st[words::HALT] = words::HALT_OVERLAP;
             self.st[words::HALT_STEP] = step;
             return;
         }
+        let check = check_every > 0 && step.is_multiple_of(check_every);
         let args = KickArgs {
             force: &self.force,
             torque: &self.torque,
@@ -557,6 +637,7 @@ impl Mirror {
             radius: &self.radius,
             mass: &self.mass,
             frozen: &self.frozen,
+            rank: &self.rank,
         };
         let args = ForceArgs {
             law: self.params.law,
@@ -590,7 +671,9 @@ impl Mirror {
             self.pos.set(g, wrap(&self.params.bx, self.pos.get(g)));
         }
         if self.st[words::SORT] != 0 {
-            let order = bin(&self.params.sort_grid, &self.pos).members;
+            let bins = bin(&self.params.sort_grid, &self.pos, &self.rank);
+            let (order, rank) = sort_slots(&bins, &self.params.places);
+            self.old_rank = std::mem::replace(&mut self.rank, rank);
             self.permute(&order);
             self.old_of = order;
         }
@@ -600,7 +683,7 @@ impl Mirror {
     /// buffer, or, when it does not fit, a halt at `step` with the entries
     /// it needs; the springs remapped onto it, the reference positions,
     /// the build counted (which makes the other buffer current).
-    fn list_pass(&mut self, step: u64) {
+    fn list_pass(&mut self) {
         if !gate(&self.st, Some(words::BUILD)) {
             return;
         }
@@ -608,14 +691,22 @@ impl Mirror {
         let next = ((self.st[words::BUILDS] + 1) % 2) as usize;
         if list.partner.len() > self.capacity[next] {
             self.st[words::HALT] = words::HALT_OVERFLOW;
-            self.st[words::HALT_STEP] = step;
+            self.st[words::HALT_STEP] = self.st[words::STEP];
             self.st[words::NEED] = list.partner.len() as u64;
             return;
         }
-        let old_of = (self.st[words::SORT] != 0).then_some(&self.old_of[..]);
+        let sorted = self.st[words::SORT] != 0;
+        let old_of = sorted.then_some(&self.old_of[..]);
+        let old_rank = if sorted { &self.old_rank } else { &self.rank };
         let mut springs = Soa3::zeros(list.partner.len());
         for g in 0..self.len() {
-            remap_row(g, (&list, &self.list), old_of, &self.springs, &mut springs);
+            remap_row(
+                g,
+                (&list, &self.list),
+                old_of,
+                (&self.rank, old_rank),
+                (&self.springs, &mut springs),
+            );
         }
         self.list = list;
         self.springs = springs;
@@ -628,11 +719,11 @@ impl Mirror {
     pub fn rebuild(&mut self) {
         self.load_words();
         self.st[words::FAR] = 1;
-        step_begin(&mut self.st, self.step, self.params.sort_every);
+        step_begin(&mut self.st, self.params.sort_every);
         self.wrap_sort_pass();
         let capacity = self.capacity;
         self.capacity = [usize::MAX; 2];
-        self.list_pass(self.step);
+        self.list_pass();
         self.capacity = capacity;
         self.builds = self.st[words::BUILDS];
         self.rebuilds_since_sort = self.st[words::SINCE_SORT] as u32;
@@ -665,11 +756,12 @@ impl Mirror {
     /// fill, order each row.
     pub fn build_list(&self) -> FullList {
         let n = self.len();
-        let bins = bin(&self.params.list_grid, &self.pos);
+        let bins = bin(&self.params.list_grid, &self.pos, &self.rank);
         let args = ListArgs {
             pos: &self.pos,
             radius: &self.radius,
             frozen: &self.frozen,
+            rank: &self.rank,
             bins: &bins,
             grid: self.params.list_grid,
             periodic: self.params.bx.periodic,
@@ -693,10 +785,14 @@ impl Mirror {
             let mut k = list.start[g] as usize;
             visit_partners(&args, g, |p, code| {
                 list.partner[k] = p as u32;
-                list.image[k] = if p > g { code } else { mirrored(code) } as u8;
+                list.image[k] = if self.rank[p] > self.rank[g] {
+                    code
+                } else {
+                    mirrored(code)
+                } as u8;
                 k += 1;
             });
-            order_row(&mut list, g, args.block);
+            order_row(&mut list, g, args.block, &self.rank);
         }
         list
     }

@@ -2,20 +2,29 @@
 //! skipped, with a message, where no CUDA device or driver is present).
 
 use grains::gpu::cuda::{Cuda, Options};
-use grains::gpu::mirror::Mirror;
+use grains::gpu::mirror::{CellOrder, Mirror};
 use grains::scenario::{build_md, load_file};
 use grains::D3;
 use std::path::PathBuf;
 
-fn chute() -> Mirror {
+/// The chute, re-sorted every second list build (into `order`).
+fn chute_in(order: CellOrder) -> Mirror {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/bench-chute.toml");
     let (md, _) = build_md::<D3>(&load_file(&path, &[]).unwrap()).unwrap();
-    Mirror::from_md(&md).unwrap()
+    let mut m = Mirror::from_md_in(&md, order).unwrap();
+    m.params.sort_every = 2;
+    m
 }
 
-/// The chute over 300 steps in two stretches, without fused multiply-add:
-/// the rebuild decided on the device (and, as a variant, by the host after
-/// every step), list buffers too small to start with: the mirror's bits.
+fn chute() -> Mirror {
+    chute_in(CellOrder::Morton)
+}
+
+/// The chute over 300 steps in two stretches, without fused multiply-add,
+/// re-sorted into Morton order: the rebuild decided on the device (and, as
+/// variants, by the host after every step, in graphs of 16 steps, with
+/// list buffers too small to start with, in the CPU engine's cell order):
+/// the mirror's bits.
 #[test]
 fn gpu_engine_same_bits_as_the_mirror_on_the_chute() {
     let mut mirror = chute();
@@ -24,8 +33,23 @@ fn gpu_engine_same_bits_as_the_mirror_on_the_chute() {
         mirror.advance(n).unwrap();
     }
     assert!(mirror.builds >= 2, "{} builds", mirror.builds);
+    let moved = mirror
+        .rank
+        .iter()
+        .enumerate()
+        .filter(|&(k, &r)| r as usize != k);
+    assert!(moved.count() > 0, "no grain moved out of the CPU's order");
     let mut tight = start.clone();
     tight.capacity = [0, 0];
+    let cpu_order = chute_in(CellOrder::Cpu);
+    let mut cpu_mirror = cpu_order.clone();
+    for n in [1, 299] {
+        cpu_mirror.advance(n).unwrap();
+    }
+    let graph = Options {
+        graph: true,
+        ..Options::default()
+    };
     let sync = Options {
         sync_each_step: true,
         ..Options::default()
@@ -33,8 +57,15 @@ fn gpu_engine_same_bits_as_the_mirror_on_the_chute() {
     for (what, m, options) in [
         ("device decides", start.clone(), Options::default()),
         ("host decides", start.clone(), sync),
+        ("graph of steps", start.clone(), graph),
         ("full buffers", tight, Options::default()),
+        ("CPU cell order", cpu_order.clone(), Options::default()),
     ] {
+        let want = if what == "CPU cell order" {
+            &cpu_mirror
+        } else {
+            &mirror
+        };
         let mut gpu = match Cuda::with(m, options) {
             Ok(g) => g,
             Err(e) => {
@@ -45,7 +76,7 @@ fn gpu_engine_same_bits_as_the_mirror_on_the_chute() {
         for n in [1, 299] {
             gpu.advance(n).unwrap();
         }
-        let (grains, lists) = gpu.host().unwrap().differences(&mirror);
+        let (grains, lists) = gpu.host().unwrap().differences(want);
         assert_eq!(
             (grains, lists),
             (0, false),

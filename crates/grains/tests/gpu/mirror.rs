@@ -2,7 +2,7 @@
 //! its neighbour-list build against brute force.
 
 use grains::gpu::grain_kernels::{dot, row_key, sub, V3};
-use grains::gpu::mirror::Mirror;
+use grains::gpu::mirror::{CellOrder, Mirror};
 use grains::md::Md;
 use grains::scenario::{build_md, load_file, load_str};
 use grains::D3;
@@ -92,11 +92,13 @@ fn assert_same_bits(cpu: &Md<D3>, mirror: &Mirror, what: &str) {
 }
 
 /// The LAMMPS chute (34 656 grains on a frozen rough base, periodic x and
-/// y, gravity along the incline) over 1000 steps: several rebuilds and
-/// re-sorts, sliding and sticking contacts.
+/// y, gravity along the incline) over 1000 steps: several rebuilds, a
+/// re-sort every third (into Morton order on the mirror), sliding and
+/// sticking contacts.
 #[test]
 fn chute_1000_steps_same_bits_as_the_cpu_engine() {
     let mut cpu = chute();
+    cpu.settings.sort_every = 3;
     let mut mirror = Mirror::from_md(&cpu).unwrap();
     assert_same_bits(&cpu, &mirror, "chute at the start");
     cpu.run(1000).unwrap();
@@ -106,7 +108,27 @@ fn chute_1000_steps_same_bits_as_the_cpu_engine() {
         "{} list builds: the run must cross rebuilds",
         mirror.builds
     );
+    assert_stored_in_morton_order(&mirror);
     assert_same_bits(&cpu, &mirror, "chute after 1000 steps");
+}
+
+/// The mirror stores its grains in Morton order (not the CPU engine's):
+/// most grains sit elsewhere than their rank, and the sort grid's cells
+/// of consecutive grains never go back in Morton order.
+fn assert_stored_in_morton_order(m: &Mirror) {
+    let moved = m
+        .rank
+        .iter()
+        .enumerate()
+        .filter(|&(k, &r)| r as usize != k)
+        .count();
+    assert!(moved > m.len() / 2, "{moved} of {} grains moved", m.len());
+    let grid = &m.params.sort_grid;
+    let place = |k: usize| m.params.places[grid.cell_of(m.reference.get(k))];
+    // The reference positions are those of the last build; the last
+    // re-sort may be older, so count the breaks rather than forbid them.
+    let breaks = (1..m.len()).filter(|&k| place(k) < place(k - 1)).count();
+    assert!(breaks < m.len() / 10, "{breaks} breaks of Morton order");
 }
 
 /// The bed with walls in uneven stretches (as hooks would cut a run) and
@@ -126,7 +148,27 @@ fn bed_with_walls_same_bits_in_any_stretches() {
         .filter(|&k| mirror.wall_springs.get(k) != [0.0; 3])
         .count();
     assert!(walls > 10, "{walls} stretched wall springs");
+    assert_stored_in_morton_order(&mirror);
     assert_same_bits(&cpu, &mirror, "bed after 1500 steps");
+}
+
+/// Stored in the CPU engine's own cell order, the same bits, and every
+/// grain at its rank.
+#[test]
+fn bed_in_the_cpu_engines_order_same_bits() {
+    let mut cpu = bed();
+    cpu.settings.sort_every = 1;
+    let mut mirror = Mirror::from_md_in(&cpu, CellOrder::Cpu).unwrap();
+    cpu.run(800).unwrap();
+    for n in [300, 500] {
+        mirror.advance(n).unwrap();
+    }
+    assert!(mirror
+        .rank
+        .iter()
+        .enumerate()
+        .all(|(k, &r)| r as usize == k));
+    assert_same_bits(&cpu, &mirror, "bed in CPU order after 800 steps");
 }
 
 /// The device's way through a full list buffer: with no room in either
@@ -173,6 +215,27 @@ fn an_overlap_beyond_the_limit_stops_at_the_cpu_engines_step() {
     assert!(step > 100, "{a}: the check should stop a stretch midway");
 }
 
+/// A grain whose velocity is not finite stops the stretch at the CPU
+/// engine's step: the kick of a checking step flags it, the next step's
+/// start halts the stretch, and the host reports the flagged step.
+#[test]
+fn a_non_finite_grain_stops_at_the_cpu_engines_step() {
+    let mut cpu = bed();
+    cpu.settings.nan_check_every = 7;
+    let mut mirror = Mirror::from_md(&cpu).unwrap();
+    cpu.particles.vel[100].x = f64::NAN;
+    mirror.vel.x[100] = f64::NAN;
+    let a = cpu.run(50).unwrap_err().to_string();
+    let b = mirror.advance(50).unwrap_err().to_string();
+    let at = |e: &str| e.split(" (t =").next().unwrap().to_string();
+    assert!(
+        a.contains("non-finite") && b.contains("non-finite"),
+        "{a}\n{b}"
+    );
+    assert_eq!(at(&a), at(&b), "CPU: {a}\nmirror: {b}");
+    assert!(at(&a).ends_with("step 7"), "{a}");
+}
+
 /// The list build against all pairs and all 27 images: the same set of
 /// pairs within r_i + r_j + skin (frozen pairs left out), each in both
 /// rows with the lower index's image code, rows in the reduction's order.
@@ -194,7 +257,12 @@ fn list_build_matches_brute_force() {
                 if i == j || (m.frozen[i] != 0 && m.frozen[j] != 0) {
                     continue;
                 }
-                let (lo, hi) = (i.min(j), i.max(j));
+                // The pair's image code is that of its lower rank's side.
+                let (lo, hi) = if m.rank[i] < m.rank[j] {
+                    (i, j)
+                } else {
+                    (j, i)
+                };
                 for (code, s) in shifts.iter().enumerate() {
                     // Axes that are not periodic have one image only.
                     let digits = [code % 3, code / 3 % 3, code / 9];
@@ -216,7 +284,10 @@ fn list_build_matches_brute_force() {
             let row = m.list.row(i);
             let keys: Vec<_> = row
                 .clone()
-                .map(|e| row_key(i, m.list.partner[e] as usize, block))
+                .map(|e| {
+                    let p = m.list.partner[e] as usize;
+                    row_key(m.rank[i] as usize, m.rank[p] as usize, block)
+                })
                 .collect();
             // Lower partners ascending within their class; higher ones as
             // the stencil met them.

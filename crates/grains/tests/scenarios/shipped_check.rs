@@ -1,14 +1,17 @@
-//! Every flow scenario of issue 7 passes `grains check` (it builds an
-//! engine, generated hopper walls and event settings included), and the
-//! outlet is settable as `hopper.outlet`.
+//! Every flow scenario of issue 7, and their variants from materials, passes
+//! `grains check` (it builds an engine, generated hopper walls and event
+//! settings included), and the outlet is settable as `hopper.outlet`.
 
 use grains::runner::check;
 use grains::scenario::load_file;
 use std::path::PathBuf;
 
-const SCENARIOS: [&str; 8] = [
+const SCENARIOS: [&str; 11] = [
     "repose-2d",
     "repose-3d",
+    "repose-3d-sand",
+    "repose-3d-glass",
+    "pour-3d-sand",
     "hopper-2d",
     "hopper-3d",
     "chute-3d",

@@ -39,11 +39,14 @@ __device__ __forceinline__ void set(Soa3 s, u64 i, v3 v) {
     s.z[i] = v.z;
 }
 
-// The grains, in cell order.
+// The grains, in cell order (Morton or the CPU engine's); rank: each
+// grain's index in the CPU engine's order, which orients the pairs and
+// orders the rows.
 struct Grains {
     Soa3 pos, vel, omega, force, torque, reference;
     double *radius, *mass, *inv_mass, *inv_inertia;
     u8 *frozen;
+    u32 *rank;
     u32 n;
 };
 
@@ -86,7 +89,8 @@ struct Plane {
 #define ST_HALT 9
 #define ST_HALT_STEP 10
 #define ST_NEED 11
-#define ST_LEN 12
+#define ST_STEP 12
+#define ST_LEN 13
 #define HALT_OVERLAP 1
 #define HALT_NONFINITE 2
 #define HALT_OVERFLOW 3

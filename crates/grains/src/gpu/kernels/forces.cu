@@ -67,8 +67,9 @@ extern "C" __global__ void forces(Grains g, Lists ls, Soa3 wall_springs, ForceAr
         v3 t = mk(0.0, 0.0, 0.0);
         for (u32 e = l.start[gi]; e < l.start[gi + 1]; e++) {
             u64 p = l.partner[e];
-            u64 i = gi < p ? gi : p;
-            u64 j = gi < p ? p : gi;
+            bool lower = g.rank[gi] < g.rank[p];
+            u64 i = lower ? gi : p;
+            u64 j = lower ? p : gi;
             u8 code = l.image[e];
             v3 sh = mk(a.shifts[code][0], a.shifts[code][1], a.shifts[code][2]);
             v3 del = sub(get(g.pos, i), add(get(g.pos, j), sh));

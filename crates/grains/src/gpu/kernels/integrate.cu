@@ -3,15 +3,17 @@
 #include "common.cuh"
 
 // The one-thread kernel that opens a step (grain_kernels.rs step_begin):
-// a grain found not finite halts the stretch; otherwise the rebuild and the
-// re-sort are decided and the step's flags and statistics cleared.
-extern "C" __global__ void step_begin(u64 *st, u64 step, u32 sort_every) {
+// a grain found not finite halts the stretch; otherwise the step is
+// counted, the rebuild and the re-sort decided and the step's flags and
+// statistics cleared.
+extern "C" __global__ void step_begin(u64 *st, u32 sort_every) {
     if (thread_index() != 0 || st[ST_HALT] != 0) return;
     if (st[ST_NONFINITE] != 0) {
         st[ST_HALT] = HALT_NONFINITE;
-        st[ST_HALT_STEP] = step - 1;
+        st[ST_HALT_STEP] = st[ST_STEP];
         return;
     }
+    st[ST_STEP] += 1;
     bool build = st[ST_FAR] != 0 || st[ST_BUILDS] == 0;
     u32 since = (u32)st[ST_SINCE_SORT];
     st[ST_BUILD] = build;
@@ -23,11 +25,12 @@ extern "C" __global__ void step_begin(u64 *st, u64 step, u32 sort_every) {
     st[ST_MAX_FRACTION] = 0;
 }
 
-// A stretch starts (or resumes) unhalted.
-extern "C" __global__ void clear_halt(u64 *st) {
+// A stretch starts (or resumes) unhalted, `step` steps taken.
+extern "C" __global__ void clear_halt(u64 *st, u64 step) {
     if (thread_index() != 0) return;
     st[ST_HALT] = 0;
     st[ST_NONFINITE] = 0;
+    st[ST_STEP] = step;
 }
 
 // The rebuild counted, after the list, its springs and the reference
@@ -38,15 +41,17 @@ extern "C" __global__ void build_end(u64 *st) {
 }
 
 // First the last force evaluation's overlap against `overlap_limit`
-// (beyond it the stretch halts at `step`, unkicked: every thread reads the
-// same value and returns), then `kicks` half-kicks, the drift if `drift`,
-// and the skin test (a grain beyond it stores 1 in st[ST_FAR]: the same
-// value whichever thread stores it). `check` tests the state after the
-// first kick for finiteness.
+// (beyond it the stretch halts at this step, unkicked: every thread reads
+// the same value and returns), then `kicks` half-kicks, the drift if
+// `drift`, and the skin test (a grain beyond it stores 1 in st[ST_FAR]:
+// the same value whichever thread stores it). At a step that is a
+// multiple of `check_every` (0: never) the state after the first kick is
+// tested for finiteness.
 extern "C" __global__ void kick_drift(Grains g, double dt, double limit2, u32 kicks, u32 drift,
-                                      u32 check, double overlap_limit, u64 step, u64 *st) {
+                                      u64 check_every, double overlap_limit, u64 *st) {
     u64 i = thread_index();
     if (i >= g.n || !gate(st, GATE_ALWAYS)) return;
+    u64 step = st[ST_STEP];
     if (__longlong_as_double((long long)st[ST_MAX_FRACTION]) > overlap_limit) {
         if (i == 0) {
             st[ST_HALT] = HALT_OVERLAP;
@@ -54,6 +59,7 @@ extern "C" __global__ void kick_drift(Grains g, double dt, double limit2, u32 ki
         }
         return;
     }
+    bool check = check_every > 0 && step % check_every == 0;
     if (g.frozen[i] == 0) {
         double half = 0.5 * dt;
         double kick = half * g.inv_mass[i];

@@ -92,20 +92,47 @@ extern "C" __global__ void bin_fill(const u32 *cell, u32 *cursor, u32 *members, 
     u32 slot = atomicAdd(&cursor[cell[i]], 1u);
     members[slot] = (u32)i;
 }
-extern "C" __global__ void bin_sort(const u32 *start, u32 *members, u64 ncells, const u64 *st,
-                                    u32 word) {
+// Each cell's members by rank (the CPU engine's order within a cell).
+extern "C" __global__ void bin_sort(const u32 *start, u32 *members, u64 ncells, const u32 *rank,
+                                    const u64 *st, u32 word) {
     u64 c = thread_index();
     if (c >= ncells || !gate(st, word)) return;
     u32 a = start[c], b = start[c + 1];
     for (u32 k = a + 1; k < b; k++) {
         u32 x = members[k];
         u32 j = k;
-        while (j > a && members[j - 1] > x) {
+        while (j > a && rank[members[j - 1]] > rank[x]) {
             members[j] = members[j - 1];
             j--;
         }
         members[j] = x;
     }
+}
+
+// The re-sort's permutation (list_build.rs sort_slots), gated on SORT.
+// First each cell's count at its place in the stored order (Morton or the
+// cells' own), then scanned into `first`; then for the q-th member of the
+// bins read cell by cell (its new rank): its slot, its old index, its rank
+// before, its new rank (into a buffer copied to the ranks after the move).
+extern "C" __global__ void place_counts(const u32 *start, const u32 *places, u32 *counts,
+                                        u64 ncells, const u64 *st) {
+    u64 c = thread_index();
+    if (c >= ncells || !gate(st, ST_SORT)) return;
+    counts[places[c]] = start[c + 1] - start[c];
+    if (c == 0) counts[ncells] = 0;
+}
+extern "C" __global__ void sort_slots(const u32 *members, const u32 *cell, const u32 *start,
+                                      const u32 *places, const u32 *first, const u32 *rank,
+                                      u32 *rank_before, u32 *order, u32 *new_rank, u64 n,
+                                      const u64 *st) {
+    u64 q = thread_index();
+    if (q >= n || !gate(st, ST_SORT)) return;
+    u32 k = members[q];
+    u32 c = cell[k];
+    rank_before[k] = rank[k];
+    u32 slot = first[places[c]] + (u32)q - start[c];
+    order[slot] = k;
+    new_rank[slot] = (u32)q;
 }
 
 struct ListArgs {
@@ -217,10 +244,9 @@ __device__ __forceinline__ u64 row_key(u32 g, u32 p, u32 block) {
 }
 
 // The rows into the other buffer, from the scanned counts `start`; when
-// they do not fit its capacity, a halt at `step` with the entries needed
-// (every thread reads the same total and returns).
-extern "C" __global__ void list_fill(Grains g, ListArgs a, Lists ls, const u32 *start, u64 step,
-                                     u64 *st) {
+// they do not fit its capacity, a halt at this step with the entries
+// needed (every thread reads the same total and returns).
+extern "C" __global__ void list_fill(Grains g, ListArgs a, Lists ls, const u32 *start, u64 *st) {
     u32 i = (u32)thread_index();
     if (i >= g.n || !gate(st, ST_BUILD)) return;
     u32 next = (u32)((st[ST_BUILDS] + 1) & 1);
@@ -228,7 +254,7 @@ extern "C" __global__ void list_fill(Grains g, ListArgs a, Lists ls, const u32 *
     if (total > ls.cap[next]) {
         if (i == 0) {
             st[ST_HALT] = HALT_OVERFLOW;
-            st[ST_HALT_STEP] = step;
+            st[ST_HALT_STEP] = st[ST_STEP];
             st[ST_NEED] = total;
         }
         return;
@@ -237,9 +263,9 @@ extern "C" __global__ void list_fill(Grains g, ListArgs a, Lists ls, const u32 *
     l.start[i] = start[i];
     if (i + 1 == g.n) l.start[g.n] = start[g.n];
     u32 k = start[i];
-#define FILL_ONE(p, code)                                   \
-    l.partner[k] = p;                                       \
-    l.image[k] = (u8)(p > i ? code : 26 - code);            \
+#define FILL_ONE(p, code)                                         \
+    l.partner[k] = p;                                             \
+    l.image[k] = (u8)(g.rank[p] > g.rank[i] ? code : 26 - code);  \
     k++
     VISIT_PARTNERS(FILL_ONE)
     // The row in the reduction's order: a stable insertion sort in place.
@@ -247,9 +273,9 @@ extern "C" __global__ void list_fill(Grains g, ListArgs a, Lists ls, const u32 *
     for (u32 e = r0 + 1; e < r1; e++) {
         u32 p = l.partner[e];
         u8 code = l.image[e];
-        u64 key = row_key(i, p, a.block);
+        u64 key = row_key(g.rank[i], g.rank[p], a.block);
         u32 m = e;
-        while (m > r0 && row_key(i, l.partner[m - 1], a.block) > key) {
+        while (m > r0 && row_key(g.rank[i], g.rank[l.partner[m - 1]], a.block) > key) {
             l.partner[m] = l.partner[m - 1];
             l.image[m] = l.image[m - 1];
             m--;
@@ -260,14 +286,17 @@ extern "C" __global__ void list_fill(Grains g, ListArgs a, Lists ls, const u32 *
 }
 
 // Each new entry's spring from the old list (old_of: old index of each
-// grain after a re-sort), negated when the pair's lower index changed
-// sides; and the grain's reference position for the skin test.
-extern "C" __global__ void remap_springs(Grains gr, Lists ls, const u32 *old_of, const u64 *st) {
+// grain after a re-sort, rank_before: ranks by old index), negated when
+// the pair's lower rank changed sides; and the grain's reference position
+// for the skin test.
+extern "C" __global__ void remap_springs(Grains gr, Lists ls, const u32 *old_of,
+                                         const u32 *rank_before, const u64 *st) {
     u32 g = (u32)thread_index();
     if (g >= gr.n || !gate(st, ST_BUILD)) return;
     u32 cur = (u32)(st[ST_BUILDS] & 1);
     List nl = ls.l[cur ^ 1u], ol = ls.l[cur];
     bool sorted = st[ST_SORT] != 0;
+    const u32 *old_rank = sorted ? rank_before : gr.rank;
     u32 og = sorted ? old_of[g] : g;
     for (u32 e = nl.start[g]; e < nl.start[g + 1]; e++) {
         u32 p = nl.partner[e];
@@ -276,7 +305,8 @@ extern "C" __global__ void remap_springs(Grains gr, Lists ls, const u32 *old_of,
         for (u32 k = ol.start[og]; k < ol.start[og + 1]; k++) {
             if (ol.partner[k] == op) {
                 v3 o = get(ol.springs, k);
-                if (!is_zero(o)) s = ((g < p) == (og < op)) ? o : neg(o);
+                if (!is_zero(o))
+                    s = ((gr.rank[g] < gr.rank[p]) == (old_rank[og] < old_rank[op])) ? o : neg(o);
                 break;
             }
         }
