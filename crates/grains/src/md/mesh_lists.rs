@@ -4,10 +4,12 @@
 //! The margin is half the Verlet skin: the neighbour list is rebuilt as
 //! soon as a grain has moved farther than that, so a still mesh's lists
 //! serve every grain until the rebuild remakes them, and the grid is
-//! searched only then. A moving mesh carries its grains' reference-frame
-//! positions along; a grain whose list no longer serves is looked up in
-//! the grid, as without lists. The lists never change a contact (see
-//! [`MeshCandidates`]), only which triangles are read.
+//! searched only then. A grain whose list no longer serves (its radius
+//! grew, or it was moved from outside) is looked up in the grid, as
+//! without lists. Moving meshes get none: they carry their grains across
+//! their frame, so lists would go stale within steps. The lists never
+//! change a contact (see [`MeshCandidates`]), only which triangles are
+//! read.
 
 use crate::boundary::{MeshCandidates, PlacedWall};
 use crate::dim::Dim;
