@@ -51,6 +51,7 @@ impl<D: Dim> Md<D> {
         let order = self.id_order();
         self.particles.permute(&order);
         self.wall_springs.permute(&order);
+        self.mesh_springs.permute(&order);
         self.wall_rolling.permute(&order);
         if let Some(p) = pos {
             self.particles.pos[..n].copy_from_slice(p);
@@ -106,5 +107,53 @@ mod tests {
         // A repeated id is not a dense range: the sort keeps both.
         assert_eq!(id_order(&[2, 1, 2]), vec![1, 0, 2]);
         assert!(id_order(&[]).is_empty());
+    }
+
+    #[test]
+    fn mesh_springs_follow_their_grains_through_a_new_state() {
+        use crate::boundary::{Mesh, MeshPlacement, Motion, Shape, Wall};
+        use crate::contact::hooke_history::lammps_law;
+        use crate::dim::D3;
+        use crate::domain::Domain;
+        use crate::md::MdSettings;
+        use crate::particles::{ParticleRecord, Particles};
+        use glam::DVec3;
+        use std::collections::BTreeMap;
+        use std::sync::Arc;
+        // A row of grains sliding on a two-triangle floor, ids against x so
+        // that the spatial sort puts them out of id order.
+        let sheet = [
+            [[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [10.0, 10.0, 0.0]],
+            [[0.0, 0.0, 0.0], [10.0, 10.0, 0.0], [0.0, 10.0, 0.0]],
+        ];
+        let mesh = Mesh::new("sheet", &sheet, &MeshPlacement::default()).unwrap();
+        let floor = Wall::new("floor", Shape::Mesh(Arc::new(mesh)), Motion::Fixed).unwrap();
+        let mut p = Particles::<D3>::new();
+        for k in 0..6u64 {
+            let x = 8.5 - 1.5 * k as f64;
+            let mut g = ParticleRecord::new(k, DVec3::new(x, 5.0, 0.49), 0.5, 1.0, 0.1);
+            g.vel = DVec3::new(0.01 * (k + 1) as f64, 0.0, 0.0);
+            p.push_record(g);
+        }
+        let domain = Domain::new(DVec3::splat(-1.0), DVec3::splat(11.0), [false; 3]);
+        let mut settings = MdSettings::new(1e-4, lammps_law(0.0), 0.2);
+        settings.gravity = DVec3::new(0.0, 0.0, -9.81);
+        let mut md = Md::new(p, domain, vec![floor], settings).unwrap();
+        md.advance(20).unwrap();
+        let by_id = |md: &Md<D3>| -> BTreeMap<u64, DVec3> {
+            md.mesh_springs
+                .entries()
+                .map(|((g, _, _), s)| (md.particles.id[g as usize], s))
+                .collect()
+        };
+        let before = by_id(&md);
+        assert_eq!(before.len(), 6, "every grain's spring is stretched");
+        assert_ne!(
+            md.id_order(),
+            (0..6).collect::<Vec<u32>>(),
+            "out of id order"
+        );
+        md.set_state(None, None).unwrap();
+        assert_eq!(by_id(&md), before);
     }
 }
