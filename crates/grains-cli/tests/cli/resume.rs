@@ -200,12 +200,15 @@ fn sigkill_at_random_moments_then_resume_matches_straight_run() {
     let seed = kill_seed(0x5eed_u64);
     let mut rng = Lcg(seed);
     let mut kills = 0;
-    let mut started = false;
+    let mut fresh = true;
+    // Waits are drawn below this bound; halved whenever the run ends before
+    // its first kill (the machine ran it faster than the timing run did).
+    let mut bound = full * 2 / 3;
     loop {
-        let mut child = next_attempt(!started, &scen, &dir, "50steps");
-        started = true;
+        let mut child = next_attempt(fresh, &scen, &dir, "50steps");
+        fresh = false;
         if kills < 4 {
-            let wait = Duration::from_millis(rng.below(full * 2 / 3) + 5);
+            let wait = Duration::from_millis(rng.below(bound) + 5);
             let until = Instant::now() + wait;
             while Instant::now() < until {
                 if child.try_wait().unwrap().is_some() {
@@ -217,6 +220,12 @@ fn sigkill_at_random_moments_then_resume_matches_straight_run() {
                 child.kill().unwrap(); // SIGKILL
                 let _ = child.wait();
                 kills += 1;
+                continue;
+            }
+            if kills == 0 && bound > 1 {
+                let _ = child.wait();
+                bound /= 2;
+                fresh = true;
                 continue;
             }
         }
