@@ -20,6 +20,18 @@ pub fn exclusive_scan(counts: &[u32]) -> Vec<u32> {
     start
 }
 
+/// A full list with `count[g]` empty entries in grain g's row: the scan
+/// step of a count–scan–fill build, rows ready for the fill.
+pub fn empty_rows(count: &[u32]) -> FullList {
+    let start = exclusive_scan(count);
+    let total = start[count.len()] as usize;
+    FullList {
+        start,
+        partner: vec![0; total],
+        image: vec![0; total],
+    }
+}
+
 /// Bins the grains into `grid`'s cells, count–scan–fill, each cell's
 /// members then sorted by rank (on the GPU the fill's order depends on
 /// the threads; the sort makes the bins a function of the positions, and
@@ -70,17 +82,11 @@ pub(super) fn full_from_half(
         count[i as usize] += 1;
         count[j as usize] += 1;
     }
-    let start = exclusive_scan(&count);
-    let total = start[n] as usize;
-    let mut list = FullList {
-        start,
-        partner: vec![0; total],
-        image: vec![0; total],
-    };
+    let mut list = empty_rows(&count);
     // The spring of each entry, as the pair's index in the half list, so
     // that the rows can be ordered first and the springs placed after.
     let mut cursor = list.start.clone();
-    let mut pair_of = vec![0u32; total];
+    let mut pair_of = vec![0u32; list.partner.len()];
     for (k, &[i, j]) in half.pairs.iter().enumerate() {
         for (g, p) in [(i, j), (j, i)] {
             let e = cursor[g as usize] as usize;

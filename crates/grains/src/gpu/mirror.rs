@@ -14,7 +14,7 @@ use super::grain_kernels::{
     Grid, Hooke, KickArgs, ListArgs, Moving, Plane, Soa3, V3,
 };
 pub use super::list_build::{bin, exclusive_scan};
-use super::list_build::{full_from_half, sort_slots};
+use super::list_build::{empty_rows, full_from_half, sort_slots};
 use crate::dim::{Dim, D3};
 use crate::error::{Error, Result};
 use crate::io::Frame;
@@ -774,13 +774,7 @@ impl Mirror {
         for (g, c) in count.iter_mut().enumerate() {
             visit_partners(&args, g, |_, _| *c += 1);
         }
-        let start = exclusive_scan(&count);
-        let total = start[n] as usize;
-        let mut list = FullList {
-            start,
-            partner: vec![0; total],
-            image: vec![0; total],
-        };
+        let mut list = empty_rows(&count);
         for g in 0..n {
             let mut k = list.start[g] as usize;
             visit_partners(&args, g, |p, code| {
