@@ -169,9 +169,11 @@ fn spring_force<D: Dim>(
         let along = D::dot(s, n);
         let turn = along.abs() * k > FRAME_EPSILON * cap;
         let projected = s - n * along;
-        // |s| / |projected| as √(|s|² / |projected|²).
+        // |s| / |projected| as √(|s|² / |projected|²); a spring within
+        // ~1e-154 rad of the normal is dropped (its direction is noise, and
+        // the quotient would overflow).
         let plen2 = D::norm2(projected);
-        let scale = if plen2 > 0.0 {
+        let scale = if plen2 > D::norm2(s) * f64::MIN_POSITIVE {
             (D::norm2(s) / plen2).sqrt()
         } else {
             0.0

@@ -1,15 +1,14 @@
-//! The mesh walls' per-grain triangle lists ([`MeshCandidates`]), made
-//! again after each neighbour-list rebuild.
+//! Remakes the fixed mesh walls' per-grain triangle lists after each neighbour-list rebuild.
 //!
-//! The margin is half the Verlet skin: the neighbour list is rebuilt as
-//! soon as a grain has moved farther than that, so a still mesh's lists
-//! serve every grain until the rebuild remakes them, and the grid is
-//! searched only then. A grain whose list no longer serves (its radius
-//! grew, or it was moved from outside) is looked up in the grid, as
-//! without lists. Moving meshes get none: they carry their grains across
-//! their frame, so lists would go stale within steps. The lists never
-//! change a contact (see [`MeshCandidates`]), only which triangles are
-//! read.
+//! The lists are [`MeshCandidates`]. The margin is half the Verlet skin:
+//! the neighbour list is rebuilt as soon as a grain has moved farther
+//! than that, so a still mesh's lists serve every grain until the rebuild
+//! remakes them, and the grid is searched only then. A grain whose list
+//! no longer serves (its radius grew, or it was moved from outside) is
+//! looked up in the grid, as without lists. Moving meshes get none: they
+//! carry their grains across their frame, so lists would go stale within
+//! steps. The lists never change a contact (see [`MeshCandidates`]), only
+//! which triangles are read.
 
 use crate::boundary::{MeshCandidates, PlacedWall};
 use crate::dim::Dim;

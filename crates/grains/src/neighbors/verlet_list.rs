@@ -266,7 +266,8 @@ impl<D: Dim> NeighborList<D> {
         self.pairs.is_empty()
     }
 
-    /// Number of builds so far (for statistics).
+    /// Number of builds so far: statistics, and the key by which the mesh
+    /// walls' per-grain triangle lists know they must be remade.
     pub fn builds(&self) -> u64 {
         self.builds
     }

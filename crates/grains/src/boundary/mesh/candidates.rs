@@ -1,8 +1,8 @@
-//! Each grain's candidate triangles of a mesh, kept between neighbour-list
-//! rebuilds: the grid is searched once per grain with a margin, and a
-//! grain then tests only its own short list while it stays within that
-//! margin of where the list was made (the Verlet list's idea, for
-//! triangles).
+//! Each grain's candidate triangles of a mesh, kept between neighbour-list rebuilds.
+//!
+//! The grid is searched once per grain with a margin; a grain then tests
+//! only its own short list while it stays within that margin of where the
+//! list was made (the Verlet list's idea, for triangles).
 //!
 //! Which triangles a grain is tested against never changes its contacts:
 //! [`Mesh::touches`] keeps, of whatever triangles it reads, each patch's
@@ -15,12 +15,11 @@
 //! while |p − c| + (r − r₀) ≤ margin; past that, the grain's lookup goes
 //! through the grid as without a list.
 //!
-//! The nearest triangle's corners and normal are kept with the list: on a
-//! large mesh the lookups' cost was reading triangles (each from its own
-//! cache line of corners, normals and indices, about five misses a grain
-//! on a 1e5-triangle floor), and a grain resting on a flat patch most
-//! often needs that one triangle only (its face answers for the patch,
-//! whose other triangles are then passed over by number).
+//! The nearest triangle's corners and normal are kept with the list
+//! because on a large mesh a lookup's cost is reading triangles (corners,
+//! normals and indices on separate cache lines), and a grain resting on a
+//! flat patch most often needs that one triangle only (its face answers
+//! for the patch, whose other triangles are then passed over by number).
 
 use super::{closest::closest_on_triangle, Mesh, MeshScratch};
 use glam::DVec3;
@@ -75,6 +74,7 @@ impl MeshCandidates {
         let n = radius.len();
         let pieces: Vec<Self> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
+            .with_min_len(crate::parallel::min_len(1))
             .map(|c| {
                 let range = c * CHUNK..((c + 1) * CHUNK).min(n);
                 let mut piece = Self {

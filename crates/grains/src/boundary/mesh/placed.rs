@@ -68,10 +68,9 @@ impl<D: Dim> PlacedWall<'_, D> {
     /// at `pos` with radii `radius` (those for which `skip` holds get
     /// none), good while a grain stays within `margin` of where it is now
     /// in the mesh's frame ([`MeshCandidates`]); `None` for a removed wall,
-    /// one that is not a mesh, or one that moves. (A moving mesh carries
-    /// its grains across its frame: on the turning blade of `mesh-mixer-3d`
-    /// lists made at every rebuild went stale within steps and the run
-    /// took 4 % longer than looking every grain up in the grid.)
+    /// one that is not a mesh, or one that moves (a moving mesh carries its
+    /// grains across its frame, so their lists would go stale within steps
+    /// and cost more than the grid lookups they save).
     pub fn mesh_candidates(
         &self,
         pos: &[D::V],

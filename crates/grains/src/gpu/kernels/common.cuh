@@ -97,8 +97,8 @@ struct Plane {
 // A gate argument: run always (unless halted), on BUILD, on SORT.
 #define GATE_ALWAYS 0xffffffffu
 
-// Whether a gated kernel runs (grain_kernels.rs `gate`). Every thread of a
-// launch reads the same words: no kernel writes the words it is gated on.
+// Whether a gated kernel runs (grain_kernels.rs `gate`). kick_drift and list_fill set ST_HALT only
+// when every thread of the launch returns anyway, so a thread that sees it set returns as it would.
 __device__ __forceinline__ bool gate(const u64 *st, u32 word) {
     return st[ST_HALT] == 0 && (word == GATE_ALWAYS || st[word] != 0);
 }
