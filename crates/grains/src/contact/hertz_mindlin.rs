@@ -231,10 +231,17 @@ impl ContactModel for HertzMindlin {
     }
     #[inline(always)]
     fn pair_index(&self, kind_i: u32, kind_j: u32) -> u32 {
+        // One material has one pair: no table lookups in the pair pass.
+        if self.materials == 1 {
+            return 0;
+        }
         self.material(kind_i) * self.materials as u32 + self.material(kind_j)
     }
     #[inline(always)]
     fn wall_pair_index(&self, kind_i: u32, wall: usize) -> u32 {
+        if self.materials == 1 {
+            return 0;
+        }
         self.material(kind_i) * self.materials as u32 + self.wall_material[wall]
     }
     #[inline(always)]
