@@ -71,6 +71,10 @@ pub struct HertzMindlin {
     pairs: Vec<HertzPair>,
     /// The material of each grain kind.
     material_of_kind: Vec<u32>,
+    /// The material of every grain kind, when they all have one, and its
+    /// pair entry: contacts then need no lookup of the grains' kinds.
+    grain_material: Option<u32>,
+    grain_pair: Option<u32>,
     /// The material of each wall.
     wall_material: Vec<u32>,
     pub rotation: bool,
@@ -105,10 +109,14 @@ impl HertzMindlin {
         let pairs = pair_table(materials, overrides, |a, b, over| {
             HertzPair::new(&PairCoefficients::mix(a, b, over))
         });
+        let first = material_of_kind.first().copied();
+        let grain_material = first.filter(|&m| material_of_kind.iter().all(|&k| k == m));
         Self {
             materials: n,
             pairs,
             material_of_kind,
+            grain_material,
+            grain_pair: grain_material.map(|m| m * n as u32 + m),
             wall_material,
             rotation,
             rolling: RollingModel::None,
@@ -231,18 +239,19 @@ impl ContactModel for HertzMindlin {
     }
     #[inline(always)]
     fn pair_index(&self, kind_i: u32, kind_j: u32) -> u32 {
-        // One material has one pair: no table lookups in the pair pass.
-        if self.materials == 1 {
-            return 0;
+        // Grains of one material: one entry, no lookups in the pair pass.
+        if let Some(p) = self.grain_pair {
+            return p;
         }
         self.material(kind_i) * self.materials as u32 + self.material(kind_j)
     }
     #[inline(always)]
     fn wall_pair_index(&self, kind_i: u32, wall: usize) -> u32 {
-        if self.materials == 1 {
-            return 0;
-        }
-        self.material(kind_i) * self.materials as u32 + self.wall_material[wall]
+        let m = match self.grain_material {
+            Some(m) => m,
+            None => self.material(kind_i),
+        };
+        m * self.materials as u32 + self.wall_material[wall]
     }
     #[inline(always)]
     fn evaluate<D: Dim>(&self, c: &Contact<D>, spring: &mut D::V, step: Step) -> ContactOutcome<D> {
@@ -372,5 +381,45 @@ impl<const MODEL: u8, const JKR: bool> ContactModel for Rolled<'_, MODEL, JKR> {
             gamma,
         };
         rolling_torque::<D, MODEL>(c.omega_rel, c.normal, rc, spring, step)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn material(name: &str, e: f64, nu: f64, density: f64) -> Material {
+        Material {
+            name: name.into(),
+            density,
+            youngs_modulus: e,
+            poisson_ratio: nu,
+            restitution: 0.5,
+            friction: 0.5,
+            rolling_friction: 0.0,
+            surface_energy: 0.0,
+        }
+    }
+
+    /// Grains all of one material take that material's entry without a
+    /// lookup, walls their own column; grains of two materials look both
+    /// up. Entry a · n + b for materials a and b.
+    #[test]
+    fn pair_indices_with_and_without_one_grain_material() {
+        let mats = [
+            material("steel", 2e11, 0.3, 7800.0),
+            material("sand", 1e8, 0.25, 2600.0),
+        ];
+        let one = HertzMindlin::new(&mats, &[], vec![1, 1, 1], vec![0, 1], true);
+        assert_eq!(one.grain_material, Some(1));
+        assert_eq!(one.pair_index(0, 2), 3);
+        assert_eq!(one.wall_pair_index(2, 0), 2);
+        assert_eq!(one.wall_pair_index(2, 1), 3);
+        let two = HertzMindlin::new(&mats, &[], vec![0, 1], vec![0, 1], true);
+        assert_eq!(two.grain_material, None);
+        assert_eq!(two.pair_index(0, 1), 1);
+        assert_eq!(two.pair_index(1, 0), 2);
+        assert_eq!(two.wall_pair_index(1, 0), 2);
+        assert_eq!(two.wall_pair_index(0, 1), 1);
     }
 }
