@@ -17,23 +17,10 @@ use crate::md::{Md, MdSettings};
 use crate::particles::{ParticleRecord, Particles};
 use glam::DVec3;
 
-pub(super) fn material(name: &str, e: f64, nu: f64, rho: f64, rest: f64, mu: f64) -> Material {
-    Material {
-        name: name.into(),
-        density: rho,
-        youngs_modulus: e,
-        poisson_ratio: nu,
-        restitution: rest,
-        friction: mu,
-        rolling_friction: 0.0,
-        surface_energy: 0.0,
-    }
-}
-
 /// The rigid plane of the tests: restitution and friction 1 so that the
 /// grain's material decides (the mixing rules take the smaller).
 pub(super) fn rigid() -> Material {
-    material("rigid", 1e30, 0.3, 1.0, 1.0, 1.0)
+    Material::elastic("rigid", 1e30, 0.3, 1.0, 1.0, 1.0)
 }
 
 /// What one collision did.
@@ -155,7 +142,7 @@ fn test1_two_spheres_elastic_normal_impact() {
         ("glass", 4.8e10, 0.20, 2800.0),
         ("limestone", 2.0e10, 0.25, 2500.0),
     ] {
-        let mats = [material(name, e, nu, rho, 1.0, 0.0), rigid()];
+        let mats = [Material::elastic(name, e, nu, rho, 1.0, 0.0), rigid()];
         let r: f64 = 0.01;
         let m = rho * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
         let e_star = e / (2.0 * (1.0 - nu * nu));
@@ -174,7 +161,7 @@ fn test1_two_spheres_elastic_normal_impact() {
 #[test]
 fn test2_sphere_on_rigid_plane() {
     for (name, e, nu, rho) in [("Al", 7.0e10, 0.33, 2700.0), ("Mg", 4.5e10, 0.35, 1800.0)] {
-        let mats = [material(name, e, nu, rho, 1.0, 0.0), rigid()];
+        let mats = [Material::elastic(name, e, nu, rho, 1.0, 0.0), rigid()];
         let r: f64 = 0.1;
         let m = rho * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
         let (delta, force, t_c) = hertz(m, r, e / (1.0 - nu * nu), 0.2);
@@ -195,7 +182,7 @@ fn test3_restitution_sweep() {
         ("cast iron", 1.0e11, 0.25, 7000.0),
     ] {
         for rest in [0.1, 0.3, 0.5, 0.7, 0.9, 1.0] {
-            let mats = [material(name, e, nu, rho, rest, 0.0), rigid()];
+            let mats = [Material::elastic(name, e, nu, rho, rest, 0.0), rigid()];
             let r: f64 = 0.0025;
             let m = rho * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
             let (_, _, t_c) = hertz(m, r, e / (1.0 - nu * nu), 3.9);
@@ -227,7 +214,7 @@ fn test3_restitution_sweep() {
 fn test4_oblique_impact_sliding_and_sticking() {
     let (e, nu, rho, mu, r, v): (f64, f64, f64, f64, f64, f64) =
         (3.8e11, 0.23, 4000.0, 0.092, 0.0025, 3.9);
-    let mats = [material("Al oxide", e, nu, rho, 1.0, mu), rigid()];
+    let mats = [Material::elastic("Al oxide", e, nu, rho, 1.0, mu), rigid()];
     let m = rho * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
     let (_, _, t_c) = hertz(m, r, e / (1.0 - nu * nu), v);
     let threshold = (3.5 * mu * 2.0f64).atan().to_degrees();
@@ -288,7 +275,7 @@ fn test4_oblique_impact_sliding_and_sticking() {
 fn grazing_impact_gains_no_energy_grain_on_grain_and_on_wall() {
     let (e, nu, rho, mu, r, v): (f64, f64, f64, f64, f64, f64) =
         (3.8e11, 0.23, 4000.0, 0.5, 0.0025, 3.9);
-    let mats = [material("Al oxide", e, nu, rho, 1.0, mu), rigid()];
+    let mats = [Material::elastic("Al oxide", e, nu, rho, 1.0, mu), rigid()];
     let m = rho * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
     let threshold = (3.5 * mu * 2.0f64).atan().to_degrees();
     assert!((threshold - 74.05).abs() < 0.01, "{threshold}");
@@ -352,7 +339,7 @@ fn disks_follow_hertz_with_their_mass() {
     // A disk's mass: any (`particles.mass_model`); a slice 2r thick here.
     let m = 2700.0 * std::f64::consts::PI * r * r * (2.0 * r);
     for rest in [1.0, 0.5] {
-        let mats = [material("Al", e, nu, 2700.0, rest, 0.3), rigid()];
+        let mats = [Material::elastic("Al", e, nu, 2700.0, rest, 0.3), rigid()];
         for two_disks in [true, false] {
             let (m_star, r_star, e_star, v_rel) = if two_disks {
                 (0.5 * m, 0.5 * r, e / (2.0 * (1.0 - nu * nu)), 2.0 * v)

@@ -71,10 +71,9 @@ pub struct HertzMindlin {
     pairs: Vec<HertzPair>,
     /// The material of each grain kind.
     material_of_kind: Vec<u32>,
-    /// The material of every grain kind, when they all have one, and its
-    /// pair entry: contacts then need no lookup of the grains' kinds.
+    /// The material of every grain kind, when they all have one: contacts
+    /// then need no lookup of the grains' kinds.
     grain_material: Option<u32>,
-    grain_pair: Option<u32>,
     /// The material of each wall.
     wall_material: Vec<u32>,
     pub rotation: bool,
@@ -116,7 +115,6 @@ impl HertzMindlin {
             pairs,
             material_of_kind,
             grain_material,
-            grain_pair: grain_material.map(|m| m * n as u32 + m),
             wall_material,
             rotation,
             rolling: RollingModel::None,
@@ -219,10 +217,14 @@ impl HertzMindlin {
         unsafe { self.pairs.get_unchecked(pair as usize) }
     }
 
-    /// The material of grain kind `kind`.
+    /// The material of grain kind `kind` (no lookup when all kinds have
+    /// one: the pair pass asks for every contact).
     #[inline(always)]
     fn material(&self, kind: u32) -> u32 {
-        self.material_of_kind[kind as usize]
+        match self.grain_material {
+            Some(m) => m,
+            None => self.material_of_kind[kind as usize],
+        }
     }
 }
 
@@ -239,19 +241,11 @@ impl ContactModel for HertzMindlin {
     }
     #[inline(always)]
     fn pair_index(&self, kind_i: u32, kind_j: u32) -> u32 {
-        // Grains of one material: one entry, no lookups in the pair pass.
-        if let Some(p) = self.grain_pair {
-            return p;
-        }
         self.material(kind_i) * self.materials as u32 + self.material(kind_j)
     }
     #[inline(always)]
     fn wall_pair_index(&self, kind_i: u32, wall: usize) -> u32 {
-        let m = match self.grain_material {
-            Some(m) => m,
-            None => self.material(kind_i),
-        };
-        m * self.materials as u32 + self.wall_material[wall]
+        self.material(kind_i) * self.materials as u32 + self.wall_material[wall]
     }
     #[inline(always)]
     fn evaluate<D: Dim>(&self, c: &Contact<D>, spring: &mut D::V, step: Step) -> ContactOutcome<D> {
@@ -388,27 +382,14 @@ impl<const MODEL: u8, const JKR: bool> ContactModel for Rolled<'_, MODEL, JKR> {
 mod tests {
     use super::*;
 
-    fn material(name: &str, e: f64, nu: f64, density: f64) -> Material {
-        Material {
-            name: name.into(),
-            density,
-            youngs_modulus: e,
-            poisson_ratio: nu,
-            restitution: 0.5,
-            friction: 0.5,
-            rolling_friction: 0.0,
-            surface_energy: 0.0,
-        }
-    }
-
     /// Grains all of one material take that material's entry without a
     /// lookup, walls their own column; grains of two materials look both
     /// up. Entry a · n + b for materials a and b.
     #[test]
     fn pair_indices_with_and_without_one_grain_material() {
         let mats = [
-            material("steel", 2e11, 0.3, 7800.0),
-            material("sand", 1e8, 0.25, 2600.0),
+            Material::elastic("steel", 2e11, 0.3, 7800.0, 0.5, 0.5),
+            Material::elastic("sand", 1e8, 0.25, 2600.0, 0.5, 0.5),
         ];
         let one = HertzMindlin::new(&mats, &[], vec![1, 1, 1], vec![0, 1], true);
         assert_eq!(one.grain_material, Some(1));

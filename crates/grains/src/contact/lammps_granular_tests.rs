@@ -2,7 +2,7 @@
 //! colliding head-on (Verlet, dt = t_c/2000, no gravity), against Hertz's
 //! closed forms and the restitution its damping must give.
 
-use super::chung_ooi::{close, collide_under, hertz, material, rigid};
+use super::chung_ooi::{close, collide_under, hertz, rigid};
 use super::hertz_mindlin::HertzMindlin;
 use super::lammps_granular::{tsuji_alpha, GranularTable};
 use super::material::Material;
@@ -22,7 +22,7 @@ fn preset(mats: &[Material]) -> HertzMindlin {
 #[test]
 fn near_elastic_collision_is_hertz() {
     let (e, nu, rho) = (4.8e10, 0.20, 2800.0);
-    let mats = [material("glass", e, nu, rho, 1.0, 0.0), rigid()];
+    let mats = [Material::elastic("glass", e, nu, rho, 1.0, 0.0), rigid()];
     let r: f64 = 0.01;
     let m = rho * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
     let (delta, force, t_c) = hertz(0.5 * m, 0.5 * r, e / (2.0 * (1.0 - nu * nu)), 20.0);
@@ -55,7 +55,7 @@ fn restitution_follows_lammps_damping() {
     let m = rho * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
     let (_, _, t_c) = hertz(0.5 * m, 0.5 * r, e / (2.0 * (1.0 - nu * nu)), 7.8);
     for rest in [0.3, 0.5, 0.7, 0.9] {
-        let mats = [material("iron", e, nu, rho, rest, 0.0), rigid()];
+        let mats = [Material::elastic("iron", e, nu, rho, rest, 0.0), rigid()];
         let out = collide_under(
             preset(&mats),
             &mats,

@@ -34,6 +34,21 @@ impl Material {
     pub fn shear_modulus(&self) -> f64 {
         self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
     }
+
+    /// A material of the tests without rolling friction or cohesion.
+    #[cfg(test)]
+    pub(crate) fn elastic(name: &str, e: f64, nu: f64, rho: f64, rest: f64, mu: f64) -> Self {
+        Self {
+            name: name.into(),
+            density: rho,
+            youngs_modulus: e,
+            poisson_ratio: nu,
+            restitution: rest,
+            friction: mu,
+            rolling_friction: 0.0,
+            surface_energy: 0.0,
+        }
+    }
 }
 
 /// What a pair may override of the mixed values.
