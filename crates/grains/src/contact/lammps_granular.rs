@@ -171,9 +171,12 @@ fn spring_force<D: Dim>(
         let projected = s - n * along;
         // |s| / |projected| as √(|s|² / |projected|²); a spring within
         // ~1e-154 rad of the normal is dropped (its direction is noise, and
-        // the quotient would overflow).
+        // the quotient would overflow). The test is |p|² · 2^1022 > |s|²
+        // rather than |p|² > |s|² · 2^-1022: the latter's product is
+        // subnormal for any spring shorter than 1, and each subnormal
+        // result costs the processor a slow assist.
         let plen2 = D::norm2(projected);
-        let scale = if plen2 > D::norm2(s) * f64::MIN_POSITIVE {
+        let scale = if plen2 * (1.0 / f64::MIN_POSITIVE) > D::norm2(s) {
             (D::norm2(s) / plen2).sqrt()
         } else {
             0.0
@@ -324,6 +327,26 @@ mod tests {
         let alpha = (tsuji_alpha(0.9) * tsuji_alpha(0.5)).sqrt();
         assert!((q.alpha - alpha).abs() < 1e-15);
         assert!((q.mu - 0.1f64.sqrt()).abs() < 1e-15);
+    }
+
+    /// A spring along the normal to within 1e-160 (its projection's square
+    /// subnormal) is dropped; one 1e-100 off it turns with its length kept.
+    #[test]
+    fn spring_along_the_normal_is_dropped() {
+        let step = Step {
+            dt: 0.1,
+            update: true,
+        };
+        let n = DVec3::Z;
+        let turned = |off: f64| {
+            let mut s = DVec3::new(off, 0.0, 1e-3);
+            spring_force::<D3>(&mut s, DVec3::ZERO, n, (10.0, 0.1, 0.0, 1.0), step);
+            s
+        };
+        assert_eq!(turned(1e-160), DVec3::ZERO);
+        let kept = turned(1e-100);
+        assert_eq!(kept.z, 0.0);
+        assert!((kept.x - 1e-3).abs() < 1e-18, "{kept}");
     }
 
     /// The spring turns into the new tangent plane with its length kept,
