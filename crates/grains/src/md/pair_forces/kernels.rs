@@ -390,7 +390,16 @@ fn contacts_in_lanes<D: Dim, L: ContactModel>(
             let del = at(g.pos, i) - (at(g.pos, j) + c.shift(k));
             let (ri, rj) = (at(g.radius, i), at(g.radius, j));
             let v_rel = at(g.vel, i) - at(g.vel, j);
-            let spin = if rotation {
+            // A law with rolling resistance gets ω_i and ω_j and forms
+            // both the spin below and ω_i − ω_j in its vector loop; the
+            // others get the spin.
+            let spin = if L::ROLLING {
+                let wj = D::ang_to_xyz(at(g.omega, j));
+                for (a, w) in wj.into_iter().enumerate() {
+                    lanes.omega_j[a][l] = w;
+                }
+                D::ang_to_xyz(at(g.omega, i))
+            } else if rotation {
                 D::ang_to_xyz(at(g.omega, i) * ri + at(g.omega, j) * rj)
             } else {
                 [0.0; 3]
@@ -403,12 +412,6 @@ fn contacts_in_lanes<D: Dim, L: ContactModel>(
             }
             for (a, w) in spin.into_iter().enumerate() {
                 lanes.spin[a][l] = w;
-            }
-            if L::ROLLING {
-                let w = D::ang_to_xyz(at(g.omega, i) - at(g.omega, j));
-                for (a, w) in w.into_iter().enumerate() {
-                    lanes.omega_rel[a][l] = w;
-                }
             }
             if L::ROLLING_HISTORY {
                 let r = rolling[k];
