@@ -65,14 +65,8 @@ mod tests {
 
     fn material(name: &str, e: f64, gamma: f64) -> Material {
         Material {
-            name: name.into(),
-            density: 2500.0,
-            youngs_modulus: e,
-            poisson_ratio: 0.25,
-            restitution: 0.3,
-            friction: 0.5,
-            rolling_friction: 0.0,
             surface_energy: gamma,
+            ..Material::elastic(name, e, 0.25, 2500.0, 0.3, 0.5)
         }
     }
 

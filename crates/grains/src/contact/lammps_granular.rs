@@ -284,14 +284,8 @@ mod tests {
 
     fn material(e: f64, nu: f64, rest: f64, mu: f64) -> Material {
         Material {
-            name: "m".into(),
-            density: 1.0,
-            youngs_modulus: e,
-            poisson_ratio: nu,
-            restitution: rest,
-            friction: mu,
             rolling_friction: 0.1,
-            surface_energy: 0.0,
+            ..Material::elastic("m", e, nu, 1.0, rest, mu)
         }
     }
 

@@ -447,14 +447,8 @@ mod tests {
         use crate::contact::hertz_mindlin::HertzMindlin;
         use crate::contact::material::Material;
         let mat = |name: &str, e: f64, rest: f64, mu: f64| Material {
-            name: name.into(),
-            density: 1.0,
-            youngs_modulus: e,
-            poisson_ratio: 0.25,
-            restitution: rest,
-            friction: mu,
             rolling_friction: 0.1,
-            surface_energy: 0.0,
+            ..Material::elastic(name, e, 0.25, 1.0, rest, mu)
         };
         let mats = [mat("a", 2e6, 0.8, 0.5), mat("b", 5e6, 0.6, 0.3)];
         let mut law = HertzMindlin::new(&mats, &[], vec![0, 1], vec![], true);
@@ -495,14 +489,8 @@ mod tests {
         use crate::contact::lammps_granular::{GranularTable, RollingSds};
         use crate::contact::material::Material;
         let mat = |name: &str, e: f64, rest: f64, mu: f64| Material {
-            name: name.into(),
-            density: 1.0,
-            youngs_modulus: e,
-            poisson_ratio: 0.3,
-            restitution: rest,
-            friction: mu,
             rolling_friction: 0.1,
-            surface_energy: 0.0,
+            ..Material::elastic(name, e, 0.3, 1.0, rest, mu)
         };
         let mats = [mat("a", 2e6, 0.8, 0.5), mat("b", 5e6, 0.6, 0.3)];
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(6);

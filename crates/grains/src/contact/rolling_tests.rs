@@ -26,14 +26,8 @@ const G: f64 = 9.81;
 
 fn material(name: &str, e: f64, rest: f64, mu: f64, mu_r: f64) -> Material {
     Material {
-        name: name.into(),
-        density: 2500.0,
-        youngs_modulus: e,
-        poisson_ratio: 0.25,
-        restitution: rest,
-        friction: mu,
         rolling_friction: mu_r,
-        surface_energy: 0.0,
+        ..Material::elastic(name, e, 0.25, 2500.0, rest, mu)
     }
 }
 
