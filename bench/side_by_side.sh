@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Times two `grains bench` runs in turns and prints the ratio of each pair
-# of wall times (second / first), then their median: the figures of
-# docs/performance.md that compare grains with itself (Gear-5 against
+# of figures (wall times unless FIGURE says; second / first), then their
+# median: the figures of docs/performance.md that compare grains with itself (Gear-5 against
 # Verlet, two threads against one) and A/B checks of two builds.
 #
 #   bench/side_by_side.sh "chute --steps 300 --threads 1" \
@@ -38,7 +38,7 @@ for bin in "$grains_a" "$grains_b"; do
   [ -x "$bin" ] || { echo "$bin not found: cargo build --release" >&2; exit 2; }
 done
 
-wall() {
+measure() {
   local out
   # shellcheck disable=SC2086 # the bench arguments are meant to split
   out=$("$1" bench $2 --json) || exit 1
@@ -46,8 +46,8 @@ wall() {
 }
 results=()
 for _ in $(seq "$rounds"); do
-  a=$(wall "$grains_a" "$first")
-  b=$(wall "$grains_b" "$second")
+  a=$(measure "$grains_a" "$first")
+  b=$(measure "$grains_b" "$second")
   results+=("$a $b")
 done
 python3 - "$figure" "$first" "$second" "${results[@]}" <<'PY'

@@ -30,14 +30,15 @@ pub struct ContactLanes {
     pub del: [Row; 3],
     /// Velocity of the first grain minus that of the second.
     pub v_rel: [Row; 3],
-    /// ω_i r_i + ω_j r_j, whose cross product with n is the rolling part;
-    /// for a law with rolling resistance ([`ContactModel::ROLLING`]) this
-    /// row holds ω_i instead and `omega_j` holds ω_j: the kernel forms
-    /// the spin and ω_i − ω_j from them (vectorized, the same arithmetic
-    /// as the one-by-one loop's), which saves the batch fill three
-    /// scalar stores and nine operations per contact.
+    /// ω_i r_i + ω_j r_j, whose cross product with n is the rolling part
+    /// (laws without rolling resistance).
     pub spin: [Row; 3],
-    /// ω_j, for laws with rolling resistance only.
+    /// ω_i and ω_j, for laws with rolling resistance
+    /// ([`ContactModel::ROLLING`]) instead of `spin`: the kernel forms the
+    /// spin and ω_i − ω_j from them (vectorized, the same arithmetic as the
+    /// one-by-one loop's), which saves the batch fill twelve scalar
+    /// operations per contact for the same six stores.
+    pub omega_i: [Row; 3],
     pub omega_j: [Row; 3],
     pub ri: Row,
     pub rj: Row,
@@ -65,6 +66,7 @@ impl Default for ContactLanes {
             del: [row; 3],
             v_rel: [row; 3],
             spin: [row; 3],
+            omega_i: [row; 3],
             omega_j: [row; 3],
             ri: row,
             rj: row,
@@ -127,18 +129,13 @@ fn with_update<D: Dim, L: ContactModel>(
 ) {
     if !L::ROLLING_HISTORY {
         lane_loop::<D, L>(law, c, step, pair);
-    } else if step.update {
-        let step = Step {
-            update: true,
-            ..step
-        };
-        lane_loop::<D, L>(law, c, step, pair);
     } else {
-        let step = Step {
-            update: false,
-            ..step
-        };
-        lane_loop::<D, L>(law, c, step, pair);
+        let update = |update| Step { update, ..step };
+        if step.update {
+            lane_loop::<D, L>(law, c, update(true), pair);
+        } else {
+            lane_loop::<D, L>(law, c, update(false), pair);
+        }
     }
 }
 
@@ -160,7 +157,7 @@ fn lane_loop<D: Dim, L: ContactModel>(
         let n = del * (1.0 / r);
         // Contact-point velocities: ω_i × (−r_i n) − ω_j × (r_j n).
         let (spin, omega_rel) = if L::ROLLING {
-            let wi = D::ang_from_xyz(three(&c.spin, l));
+            let wi = D::ang_from_xyz(three(&c.omega_i, l));
             let wj = D::ang_from_xyz(three(&c.omega_j, l));
             (wi * ri + wj * rj, wi - wj)
         } else {
@@ -312,15 +309,14 @@ mod tests {
     }
 
     /// A batch of random contacts (pair entries cycling through `pairs`),
-    /// as cases and in lanes, the spin rows filled as the pair pass fills
-    /// them for a law `with_rolling` resistance or without.
+    /// as cases and in lanes (the spin row and the ω_i and ω_j rows alike,
+    /// for laws with and without rolling resistance).
     /// `stretch` moves the grains apart by that fraction of r_i + r_j (some
     /// overlaps then negative: kept JKR contacts).
     fn batch<D: Dim>(
         rng: &mut Xoshiro256PlusPlus,
         pairs: u32,
         stretch: f64,
-        with_rolling: bool,
     ) -> (Vec<Case<D>>, ContactLanes) {
         let mut u = || rng.gen_range(-1.0..1.0);
         let cases: Vec<Case<D>> = (0..LANES)
@@ -355,15 +351,12 @@ mod tests {
             .collect();
         let mut c = ContactLanes::default();
         for (l, x) in cases.iter().enumerate() {
-            let spin = if with_rolling {
-                x.omega_i
-            } else {
-                x.omega_i * x.ri + x.omega_j * x.rj
-            };
-            let omega_j = D::ang_to_xyz(x.omega_j);
-            for (a, w) in D::ang_to_xyz(spin).into_iter().enumerate() {
+            let spin = D::ang_to_xyz(x.omega_i * x.ri + x.omega_j * x.rj);
+            let (wi, wj) = (D::ang_to_xyz(x.omega_i), D::ang_to_xyz(x.omega_j));
+            for (a, w) in spin.into_iter().enumerate() {
                 c.spin[a][l] = w;
-                c.omega_j[a][l] = omega_j[a];
+                c.omega_i[a][l] = wi[a];
+                c.omega_j[a][l] = wj[a];
                 if a < D::D {
                     c.del[a][l] = D::get(x.del, a);
                     c.v_rel[a][l] = D::get(x.v_rel, a);
@@ -389,7 +382,7 @@ mod tests {
             let k = HookeHistory::of(&law).unwrap();
             for update in [true, false] {
                 for _batch in 0..40 {
-                    let (cases, mut c) = batch::<D>(&mut rng, 1, 0.0, false);
+                    let (cases, mut c) = batch::<D>(&mut rng, 1, 0.0);
                     let mut plain = c.clone();
                     let step = Step { dt: 1e-4, update };
                     lanes::<D, _>(&k, &mut plain, step);
@@ -425,7 +418,7 @@ mod tests {
         fn run<L: ContactModel>(self, law: &L) {
             for update in [true, false] {
                 for _ in 0..40 {
-                    let (cases, mut c) = batch::<D>(self.0, self.1, self.2, L::ROLLING);
+                    let (cases, mut c) = batch::<D>(self.0, self.1, self.2);
                     let mut plain = c.clone();
                     let step = Step { dt: 1e-4, update };
                     lanes::<D, _>(law, &mut plain, step);

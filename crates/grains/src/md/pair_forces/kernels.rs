@@ -391,27 +391,30 @@ fn contacts_in_lanes<D: Dim, L: ContactModel>(
             let (ri, rj) = (at(g.radius, i), at(g.radius, j));
             let v_rel = at(g.vel, i) - at(g.vel, j);
             // A law with rolling resistance gets ω_i and ω_j and forms
-            // both the spin below and ω_i − ω_j in its vector loop; the
-            // others get the spin.
-            let spin = if L::ROLLING {
+            // both the spin and ω_i − ω_j in its vector loop; the others
+            // get the spin.
+            if L::ROLLING {
+                let wi = D::ang_to_xyz(at(g.omega, i));
                 let wj = D::ang_to_xyz(at(g.omega, j));
-                for (a, w) in wj.into_iter().enumerate() {
-                    lanes.omega_j[a][l] = w;
+                for a in 0..3 {
+                    lanes.omega_i[a][l] = wi[a];
+                    lanes.omega_j[a][l] = wj[a];
                 }
-                D::ang_to_xyz(at(g.omega, i))
-            } else if rotation {
-                D::ang_to_xyz(at(g.omega, i) * ri + at(g.omega, j) * rj)
             } else {
-                [0.0; 3]
-            };
+                let spin = if rotation {
+                    D::ang_to_xyz(at(g.omega, i) * ri + at(g.omega, j) * rj)
+                } else {
+                    [0.0; 3]
+                };
+                for (a, w) in spin.into_iter().enumerate() {
+                    lanes.spin[a][l] = w;
+                }
+            }
             let spring = springs[k];
             for a in 0..D::D {
                 lanes.del[a][l] = D::get(del, a);
                 lanes.v_rel[a][l] = D::get(v_rel, a);
                 lanes.spring[a][l] = D::get(spring, a);
-            }
-            for (a, w) in spin.into_iter().enumerate() {
-                lanes.spin[a][l] = w;
             }
             if L::ROLLING_HISTORY {
                 let r = rolling[k];
