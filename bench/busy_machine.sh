@@ -40,9 +40,16 @@ pairs() {
   for x in "$@"; do
     if [ "$x" = -- ]; then seen=1; elif [ -z "$seen" ]; then a+=("$x"); else b+=("$x"); fi
   done
-  local results=()
-  for _ in $(seq "$rounds"); do
-    results+=("$("${a[@]}") $("${b[@]}")")
+  local results=() ta tb
+  # Every other round runs B first: the first of two runs back to back
+  # tends to be the slower one, which would otherwise count against A.
+  for r in $(seq "$rounds"); do
+    if ((r % 2)); then
+      ta=$("${a[@]}"); tb=$("${b[@]}")
+    else
+      tb=$("${b[@]}"); ta=$("${a[@]}")
+    fi
+    results+=("$ta $tb")
   done
   python3 - "$name" "${results[@]}" <<'PY'
 import statistics, sys
