@@ -312,9 +312,9 @@ impl<D: Dim> Particles<D> {
         }
         assert!(order.len() <= self.len());
         // One scratch array per element type, reused across the arrays: a
-        // large array freed goes back to the system, so a new one for each
-        // array had its pages faulted in and zeroed again (at 10⁷ grains
-        // the set-up took 11 % more page faults and kernel time).
+        // large array freed goes back to the system, and a fresh one per
+        // array would be faulted in and zeroed again (a tenth of the
+        // set-up's page faults at 10⁷ grains).
         let (mut sv, mut sa, mut s) = (Vec::new(), Vec::new(), Vec::new());
         for v in [&mut self.pos, &mut self.vel, &mut self.force] {
             apply(v, order, &mut sv);
