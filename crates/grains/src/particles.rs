@@ -137,8 +137,7 @@ impl<D: Dim> Particles<D> {
     /// that is the difference between about 330 and 190 bytes per grain at
     /// the peak of the set-up.
     pub fn from_records(mut records: Vec<ParticleRecord<D>>) -> Self {
-        let mut p = Self::new();
-        p.reserve(records.len());
+        let mut p = Self::with_capacity(records.len());
         records.reverse();
         while let Some(r) = records.pop() {
             p.push_record(r);
@@ -147,6 +146,13 @@ impl<D: Dim> Particles<D> {
                 records.shrink_to_fit();
             }
         }
+        p
+    }
+
+    /// An empty store with room for `n` grains.
+    pub fn with_capacity(n: usize) -> Self {
+        let mut p = Self::new();
+        p.reserve(n);
         p
     }
 

@@ -81,7 +81,8 @@ fn grain<D: Dim>(id: u64, pos: D::V, d: f64, density: f64, model: MassModel) -> 
     ParticleRecord::new(id, pos, 0.5 * d, m, model.inertia(m, 0.5 * d))
 }
 
-fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Vec<ParticleRecord<D>>> {
+/// The scenario's grains, in the store the engine runs on.
+fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Particles<D>> {
     let s = &loaded.scenario;
     let ps = &s.particles;
     if !(ps.d0.is_finite() && ps.d0 > 0.0) {
@@ -131,7 +132,7 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Vec<ParticleRecord
         None => (dom.lo, dom.hi),
     };
     let density = super::materials::density(s, None)?;
-    let mut out: Vec<ParticleRecord<D>> = match ps.placement {
+    let mut out = match ps.placement {
         Placement::Lattice | Placement::Random => {
             if ps.count == 0 {
                 return Err(Error::input(
@@ -145,18 +146,20 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Vec<ParticleRecord
                 placement::random::<D>(rlo, rhi, &d, s.seed)?
             };
             let vel = placement::velocities::<D>(ps.count, ps.random_velocity, s.seed);
-            (0..ps.count)
-                .map(|k| {
-                    let mut g = grain::<D>(k as u64 + 1, pos[k], d[k], density, ps.mass_model);
-                    g.vel = vel[k];
-                    g
-                })
-                .collect()
+            // Straight into the store: a vector of records first would have
+            // its pages (about 160 B per grain) faulted in once and freed.
+            let mut out = Particles::with_capacity(ps.count + ps.add.len());
+            for k in 0..ps.count {
+                let mut g = grain::<D>(k as u64 + 1, pos[k], d[k], density, ps.mass_model);
+                g.vel = vel[k];
+                out.push_record(g);
+            }
+            out
         }
-        Placement::File => from_file::<D>(loaded)?,
-        Placement::None => Vec::new(),
+        Placement::File => Particles::from_records(from_file::<D>(loaded)?),
+        Placement::None => Particles::new(),
     };
-    let first_id = out.iter().map(|g| g.id).max().unwrap_or(0) + 1;
+    let first_id = out.id.iter().max().map_or(0, |&id| id) + 1;
     for (k, a) in ps.add.iter().enumerate() {
         let key = format!("particles.add[{k}]");
         let pos = vector::<D>(&format!("{key}.position"), &a.position)?;
@@ -173,11 +176,11 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Vec<ParticleRecord
         }
         g.frozen = a.frozen;
         g.kind = a.kind.unwrap_or(if a.frozen { 2 } else { 1 });
-        out.push(g);
+        out.push_record(g);
     }
-    for g in &mut out {
-        if ps.frozen_types.contains(&g.kind) {
-            g.frozen = true;
+    for (kind, frozen) in out.kind.iter().zip(&mut out.frozen) {
+        if ps.frozen_types.contains(kind) {
+            *frozen = true;
         }
     }
     if out.is_empty() {
@@ -397,17 +400,16 @@ fn build_md_inner<D: Dim>(
     };
     let s = &loaded.scenario;
     let dom = domain::<D>(s)?;
-    let records = grains::<D>(loaded, &dom)?;
-    pass(format!("placed {} grains", records.len()));
-    let lightest = records
-        .iter()
-        .filter(|g| !g.frozen)
-        .map(|g| g.mass)
+    let particles = grains::<D>(loaded, &dom)?;
+    pass(format!("placed {} grains", particles.len()));
+    let lightest = (particles.mass.iter().zip(&particles.frozen))
+        .filter(|&(_, &frozen)| !frozen)
+        .map(|(&m, _)| m)
         .fold(f64::INFINITY, f64::min);
     let lightest = if lightest.is_finite() {
         lightest
     } else {
-        records[0].mass
+        particles.mass[0]
     };
     let resolved = resolve(s, lightest)?;
     let walls = s
@@ -417,7 +419,7 @@ fn build_md_inner<D: Dim>(
         .map(|(k, w)| wall::<D>(k, w, &dom, loaded))
         .collect::<Result<Vec<_>>>()?;
     let walls = super::resolve::elastic_walls(&s.contact.elastic_walls, walls)?;
-    let dmax = records.iter().map(|g| 2.0 * g.radius).fold(0.0, f64::max);
+    let dmax = particles.radius.iter().map(|r| 2.0 * r).fold(0.0, f64::max);
     if !(s.run.skin.is_finite() && s.run.skin > 0.0) {
         return Err(Error::input(format!(
             "run.skin = {}: must be positive (units of d0)",
@@ -440,8 +442,7 @@ fn build_md_inner<D: Dim>(
     if let Some(g) = &s.gravity {
         settings.gravity = vector::<D>("gravity", g)?;
     }
-    let kinds: Vec<u32> = records.iter().map(|g| g.kind).collect();
-    settings.materials = super::materials::hertz_law(s, &kinds)?;
+    settings.materials = super::materials::hertz_law(s, &particles.kind)?;
     if settings.materials.is_some() && !s.contact.elastic_walls.is_empty() {
         return Err(Error::input(format!(
             "{}: contact.elastic_walls is an option of the spring-dashpot laws; with \
@@ -450,8 +451,6 @@ fn build_md_inner<D: Dim>(
             loaded.origin
         )));
     }
-    let particles = Particles::from_records(records);
-    pass("grain records".to_string());
     let md = Md::new(particles, dom, walls, settings).map_err(|e| match e {
         Error::Unstable(m) => Error::input(format!(
             "{}: the initial state is unusable: {m}",
