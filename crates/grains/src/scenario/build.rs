@@ -132,6 +132,13 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Particles<D>> {
         None => (dom.lo, dom.hi),
     };
     let density = super::materials::density(s, None)?;
+    // Frozen before they enter the store, which gives a frozen grain no
+    // inverse mass or inertia.
+    let freeze = |g: &mut ParticleRecord<D>| {
+        if ps.frozen_types.contains(&g.kind) {
+            g.frozen = true;
+        }
+    };
     let mut out = match ps.placement {
         Placement::Lattice | Placement::Random => {
             if ps.count == 0 {
@@ -152,11 +159,16 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Particles<D>> {
             for k in 0..ps.count {
                 let mut g = grain::<D>(k as u64 + 1, pos[k], d[k], density, ps.mass_model);
                 g.vel = vel[k];
+                freeze(&mut g);
                 out.push_record(g);
             }
             out
         }
-        Placement::File => Particles::from_records(from_file::<D>(loaded)?),
+        Placement::File => {
+            let mut records = from_file::<D>(loaded)?;
+            records.iter_mut().for_each(freeze);
+            Particles::from_records(records)
+        }
         Placement::None => Particles::new(),
     };
     let first_id = out.id.iter().max().map_or(0, |&id| id) + 1;
@@ -176,12 +188,8 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Particles<D>> {
         }
         g.frozen = a.frozen;
         g.kind = a.kind.unwrap_or(if a.frozen { 2 } else { 1 });
+        freeze(&mut g);
         out.push_record(g);
-    }
-    for (kind, frozen) in out.kind.iter().zip(&mut out.frozen) {
-        if ps.frozen_types.contains(kind) {
-            *frozen = true;
-        }
     }
     if out.is_empty() {
         return Err(Error::input(
@@ -529,5 +537,49 @@ duration = 0.01
         assert!(e.contains("≥ 1 per axis"), "{e}");
         let e = error("rebalence = 0.1");
         assert!(e.contains("unknown field"), "{e}");
+    }
+}
+
+/// `particles.frozen_types` freezes grains before they enter the store.
+#[cfg(test)]
+mod frozen_types {
+    use super::build_md;
+    use crate::dim::D3;
+    use crate::scenario::load_str;
+    use std::path::PathBuf;
+
+    /// Lattice grains (kind 1) and one added grain of kind 3, with kind 3
+    /// frozen by type: it has no inverse mass or inertia, the others keep
+    /// theirs.
+    #[test]
+    fn frozen_by_type_has_no_inverse_mass() {
+        let text = r#"name = "f"
+dimension = "3d"
+[domain]
+lo = [0.0, 0.0, 0.0]
+hi = [10.0, 10.0, 10.0]
+[particles]
+count = 8
+frozen_types = [3]
+[[particles.add]]
+position = [9.0, 9.0, 9.0]
+kind = 3
+[contact]
+preset = "lammps-hooke-history"
+[run]
+dt = 1.0e-4
+duration = 0.01
+"#;
+        let loaded = load_str(text, "f.toml", PathBuf::from("."), &[]).unwrap();
+        let (md, _) = build_md::<D3>(&loaded).unwrap();
+        let p = &md.particles;
+        assert_eq!(p.len(), 9);
+        for k in 0..p.len() {
+            let frozen = p.kind[k] == 3;
+            assert_eq!(p.frozen[k], frozen, "grain {k}");
+            assert_eq!(p.inv_mass[k] == 0.0, frozen, "grain {k}");
+            assert_eq!(p.inv_inertia[k] == 0.0, frozen, "grain {k}");
+        }
+        assert_eq!(p.kind.iter().filter(|&&k| k == 3).count(), 1);
     }
 }
