@@ -488,14 +488,10 @@ fn build_md_inner<D: Dim>(
     Ok((md, resolved))
 }
 
-/// The `[parallel]` keys, checked by name when a scenario is loaded
-/// ([`crate::md::decomp::parallel_spec`]).
+/// A one-grain scenario the tests below change.
 #[cfg(test)]
-mod parallel_keys {
-    use crate::scenario::load_str;
-    use std::path::PathBuf;
-
-    const BASE: &str = r#"name = "p"
+mod tests_base {
+    pub const BASE: &str = r#"name = "p"
 dimension = "3d"
 [domain]
 lo = [0.0, 0.0, 0.0]
@@ -508,6 +504,15 @@ preset = "lammps-hooke-history"
 dt = 1.0e-4
 duration = 0.01
 "#;
+}
+
+/// The `[parallel]` keys, checked by name when a scenario is loaded
+/// ([`crate::md::decomp::parallel_spec`]).
+#[cfg(test)]
+mod parallel_keys {
+    use super::tests_base::BASE;
+    use crate::scenario::load_str;
+    use std::path::PathBuf;
 
     fn error(parallel: &str) -> String {
         let text = format!("{BASE}[parallel]\n{parallel}\n");
@@ -544,6 +549,7 @@ duration = 0.01
 #[cfg(test)]
 mod frozen_types {
     use super::build_md;
+    use super::tests_base::BASE;
     use crate::dim::D3;
     use crate::scenario::load_str;
     use std::path::PathBuf;
@@ -553,24 +559,9 @@ mod frozen_types {
     /// theirs.
     #[test]
     fn frozen_by_type_has_no_inverse_mass() {
-        let text = r#"name = "f"
-dimension = "3d"
-[domain]
-lo = [0.0, 0.0, 0.0]
-hi = [10.0, 10.0, 10.0]
-[particles]
-count = 8
-frozen_types = [3]
-[[particles.add]]
-position = [9.0, 9.0, 9.0]
-kind = 3
-[contact]
-preset = "lammps-hooke-history"
-[run]
-dt = 1.0e-4
-duration = 0.01
-"#;
-        let loaded = load_str(text, "f.toml", PathBuf::from("."), &[]).unwrap();
+        let text = format!("{BASE}[[particles.add]]\nposition = [9.0, 9.0, 9.0]\nkind = 3\n");
+        let sets = ["particles.count=8", "particles.frozen_types=[3]"].map(String::from);
+        let loaded = load_str(&text, "f.toml", PathBuf::from("."), &sets).unwrap();
         let (md, _) = build_md::<D3>(&loaded).unwrap();
         let p = &md.particles;
         assert_eq!(p.len(), 9);
