@@ -22,8 +22,10 @@ cargo clippy -p grains-py --all-targets -- -D warnings
 cargo build --release -p grains-cli
 export GRAINS_BIN="${CARGO_TARGET_DIR:-$PWD/target}/release/grains"
 
-venv=/tmp/grains-ci-venv
-rm -rf "$venv"
+# A fresh directory of its own, so that two CI runs on one machine never
+# share (or remove) each other's environment.
+venv=$(mktemp -d /tmp/grains-ci-venv.XXXXXX)
+trap 'rm -rf "$venv"' EXIT
 python3 -m venv "$venv"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
 "$venv/bin/python" -m pip install --quiet . pytest pandas
