@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Times two `grains bench` runs in turns and prints the ratio of each pair
 # of figures (wall times unless FIGURE says; second / first), then their
-# median: the figures of docs/performance.md that compare grains with itself (Gear-5 against
-# Verlet, two threads against one) and A/B checks of two builds.
+# median: the figures of docs/performance.md that compare grains with
+# itself (Gear-5 against Verlet, two threads against one) and A/B checks
+# of two builds.
 #
 #   bench/side_by_side.sh "chute --steps 300 --threads 1" \
 #                         "chute --steps 300 --threads 1 --integrator gear5"

@@ -171,7 +171,7 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Particles<D>> {
         }
         Placement::None => Particles::new(),
     };
-    let first_id = out.id.iter().max().map_or(0, |&id| id) + 1;
+    let first_id = out.id.iter().copied().max().unwrap_or(0) + 1;
     for (k, a) in ps.add.iter().enumerate() {
         let key = format!("particles.add[{k}]");
         let pos = vector::<D>(&format!("{key}.position"), &a.position)?;
@@ -427,7 +427,7 @@ fn build_md_inner<D: Dim>(
         .map(|(k, w)| wall::<D>(k, w, &dom, loaded))
         .collect::<Result<Vec<_>>>()?;
     let walls = super::resolve::elastic_walls(&s.contact.elastic_walls, walls)?;
-    let dmax = particles.radius.iter().map(|r| 2.0 * r).fold(0.0, f64::max);
+    let dmax = 2.0 * particles.max_radius();
     if !(s.run.skin.is_finite() && s.run.skin > 0.0) {
         return Err(Error::input(format!(
             "run.skin = {}: must be positive (units of d0)",
