@@ -67,6 +67,18 @@ class Simulation:
         """Continues from a checkpoint file (save_checkpoint, or
         `grains run --checkpoint-every`; a run directory means its newest
         valid checkpoint) bit for bit."""
+    @staticmethod
+    def from_checkpoint(
+        path: PathLike,
+        set: Optional[Overrides] = None,
+        threads: Optional[int] = None,
+        allow_changed_inputs: bool = False,
+    ) -> "Simulation":
+        """Continues from a checkpoint under its scenario changed by `set`
+        (as `grains resume DIR --set`): law, materials, gravity, walls'
+        motions, run and outputs may change; grains, box, walls' shapes,
+        integrator and skin may not (InputError names the key). Changed
+        input files raise InputError unless `allow_changed_inputs`."""
     def run(self, steps: Optional[int] = None, time: Optional[float] = None) -> None:
         """Advances `steps` steps, or `time` seconds (rounded to steps), or
         with neither to the end of the scenario's run. Releases the GIL;
@@ -148,11 +160,14 @@ def run(
     threads: Optional[int] = None,
     quiet: bool = True,
     checkpoint_every: Optional[str] = None,
+    overwrite: bool = False,
 ) -> Dict[str, Any]:
     """Runs a scenario exactly as `grains run` does (engine, files,
     summary.json) and returns the summary. None runs the built-in default;
-    `out` defaults to runs/<name>. Ctrl-C stops the run with a checkpoint
-    and raises KeyboardInterrupt."""
+    `out` defaults to runs/<name> (runs/<name>-2, ... when that holds a
+    run); an `out` that holds another run raises InputError unless
+    `overwrite`. Ctrl-C stops the run with a checkpoint and raises
+    KeyboardInterrupt."""
 
 def sweep(
     scenario: Union[Scenario, PathLike],
@@ -163,7 +178,10 @@ def sweep(
     jobs: int = 1,
     threads: Optional[int] = None,
     quiet: bool = True,
+    overwrite: bool = False,
 ) -> List[Dict[str, Any]]:
     """Runs the grid of variants as `grains sweep` does (each in
-    out/<key=value_...>, default runs/<name>-sweep). Returns per variant:
-    values, dir, summary (None if it failed), error (None if it ran)."""
+    out/<key=value_...>, default runs/<name>-sweep; a variant's directory
+    that holds a run raises InputError unless `overwrite`). Returns per
+    variant: values, dir, summary (None if it failed), error (None if it
+    ran)."""

@@ -45,7 +45,7 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
     },
-    /// Time a reference workload: chute, vib2d or bed3d.
+    /// Time a reference workload: chute, chute-hertz, vib2d, bed3d, gas2d or gas3d.
     Bench(bench::BenchArgs),
     /// Run a grid of scenario variants; collect summaries in sweep.csv and plot one.
     Sweep(sweep::SweepArgs),
@@ -59,9 +59,15 @@ enum Command {
 struct RunArgs {
     /// Scenario file (TOML). Omit for the built-in default.
     scenario: Option<PathBuf>,
-    /// Output directory [default: runs/<scenario name>].
+    /// Output directory [default: runs/<scenario name>, or runs/<scenario
+    /// name>-2, -3, … when that one holds an earlier run].
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Replace the run in the --out directory: its frames, tables, pictures
+    /// and checkpoints are removed first (without it, a directory that holds
+    /// another run is refused).
+    #[arg(long)]
+    overwrite: bool,
     /// Override a scenario key, e.g. --set contact.mu=0.3 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
@@ -75,6 +81,16 @@ struct RunArgs {
     /// steps (e.g. 500steps); the newest two are kept.
     #[arg(long, value_name = "T")]
     checkpoint_every: Option<String>,
+    /// Start from this checkpoint's state (a checkpoint file, or a run
+    /// directory's newest valid one) instead of step 0: the scenario may
+    /// change the law, gravity, walls' motions, the run and its outputs,
+    /// not the grains, box or walls' shapes.
+    #[arg(long, value_name = "CHECKPOINT")]
+    from: Option<PathBuf>,
+    /// With --from: use input files (particles.file, meshes) that changed
+    /// since the checkpoint's run read them.
+    #[arg(long)]
+    allow_changed_inputs: bool,
     /// Print nothing but errors.
     #[arg(long)]
     quiet: bool,
@@ -84,9 +100,25 @@ struct RunArgs {
 struct ResumeArgs {
     /// The run's output directory (or one checkpoint file in it).
     run_dir: PathBuf,
-    /// Run this many more steps instead of to the scenario's end.
+    /// Run this many more steps instead of to the scenario's end (with
+    /// --set or --out: this many measured steps of the new run).
     #[arg(long)]
     steps: Option<u64>,
+    /// Continue under a changed scenario (repeatable), e.g. --set
+    /// contact.mu=0.1: a restart, which writes a new run into --out.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// Write the continued run into this new directory (a restart) instead
+    /// of appending to the checkpoint's own run.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// With --out: replace the run that directory holds.
+    #[arg(long)]
+    overwrite: bool,
+    /// Use input files (particles.file, meshes) that changed since the run
+    /// read them; without it such a file is refused by name.
+    #[arg(long)]
+    allow_changed_inputs: bool,
     /// Change the checkpoint interval (default: the run's).
     #[arg(long, value_name = "T")]
     checkpoint_every: Option<String>,
@@ -193,7 +225,12 @@ fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
             let (loaded, mut opts) = run_set_up(&args, None)?;
             opts.stop = Some(stop_flag()?);
             let mut progress = progress::for_terminal(args.quiet);
-            let summary = runner::run(&loaded, &opts, progress.as_mut())?;
+            let summary = match from_checkpoint(&args, &loaded, None)? {
+                Some(found) => {
+                    checkpointing::resume(found, args.steps, opts.clone(), progress.as_mut())?
+                }
+                None => runner::run(&loaded, &opts, progress.as_mut())?,
+            };
             Ok(finish(&summary, args.quiet, &opts.out_dir))
         }
         Command::Check { scenario, sets } => {
@@ -255,10 +292,18 @@ fn run_set_up(args: &RunArgs, comm: Option<&dyn Comm>) -> grains::Result<(Loaded
     let loaded = load(args.scenario.as_deref(), &args.sets)?;
     let from_file = Some(loaded.scenario.run.threads).filter(|&n| n > 0);
     set_threads(args.threads.or(from_file))?;
-    let out_dir = args
-        .out
-        .clone()
-        .unwrap_or_else(|| Path::new("runs").join(safe_dir_name(&loaded.scenario.name)));
+    // An unnamed output directory never holds an earlier run: the first
+    // free one of runs/NAME, runs/NAME-2, … (rank 0 decides under mpirun).
+    let out_dir = match &args.out {
+        Some(dir) => dir.clone(),
+        None => {
+            let base = Path::new("runs").join(safe_dir_name(&loaded.scenario.name));
+            match comm {
+                Some(c) => rank0_path(c, &grains::run_dir::fresh(&base)),
+                None => grains::run_dir::fresh(&base),
+            }
+        }
+    };
     let every = checked_steps(args.steps, args.checkpoint_every.as_deref())?;
     if talks(args.quiet, comm) {
         eprintln!(
@@ -272,9 +317,17 @@ fn run_set_up(args: &RunArgs, comm: Option<&dyn Comm>) -> grains::Result<(Loaded
         out_dir,
         steps: args.steps,
         checkpoint_every: every,
+        overwrite: args.overwrite,
         ..RunOptions::default()
     };
     Ok((loaded, opts))
+}
+
+/// Rank 0's `path` on every rank.
+fn rank0_path(comm: &dyn Comm, path: &Path) -> PathBuf {
+    let mine = path.to_string_lossy().into_owned().into_bytes();
+    let all = comm.all_gather_bytes(&mine);
+    PathBuf::from(String::from_utf8_lossy(&all[0]).into_owned())
 }
 
 /// What `grains resume` starts from, alike in a plain process (`comm`
@@ -289,6 +342,17 @@ fn resume_set_up(
     comm: Option<&dyn Comm>,
 ) -> grains::Result<(checkpointing::Found, RunOptions)> {
     let every = checked_steps(args.steps, args.checkpoint_every.as_deref())?;
+    if !args.sets.is_empty() && args.out.is_none() {
+        return Err(Error::input(
+            "--set changes the scenario: give --out for the changed run's files \
+             (the checkpoint's own run stays as it is)",
+        ));
+    }
+    if args.overwrite && args.out.is_none() {
+        return Err(Error::input(
+            "--overwrite replaces the run in --out; a plain resume appends to its own run",
+        ));
+    }
     let (found, skipped) = checkpointing::find(&args.run_dir)?;
     let talks = talks(args.quiet, comm);
     if talks || comm.is_none() {
@@ -296,20 +360,89 @@ fn resume_set_up(
             eprintln!("grains: skipped {s}");
         }
     }
+    let found = checked_inputs(found, args.allow_changed_inputs, talks)?;
+    let found = match &args.out {
+        Some(_) => found.restart_with_sets(&args.sets)?,
+        None => found,
+    };
     set_threads(args.threads)?;
     if talks {
         eprintln!(
-            "grains: resuming from {} (step {}){}",
+            "grains: resuming from {} (step {}){}{}",
             found.path.display(),
             found.step,
-            on_ranks_note(comm)
+            on_ranks_note(comm),
+            restart_note(&found, args.out.as_deref())
         );
     }
     let opts = RunOptions {
         checkpoint_every: every,
+        out_dir: args.out.clone().unwrap_or_default(),
+        overwrite: args.overwrite,
         ..RunOptions::default()
     };
     Ok((found, opts))
+}
+
+/// The checkpoint after the check of the files its scenario read (refused
+/// by name when one changed, unless `allow_changed`, which says so).
+fn checked_inputs(
+    found: checkpointing::Found,
+    allow_changed: bool,
+    talks: bool,
+) -> grains::Result<checkpointing::Found> {
+    for note in found.check_inputs(allow_changed)? {
+        if talks {
+            eprintln!("grains: warning: {note} (--allow-changed-inputs)");
+        }
+    }
+    Ok(found)
+}
+
+/// " as a new run in DIR, changing KEYS" for a restart, nothing otherwise.
+fn restart_note(found: &checkpointing::Found, out: Option<&Path>) -> String {
+    let Some(keys) = found.changed_keys() else {
+        return String::new();
+    };
+    let mut note = String::new();
+    if let Some(dir) = out {
+        note.push_str(&format!(" as a new run in {}", dir.display()));
+    }
+    if !keys.is_empty() {
+        note.push_str(&format!(", changing {}", keys.join(", ")));
+    }
+    note
+}
+
+/// `grains run --from CHECKPOINT`: that checkpoint's state under the
+/// scenario `loaded` (checked against the checkpoint's), or None without
+/// --from.
+fn from_checkpoint(
+    args: &RunArgs,
+    loaded: &Loaded,
+    comm: Option<&dyn Comm>,
+) -> grains::Result<Option<checkpointing::Found>> {
+    let Some(from) = &args.from else {
+        return Ok(None);
+    };
+    let talks = talks(args.quiet, comm);
+    let (found, skipped) = checkpointing::find(from)?;
+    if talks {
+        for s in &skipped {
+            eprintln!("grains: skipped {s}");
+        }
+    }
+    let found = checked_inputs(found, args.allow_changed_inputs, talks)?;
+    let found = found.restart_with(loaded.clone(), &loaded.origin)?;
+    if talks {
+        eprintln!(
+            "grains: starting from {} (step {}){}",
+            found.path.display(),
+            found.step,
+            restart_note(&found, None)
+        );
+    }
+    Ok(Some(found))
 }
 
 /// `grains resume` as one rank of `mpirun`: every rank reads the
@@ -341,12 +474,19 @@ fn on_ranks(
 /// `grains run` as one rank of `mpirun`: rank 0 reports and writes.
 fn run_distributed(args: &RunArgs, comm: &dyn Comm) -> grains::Result<ExitCode> {
     let (loaded, opts) = run_set_up(args, Some(comm))?;
+    if let Some(found) = from_checkpoint(args, &loaded, Some(comm))? {
+        let out = opts.out_dir.clone();
+        return on_ranks(comm, args.quiet, &out, |progress| {
+            runner::distributed::resume(found, args.steps, opts, progress, comm)
+        });
+    }
     on_ranks(comm, args.quiet, &opts.out_dir, |progress| {
         runner::distributed::run(&loaded, &opts, progress, comm)
     })
 }
 
 fn main() -> ExitCode {
+    restore_sigpipe();
     let cli = Cli::parse();
     let ranks = launch::Ranks::detect();
     match execute(cli, &ranks) {
@@ -364,6 +504,17 @@ fn main() -> ExitCode {
             }
             ExitCode::from(code)
         }
+    }
+}
+
+/// Lets a closed pipe end the process quietly, as it ends `cat` or `grep`
+/// (`grains run | head -2`), where Rust's runtime would make every later
+/// print panic.
+fn restore_sigpipe() {
+    // SAFETY: resetting one signal to its default disposition at start-up,
+    // before any thread exists, races with nothing.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
 

@@ -33,6 +33,10 @@ pub struct SweepArgs {
     /// Output directory [default: runs/<scenario name>-sweep].
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Replace the runs of an earlier sweep in the output directory (without
+    /// it, a variant's directory that holds a run is refused).
+    #[arg(long)]
+    overwrite: bool,
     /// Run this many steps per variant instead of the scenario's length.
     #[arg(long)]
     steps: Option<u64>,
@@ -119,6 +123,11 @@ pub fn run(args: SweepArgs) -> grains::Result<()> {
         .out
         .unwrap_or_else(|| Path::new("runs").join(format!("{name}-sweep")));
     runner::prepare(&out)?;
+    let dirs: Vec<PathBuf> = variants
+        .iter()
+        .map(|v| out.join(variant_name(&axes, v)))
+        .collect();
+    grains::run_dir::claim_all(&dirs, args.overwrite)?;
     let (jobs, threads) = share_cores(args.jobs.min(variants.len()), args.threads, cores());
     eprintln!(
         "grains: sweep of {} variants of {} with {} jobs of {} thread(s) -> {}",
@@ -153,6 +162,7 @@ pub fn run(args: SweepArgs) -> grains::Result<()> {
                     let opts = RunOptions {
                         out_dir: dir,
                         steps: args.steps,
+                        overwrite: args.overwrite,
                         ..RunOptions::default()
                     };
                     let r = runner::run(&loaded[k], &opts, &mut Silent);

@@ -19,7 +19,7 @@ use std::sync::{mpsc, Arc, Mutex};
 use std::time::Duration;
 
 /// `set=`: a dict {key: value}, a list of "KEY=VALUE" strings, or one.
-fn sets_arg(set: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<String>> {
+pub(crate) fn sets_arg(set: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<String>> {
     let Some(set) = set.filter(|s| !s.is_none()) else {
         return Ok(Vec::new());
     };
@@ -85,13 +85,15 @@ type Outcome = std::thread::Result<grains::Result<Value>>;
 /// Runs a scenario exactly as `grains run` does (the same engine, files
 /// and summary.json) and returns its summary as a dict. `scenario`: a
 /// `Scenario`, a path, or None for the built-in default; `out`: the output
-/// directory (default `runs/<name>`); `set`: overrides (a dict or
+/// directory (default `runs/<name>`, or `runs/<name>-2`, … when that one
+/// holds an earlier run); `overwrite`: replace the run in `out` (without
+/// it, an `out` that holds another run raises InputError); `set`: overrides (a dict or
 /// "KEY=VALUE" strings); `steps`: run this many steps instead of the
 /// scenario's length; `checkpoint_every`: as `--checkpoint-every` ("0.01",
 /// "500steps"). On Ctrl-C the run stops with a checkpoint, as `grains run`
 /// does, and `KeyboardInterrupt` is raised.
 #[pyfunction]
-#[pyo3(signature = (scenario=None, out=None, set=None, steps=None, threads=None, quiet=true, checkpoint_every=None))]
+#[pyo3(signature = (scenario=None, out=None, set=None, steps=None, threads=None, quiet=true, checkpoint_every=None, overwrite=false))]
 #[allow(clippy::too_many_arguments)] // the keyword arguments of `grains run`
 pub fn run<'py>(
     py: Python<'py>,
@@ -102,6 +104,7 @@ pub fn run<'py>(
     threads: Option<usize>,
     quiet: bool,
     checkpoint_every: Option<String>,
+    overwrite: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let loaded = loaded_arg(scenario, sets_arg(set)?)?;
     if steps == Some(0) {
@@ -115,13 +118,17 @@ pub fn run<'py>(
     })?;
     let from_file = Some(loaded.scenario.run.threads).filter(|&n| n > 0);
     let pool = pool(threads.or(from_file))?;
-    let out_dir = out.unwrap_or_else(|| default_out_dir(&loaded.scenario.name));
+    let out_dir =
+        out.unwrap_or_else(|| grains::run_dir::fresh(&default_out_dir(&loaded.scenario.name)));
+    // Refused here, before the run's thread starts, as an InputError.
+    guard(|| grains::run_dir::claim(&out_dir, overwrite))?;
     let stop = Arc::new(AtomicBool::new(false));
     let opts = RunOptions {
         out_dir: out_dir.clone(),
         steps,
         checkpoint_every: every,
         stop: Some(Arc::clone(&stop)),
+        overwrite,
     };
     if !quiet {
         eprintln!("grains: running {} -> {}", loaded.origin, out_dir.display());
@@ -158,9 +165,11 @@ fn value_text(v: &Bound<'_, PyAny>, key: &str) -> PyResult<String> {
 /// fixed overrides. Returns one dict per variant, in grid order: `values`
 /// ({key: value}), `dir`, `summary` (the summary.json dict, None when it
 /// failed) and `error` (the message, None when it ran). Every variant is
-/// loaded first, so a bad key raises `InputError` before any runs.
+/// loaded first, so a bad key raises `InputError` before any runs; a
+/// variant's directory that holds an earlier run raises it too, unless
+/// `overwrite`.
 #[pyfunction]
-#[pyo3(signature = (scenario, vary, set=None, out=None, steps=None, jobs=1, threads=None, quiet=true))]
+#[pyo3(signature = (scenario, vary, set=None, out=None, steps=None, jobs=1, threads=None, quiet=true, overwrite=false))]
 #[allow(clippy::too_many_arguments)] // the keyword arguments of `grains sweep`
 pub fn sweep<'py>(
     py: Python<'py>,
@@ -172,6 +181,7 @@ pub fn sweep<'py>(
     jobs: usize,
     threads: Option<usize>,
     quiet: bool,
+    overwrite: bool,
 ) -> PyResult<Bound<'py, PyList>> {
     if jobs == 0 {
         return Err(InputError::new_err("jobs must be at least 1"));
@@ -215,6 +225,9 @@ pub fn sweep<'py>(
         PathBuf::from(d)
     });
     guard(|| runner::prepare(&out))?;
+    let names: Vec<String> = variants.iter().map(|v| variant_name(&axes, v)).collect();
+    let dirs: Vec<PathBuf> = names.iter().map(|n| out.join(n)).collect();
+    guard(|| grains::run_dir::claim_all(&dirs, overwrite))?;
     if !quiet {
         eprintln!(
             "grains: sweep of {} variants of {} with {jobs} jobs -> {}",
@@ -225,7 +238,6 @@ pub fn sweep<'py>(
     }
     let pool = Arc::new(pool(threads)?);
     let stop = Arc::new(AtomicBool::new(false));
-    let names: Vec<String> = variants.iter().map(|v| variant_name(&axes, v)).collect();
     let results: Arc<Mutex<Vec<Option<Outcome>>>> =
         Arc::new(Mutex::new((0..variants.len()).map(|_| None).collect()));
     let (tx, rx) = mpsc::channel::<()>();
@@ -251,6 +263,7 @@ pub fn sweep<'py>(
                     out_dir: out.join(&names[k]),
                     steps,
                     stop: Some(Arc::clone(&stop)),
+                    overwrite,
                     ..RunOptions::default()
                 };
                 let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {

@@ -2,6 +2,7 @@
 //! as numpy arrays.
 
 use crate::errors::{guard, internal, InputError};
+use crate::run::sets_arg;
 use crate::scenario::scenario_arg;
 use grains::session::{Column, Session};
 use numpy::ndarray::Array2;
@@ -124,6 +125,31 @@ impl Simulation {
     fn resume(py: Python<'_>, path: PathBuf, threads: Option<usize>) -> PyResult<Self> {
         let pool = pool(threads)?;
         let session = py.detach(|| guard(|| pool.install(|| Session::resume(&path))))?;
+        Ok(Self { session, pool })
+    }
+
+    /// Continues from a checkpoint (a file, or a run directory's newest
+    /// valid one) under its scenario changed by `set` (a dict or
+    /// "KEY=VALUE" strings, as `grains resume DIR --set`): the contact law,
+    /// materials, gravity, walls' motions, the run and outputs may change;
+    /// the grains, box, walls' shapes, integrator and skin may not
+    /// (`InputError` names the key). Input files (particles.file, meshes)
+    /// that changed since the run read them raise `InputError` unless
+    /// `allow_changed_inputs`.
+    #[staticmethod]
+    #[pyo3(signature = (path, set=None, threads=None, allow_changed_inputs=false))]
+    fn from_checkpoint(
+        py: Python<'_>,
+        path: PathBuf,
+        set: Option<&Bound<'_, PyAny>>,
+        threads: Option<usize>,
+        allow_changed_inputs: bool,
+    ) -> PyResult<Self> {
+        let sets = sets_arg(set)?;
+        let pool = pool(threads)?;
+        let session = py.detach(|| {
+            guard(|| pool.install(|| Session::from_checkpoint(&path, &sets, allow_changed_inputs)))
+        })?;
         Ok(Self { session, pool })
     }
 

@@ -23,6 +23,7 @@ pub mod output;
 pub mod parallel;
 pub mod particles;
 pub mod render;
+pub mod run_dir;
 pub mod runner;
 pub mod scenario;
 pub mod session;

@@ -8,5 +8,6 @@ mod common;
 
 mod commands;
 mod mesh_input;
+mod restart;
 mod resume;
 mod view_movie;

@@ -6,6 +6,7 @@ use super::state::{decode_md, encode_md};
 use crate::codec::{Dec, Enc};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
+use crate::integrate::Integrator;
 use crate::md::{Md, MdState};
 
 /// What must be equal between the engine that wrote a checkpoint and the
@@ -66,9 +67,24 @@ pub fn encode_state<D: Dim>(md: &Md<D>, state: &MdState<D>) -> Vec<u8> {
     e.buf
 }
 
+/// Fingerprint entries a restart may change (`scenario::restart` says which
+/// scenario keys feed them); the time step only under velocity Verlet.
+const MAY_CHANGE: &[&str] = &["gravity", "contact law", "material law", "walls"];
+
 /// Restores `md` (freshly built from the checkpoint's scenario) from bytes
 /// written by [`encode`]. Refuses a state whose fingerprint differs.
 pub fn restore<D: Dim>(md: &mut Md<D>, bytes: &[u8]) -> Result<()> {
+    restore_under(md, bytes, false)
+}
+
+/// [`restore`] into an engine built from a changed scenario (a restart):
+/// the law, gravity and walls' motions may differ from the checkpoint's,
+/// and the time step too when the integrator is velocity Verlet.
+pub fn restore_changed<D: Dim>(md: &mut Md<D>, bytes: &[u8]) -> Result<()> {
+    restore_under(md, bytes, true)
+}
+
+fn restore_under<D: Dim>(md: &mut Md<D>, bytes: &[u8], restart: bool) -> Result<()> {
     let mut d = Dec::new(bytes);
     let mut read = || -> std::result::Result<_, String> {
         let n = d.len(16, "fingerprint")?;
@@ -87,15 +103,23 @@ pub fn restore<D: Dim>(md: &mut Md<D>, bytes: &[u8]) -> Result<()> {
     };
     let (fp, state) = read().map_err(|e| Error::input(format!("checkpoint engine state: {e}")))?;
     let mine = fingerprint(md);
+    let verlet = matches!(md.settings.integrator, Integrator::Verlet);
+    let free = |k: &str| restart && (MAY_CHANGE.contains(&k) || (k == "dt" && verlet));
     for (k, v) in &mine {
         match fp.iter().find(|(fk, _)| fk == k) {
-            Some((_, fv)) if fv == v => {}
+            Some((_, fv)) if fv == v || free(k) => {}
+            Some((_, fv)) if restart && *k == "dt" => {
+                return Err(Error::input(format!(
+                    "run.dt: the restart's time step {v} differs from the checkpoint's {fv},                      but a Gear-5 state holds derivatives scaled by its time step; set                      run.dt = {fv} (the contact law's change moved the default dt)"
+                )))
+            }
             Some((_, fv)) => {
                 return Err(Error::input(format!(
                     "checkpoint was written for a different scenario: {k} differs \
                      (checkpoint: {fv}; scenario: {v})"
                 )))
             }
+            None if free(k) => {}
             None => {
                 return Err(Error::input(format!(
                     "checkpoint lacks the {k} of its scenario"

@@ -17,6 +17,7 @@
 
 pub mod dsmc;
 pub mod engine;
+pub mod inputs;
 pub mod run;
 pub mod state;
 
@@ -43,8 +44,9 @@ pub const MAGIC: &[u8; 8] = b"GRAINSCK";
 /// 5 moved a DSMC run's measurement state from the engine field into the
 /// measurement section, as an MD run keeps it; version 6 added the
 /// rolling springs of the MD state; version 7 added mesh walls' springs
-/// and loads.
-pub const VERSION: u32 = 7;
+/// and loads; version 8 made the base directory absolute and added the
+/// scenario's input files (path, length, CRC-32).
+pub const VERSION: u32 = 8;
 /// Checkpoints kept in a run directory (older ones are deleted).
 pub const KEEP: usize = 2;
 const HEADER: usize = 8 + 4 + 8 + 4;

@@ -1,10 +1,11 @@
 //! A run's checkpoint payload: the scenario as TOML with its origin and
-//! base directory, the dimension, the run plan, the checkpoint interval,
+//! absolute base directory, the files it read ([`super::inputs`]), the dimension, the run plan, the checkpoint interval,
 //! where the output files stood, the step, the engine's exported state, and
 //! the measurement section (a flag, and when set the accumulators'
 //! length-prefixed bytes); written by [`payload`], read back by [`decode`]
 //! and [`find`] (the newest valid file of a run directory).
 
+use super::inputs::{self, InputFile};
 use crate::codec::{Dec, Enc};
 use crate::error::{Error, Result};
 use crate::scenario::schema::{Dimension, Scenario};
@@ -24,13 +25,40 @@ pub struct OutputState {
 }
 
 /// What every checkpoint payload, MD or DSMC, says about its run.
-pub(crate) struct RunHeader<'a> {
-    pub scenario: &'a str,
-    pub origin: &'a str,
-    pub base_dir: &'a str,
+pub(crate) struct RunHeader {
+    /// The scenario as TOML ([`scenario_text`]).
+    pub scenario: String,
+    pub origin: String,
+    /// The scenario's base directory, absolute, so that a resume from
+    /// another folder resolves its relative paths alike.
+    pub base_dir: String,
+    /// The files the scenario read, as they were.
+    pub inputs: Vec<InputFile>,
     pub dim: usize,
     pub plan: (u64, u64),
     pub interval: Option<u64>,
+}
+
+impl RunHeader {
+    /// The header of a run of `loaded` with step plan `plan` and checkpoint
+    /// interval `interval`: its scenario text, absolute base directory and
+    /// input files read now.
+    pub(crate) fn new(loaded: &Loaded, plan: (u64, u64), interval: Option<u64>) -> Result<Self> {
+        Ok(Self {
+            scenario: scenario_text(&loaded.scenario)?,
+            origin: loaded.origin.clone(),
+            base_dir: inputs::absolute(&loaded.base_dir)
+                .to_string_lossy()
+                .into_owned(),
+            inputs: inputs::of_scenario(loaded)?,
+            dim: match loaded.scenario.dimension {
+                Dimension::Two => 2,
+                Dimension::Three => 3,
+            },
+            plan,
+            interval,
+        })
+    }
 }
 
 /// Writes one checkpoint: the run header, where the outputs stood, the
@@ -57,9 +85,10 @@ pub(crate) fn payload(
     measurements: Option<&[u8]>,
 ) -> Vec<u8> {
     let mut e = Enc::default();
-    e.str(run.scenario);
-    e.str(run.origin);
-    e.str(run.base_dir);
+    e.str(&run.scenario);
+    e.str(&run.origin);
+    e.str(&run.base_dir);
+    inputs::encode(&mut e, &run.inputs);
     e.u8(run.dim as u8);
     e.u64(run.plan.0);
     e.u64(run.plan.1);
@@ -128,12 +157,17 @@ pub struct Found {
     pub path: PathBuf,
     pub step: u64,
     pub(crate) loaded: Loaded,
+    /// The files the scenario read when the run started.
+    pub inputs: Vec<InputFile>,
     pub(crate) dim: usize,
     pub(crate) plan: (u64, u64),
     pub(crate) interval: u64,
     pub(crate) outputs: OutputState,
     pub(crate) engine: Vec<u8>,
     pub(crate) measurements: Option<Vec<u8>>,
+    /// Set when the state continues under a changed scenario (a restart):
+    /// the scenario keys that changed, which may be none.
+    pub(crate) restart: Option<Vec<String>>,
 }
 
 /// Decodes a checkpoint payload (from `path`, for messages).
@@ -143,6 +177,7 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
         let scenario = d.str("scenario")?;
         let origin = d.str("scenario origin")?;
         let base_dir = d.str("scenario directory")?;
+        let inputs = inputs::decode(&mut d)?;
         let dim = d.u8("dimension")? as usize;
         let plan = (d.u64("relax steps")?, d.u64("measured steps")?);
         let interval = d.u64("checkpoint interval")?;
@@ -170,6 +205,7 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
             scenario,
             origin,
             base_dir,
+            inputs,
             dim,
             plan,
             interval,
@@ -179,8 +215,19 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
             measurements,
         ))
     };
-    let (scenario, origin, base_dir, dim, plan, interval, outputs, step, engine, measurements) =
-        go().map_err(|e| Error::input(format!("checkpoint {}: {e}", path.display())))?;
+    let (
+        scenario,
+        origin,
+        base_dir,
+        inputs,
+        dim,
+        plan,
+        interval,
+        outputs,
+        step,
+        engine,
+        measurements,
+    ) = go().map_err(|e| Error::input(format!("checkpoint {}: {e}", path.display())))?;
     let scenario: Scenario = toml::from_str(&scenario).map_err(|e| {
         Error::input(format!(
             "checkpoint {}: its scenario does not parse: {e}",
@@ -211,12 +258,14 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
             origin,
             base_dir: PathBuf::from(base_dir),
         },
+        inputs,
         dim,
         plan,
         interval,
         outputs,
         engine,
         measurements,
+        restart: None,
     })
 }
 
@@ -255,6 +304,17 @@ impl Found {
     /// The checkpoint's scenario.
     pub fn loaded(&self) -> &Loaded {
         &self.loaded
+    }
+
+    /// Checks that the files the run read are as they were
+    /// ([`inputs::verify`]); returns the changes let through by
+    /// `allow_changed`.
+    pub fn check_inputs(&self, allow_changed: bool) -> Result<Vec<String>> {
+        inputs::verify(
+            &self.inputs,
+            &self.path.display().to_string(),
+            allow_changed,
+        )
     }
 }
 

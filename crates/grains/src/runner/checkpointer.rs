@@ -1,5 +1,6 @@
 //! Writes the checkpoints of a run, MD or DSMC: the run's payload (the
-//! scenario as TOML with its origin and base directory, the dimension, the
+//! scenario as TOML with its origin, absolute base directory and input
+//! files, the dimension, the
 //! run plan, the checkpoint interval, the output state, the step, the
 //! engine's exported state, and the measurement section: a flag, and when
 //! set the accumulators' length-prefixed bytes) inside the sealed file of
@@ -8,7 +9,7 @@
 use super::engine::Engine;
 use super::options::RunOptions;
 use crate::checkpoint;
-use crate::checkpoint::run::{scenario_text, write_payload, OutputState, RunHeader};
+use crate::checkpoint::run::{write_payload, OutputState, RunHeader};
 use crate::error::{Error, Result};
 use crate::scenario::schema::Scenario;
 use crate::scenario::Loaded;
@@ -61,10 +62,8 @@ pub(crate) struct Checkpointer {
     interval: Option<u64>,
     /// Why this scenario cannot be checkpointed, if it cannot.
     blocked: Option<String>,
-    scenario: String,
-    origin: String,
-    base_dir: String,
-    plan: (u64, u64),
+    /// What each checkpoint says about the run.
+    run: RunHeader,
 }
 
 impl Checkpointer {
@@ -84,15 +83,12 @@ impl Checkpointer {
         if let (Some(_), Some(why)) = (opts.checkpoint_every, &blocked) {
             return Err(Error::input(format!("--checkpoint-every: {why}")));
         }
-        let scenario = scenario_text(&loaded.scenario)?;
+        let interval = opts.checkpoint_every.map(|e| e.steps(dt));
         Ok(Self {
             dir: opts.out_dir.clone(),
-            interval: opts.checkpoint_every.map(|e| e.steps(dt)),
+            interval,
             blocked,
-            scenario,
-            origin: loaded.origin.clone(),
-            base_dir: loaded.base_dir.to_string_lossy().into_owned(),
-            plan,
+            run: RunHeader::new(loaded, plan, interval)?,
         })
     }
 
@@ -104,10 +100,15 @@ impl Checkpointer {
             dir: dir.to_path_buf(),
             interval,
             blocked: None,
-            scenario: String::new(),
-            origin: String::new(),
-            base_dir: String::new(),
-            plan: (0, 0),
+            run: RunHeader {
+                scenario: String::new(),
+                origin: String::new(),
+                base_dir: String::new(),
+                inputs: Vec::new(),
+                dim: 3,
+                plan: (0, 0),
+                interval,
+            },
         }
     }
 
@@ -150,18 +151,11 @@ impl Checkpointer {
         if !engine.writes() {
             return Ok(self.dir.join(checkpoint::file_name(engine.step_count())));
         }
-        let run = RunHeader {
-            scenario: &self.scenario,
-            origin: &self.origin,
-            base_dir: &self.base_dir,
-            dim: engine.dim(),
-            plan: self.plan,
-            interval: self.interval,
-        };
+        debug_assert_eq!(engine.dim(), self.run.dim);
         let outputs = saved.outputs.clone().unwrap_or_default();
         write_payload(
             &self.dir,
-            &run,
+            &self.run,
             &outputs,
             engine.step_count(),
             &bytes,

@@ -1,13 +1,15 @@
 //! Resuming a run from a checkpoint (see `docs/checkpoints.md`): the
 //! newest valid `checkpoint-<step>.grck` of a run directory ([`find`]),
 //! continued with the outputs cut back to where they stood at the
-//! checkpoint, so no row or frame is written twice.
+//! checkpoint, so no row or frame is written twice. A restart (the state
+//! under a changed scenario, [`Found::restart_with`]) writes a new run's
+//! files into a folder of its own instead.
 
 use super::md_run::{run_loop, Start};
-use super::options::{prepare, Progress, RunOptions};
+use super::options::{prepare, prepare_fresh, Progress, RunOptions};
 use crate::checkpoint;
 use crate::dim::{Dim, D2, D3};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::md::Md;
 use crate::output::Outputs;
 use crate::scenario::flow::FlowRun;
@@ -29,8 +31,17 @@ pub fn resume(
 }
 
 /// The options of a resumed run: its outputs go to the checkpoint's
-/// directory, and it keeps the checkpoint's interval unless given another.
-pub(super) fn resume_options(found: &Found, mut opts: RunOptions) -> RunOptions {
+/// directory (a restart's to the one it was given, which it needs), and it
+/// keeps the checkpoint's interval unless given another.
+pub(super) fn resume_options(found: &Found, mut opts: RunOptions) -> Result<RunOptions> {
+    if found.restart.is_some() {
+        if opts.out_dir.as_os_str().is_empty() {
+            return Err(Error::input(
+                "a restart with changes writes a new run: give it an output directory (--out)",
+            ));
+        }
+        return Ok(opts);
+    }
     let dir = found
         .path
         .parent()
@@ -44,14 +55,28 @@ pub(super) fn resume_options(found: &Found, mut opts: RunOptions) -> RunOptions 
     if opts.checkpoint_every.is_none() && found.interval > 0 {
         opts.checkpoint_every = Some(Every::Steps(found.interval));
     }
-    opts
+    Ok(opts)
 }
 
-/// Rank 0's (or a single process's) preparation of a resumed run's directory.
-pub(super) fn prepare_resume(opts: &RunOptions) -> Result<()> {
+/// Rank 0's (or a single process's) preparation of a resumed run's
+/// directory: its own, or a restart's new one claimed as a fresh run's.
+pub(super) fn prepare_resume(found: &Found, opts: &RunOptions) -> Result<()> {
+    if found.restart.is_some() {
+        return prepare_fresh(opts);
+    }
     prepare(&opts.out_dir)?;
     checkpoint::remove_stale_temporaries(&opts.out_dir);
     Ok(())
+}
+
+/// The output files of a resumed MD run: reopened and cut back to the
+/// checkpoint, or a restart's fresh ones.
+pub(super) fn resumed_outputs(found: &Found, opts: &RunOptions) -> Result<Outputs> {
+    let spec = &found.loaded.scenario.output;
+    match found.restart {
+        Some(_) => Outputs::create(&opts.out_dir, spec),
+        None => Outputs::resume(&opts.out_dir, spec, &found.outputs),
+    }
 }
 
 fn resume_on_pool(
@@ -60,8 +85,8 @@ fn resume_on_pool(
     opts: RunOptions,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
-    let opts = resume_options(&found, opts);
-    prepare_resume(&opts)?;
+    let opts = resume_options(&found, opts)?;
+    prepare_resume(&found, &opts)?;
     if found.loaded.scenario.method == crate::dsmc::Method::Dsmc {
         return super::dsmc::resume(&found, steps, &opts, progress);
     }
@@ -96,7 +121,7 @@ fn restart<D: Dim>(
     let mut r = found.restore::<D>(steps)?;
     r.md.timing.reset();
     let loaded = &found.loaded;
-    let outputs = Outputs::resume(&opts.out_dir, &loaded.scenario.output, &found.outputs)?;
+    let outputs = resumed_outputs(found, opts)?;
     Ok(Start {
         flow: Some(FlowRun::begin(loaded, &r.md)?),
         engine: r.md,

@@ -5,7 +5,7 @@
 
 use super::engine::{Engine, MdView};
 use super::md_run::{run_loop, Start};
-use super::options::{prepare, Progress, RunOptions};
+use super::options::{prepare_fresh, Progress, RunOptions};
 use crate::checkpoint;
 use crate::dim::D3;
 #[cfg(not(feature = "cuda"))]
@@ -123,7 +123,7 @@ pub(super) fn run_fresh(
     opts: &RunOptions,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
-    prepare(&opts.out_dir)?;
+    prepare_fresh(opts)?;
     let start = super::md_run::begin::<D3>(loaded, opts)?;
     run(loaded, opts, start, progress)
 }

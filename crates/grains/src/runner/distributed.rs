@@ -23,7 +23,7 @@
 use super::checkpointing::{self, Found};
 use super::dsmc::{build, gas_outputs, head, run_loop, GasStart};
 use super::engine::{gas_frame as frame, Engine, GasView};
-use super::options::{prepare, Progress, RunOptions};
+use super::options::{prepare_fresh, Progress, RunOptions};
 use crate::comm::Comm;
 use crate::dim::{D2, D3};
 use crate::dsmc::collide::GasDim;
@@ -92,7 +92,7 @@ pub fn resume(
         )));
     }
     refuse_device(found.loaded())?;
-    let opts = checkpointing::resume_options(&found, opts);
+    let opts = checkpointing::resume_options(&found, opts)?;
     match found.dim {
         2 => super::distributed_md::resume::<D2>(&found, steps, &opts, progress, comm),
         _ => super::distributed_md::resume::<D3>(&found, steps, &opts, progress, comm),
@@ -107,7 +107,7 @@ fn run_dim<D: GasDim>(
 ) -> Result<Value> {
     let root = comm.rank() == 0;
     if root {
-        prepare(&opts.out_dir)?;
+        prepare_fresh(opts)?;
     }
     // Every rank builds the same engine; rank 0 keeps a second one to
     // gather the whole state into.

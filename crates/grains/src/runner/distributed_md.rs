@@ -32,7 +32,7 @@
 use super::checkpointing;
 use super::engine::{Engine, MdView};
 use super::md_run::{run_loop, Start};
-use super::options::{prepare, Progress, RunOptions};
+use super::options::{prepare_fresh, Progress, RunOptions};
 use crate::checkpoint::run::Found;
 use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
@@ -58,7 +58,7 @@ pub fn run<D: Dim>(
 ) -> Result<Value> {
     let root = comm.rank() == 0;
     if root {
-        prepare(&opts.out_dir)?;
+        prepare_fresh(opts)?;
     }
     let loaded = &*crate::scenario::hopper::expand(loaded)?;
     let (full, resolved) = build_md::<D>(loaded)?;
@@ -102,9 +102,8 @@ pub(super) fn resume<D: Dim>(
     let root = comm.rank() == 0;
     let (mirror, outputs) = match root {
         true => {
-            checkpointing::prepare_resume(opts)?;
-            let spec = &loaded.scenario.output;
-            let out = Outputs::resume(&opts.out_dir, spec, &found.outputs)?;
+            checkpointing::prepare_resume(found, opts)?;
+            let out = checkpointing::resumed_outputs(found, opts)?;
             (Some(found.restore_md::<D>()?), Some(out))
         }
         false => (None, None),

@@ -5,7 +5,7 @@
 use super::checkpointer::Checkpointer;
 use super::engine::{gas_frame, Engine, GasView};
 use super::found::resume_plan;
-use super::options::{prepare, Progress, RunOptions};
+use super::options::{prepare_fresh, Progress, RunOptions};
 use super::run_loop::{
     run_to, Control, Every, Hook, Interval, Record, Recorder, Report, Saved, StopFlag,
 };
@@ -40,7 +40,7 @@ fn run_dim<D: GasDim>(
     opts: &RunOptions,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
-    prepare(&opts.out_dir)?;
+    prepare_fresh(opts)?;
     let (sim, plan) = build::<D>(loaded)?;
     let summary = head(loaded, &sim, &plan);
     let outputs = gas_outputs(&opts.out_dir, &loaded.scenario.output)?;

@@ -2,12 +2,13 @@
 //! the engine and the measurements, and the step plan of the resumed run.
 
 use super::engine::Engine;
-use crate::checkpoint::run::Found;
+use crate::checkpoint::run::{scenario_text, Found};
 use crate::dim::Dim;
+use crate::dsmc::Method;
 use crate::error::{Error, Result};
 use crate::md::Md;
 use crate::measure::measurements::Measurements;
-use crate::scenario::{build_md, Resolved};
+use crate::scenario::{build_md, restart, Loaded, Resolved};
 
 /// The (relax, measured) step plan of a resumed run: the checkpoint's own,
 /// or, with `--steps n`, one that ends n steps after `step`. `origin` names
@@ -66,7 +67,11 @@ impl Found {
             )));
         }
         let (mut md, resolved) = build_md::<D>(&self.loaded)?;
-        md.import(&self.engine, &self.path.display().to_string())?;
+        match &self.restart {
+            None => md.import(&self.engine, &self.path.display().to_string())?,
+            Some(_) => crate::checkpoint::engine::restore_changed(&mut md, &self.engine)
+                .map_err(|e| Error::input(format!("{}: {e}", self.path.display())))?,
+        }
         if md.step != self.step {
             return Err(Error::input(format!(
                 "checkpoint {}: header step {} but engine step {}",
@@ -78,10 +83,64 @@ impl Found {
         Ok((md, resolved))
     }
 
-    /// Everything a resumed MD run needs, checked; `steps`: `--steps`.
+    /// This checkpoint's state continued under `new`, a changed scenario
+    /// (a restart): refused, naming the key, when a change would not leave
+    /// the state meaningful ([`restart::check_changes`]); `what` names the
+    /// change in messages.
+    pub fn restart_with(mut self, new: Loaded, what: &str) -> Result<Self> {
+        if self.loaded.scenario.method == Method::Dsmc || new.scenario.method == Method::Dsmc {
+            return Err(Error::input(format!(
+                "{what}: a DSMC checkpoint resumes as it was; a restart with changes is for MD runs"
+            )));
+        }
+        let changed = restart::check_changes(&self.loaded.scenario, &new.scenario, what)?;
+        self.loaded = new;
+        self.restart = Some(changed);
+        Ok(self)
+    }
+
+    /// [`Found::restart_with`] the checkpoint's own scenario with `sets`
+    /// (`KEY=VALUE`) applied.
+    pub fn restart_with_sets(self, sets: &[String]) -> Result<Self> {
+        let text = scenario_text(&self.loaded.scenario)?;
+        let base = self.loaded.base_dir.clone();
+        let origin = format!(
+            "{} (checkpoint {})",
+            self.loaded.origin,
+            self.path.display()
+        );
+        let new = crate::scenario::load_str(&text, &origin, base, sets)?;
+        self.restart_with(new, "--set")
+    }
+
+    /// The scenario keys a restart changed; `None` for a plain resume.
+    pub fn changed_keys(&self) -> Option<&[String]> {
+        self.restart.as_deref()
+    }
+
+    /// Everything a resumed MD run needs, checked; `steps`: `--steps`. A
+    /// restart begins a new run at the checkpoint's step: `steps` measured
+    /// steps, or the changed scenario's relaxation and measurement, with
+    /// fresh measurements.
     pub(crate) fn restore<D: Dim>(&self, steps: Option<u64>) -> Result<Restored<D>> {
         let loaded = &self.loaded;
         let (md, resolved) = self.restore_built::<D>()?;
+        if self.restart.is_some() {
+            let at = md.step;
+            let plan = match steps {
+                Some(n) => (at, n),
+                None => (
+                    at.saturating_add(resolved.relax_steps),
+                    resolved.measure_steps,
+                ),
+            };
+            return Ok(Restored {
+                md,
+                resolved,
+                plan,
+                measurements: None,
+            });
+        }
         let path = self.path.display();
         let (relax, measure) = resume_plan(self.plan, md.step, steps, &path.to_string())?;
         let measurements = match &self.measurements {

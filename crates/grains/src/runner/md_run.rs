@@ -4,7 +4,7 @@
 
 use super::checkpointer::Checkpointer;
 use super::engine::MdView;
-use super::options::{prepare, Progress, RunOptions};
+use super::options::{prepare_fresh, Progress, RunOptions};
 use super::run_loop::{
     run_to, Control, Every, Hook, Interval, Record, Recorder, Report, Saved, StopFlag,
 };
@@ -27,7 +27,7 @@ pub(super) fn run_dim<D: Dim>(
     opts: &RunOptions,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
-    prepare(&opts.out_dir)?;
+    prepare_fresh(opts)?;
     let loaded = &*crate::scenario::hopper::expand(loaded)?;
     let start = begin::<D>(loaded, opts)?;
     run_loop(loaded, opts, start, progress)

@@ -18,7 +18,7 @@ mod options;
 mod run_loop;
 
 pub use engine::Engine;
-pub use options::{prepare, Progress, RunOptions, Silent};
+pub use options::{prepare, prepare_fresh, Progress, RunOptions, Silent};
 
 use crate::dim::{Dim, D2, D3};
 use crate::error::Result;

@@ -16,6 +16,9 @@ pub struct RunOptions {
     /// the current stretch of steps (at most 256 steps on); the summary
     /// then says `"interrupted"`.
     pub stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
+    /// A fresh run into a folder that holds another run replaces that run's
+    /// files instead of refusing the folder ([`crate::run_dir::claim`]).
+    pub overwrite: bool,
 }
 
 /// Receives progress reports; the command line draws a bar or log lines.
@@ -43,6 +46,14 @@ pub fn prepare(dir: &Path) -> Result<()> {
     std::fs::write(&probe, b"ok").map_err(|e| Error::io(&probe, e))?;
     std::fs::remove_file(&probe).map_err(|e| Error::io(&probe, e))?;
     Ok(())
+}
+
+/// Claims the output folder of a fresh run ([`crate::run_dir::claim`]:
+/// refused when it holds another run, unless `opts.overwrite`) and
+/// [`prepare`]s it.
+pub fn prepare_fresh(opts: &RunOptions) -> Result<()> {
+    crate::run_dir::claim(&opts.out_dir, opts.overwrite)?;
+    prepare(&opts.out_dir)
 }
 
 /// A checkpoint interval: simulated seconds or a number of steps.

@@ -12,6 +12,7 @@ mod mesh_wall;
 pub mod overrides;
 pub mod placement;
 pub mod resolve;
+pub mod restart;
 pub mod schema;
 pub mod sweep;
 

@@ -17,7 +17,7 @@ mod md_engine;
 use held::Held;
 pub use held::{Column, Contacts};
 
-use crate::checkpoint::run::{find, payload, scenario_text, OutputState, RunHeader};
+use crate::checkpoint::run::{find, payload, OutputState, RunHeader};
 use crate::dim::{D2, D3};
 use crate::error::{Error, Result};
 use crate::scenario::schema::Dimension;
@@ -78,7 +78,24 @@ impl Session {
     /// [`Session::save_checkpoint`] or by `grains run --checkpoint-every`
     /// (or the newest valid one of a run directory).
     pub fn resume(path: &Path) -> Result<Self> {
+        Self::from_checkpoint(path, &[], false)
+    }
+
+    /// [`Session::resume`] under the checkpoint's scenario changed by `sets`
+    /// (`KEY=VALUE`; a restart, refused by key when a change would not
+    /// leave the state meaningful). The files the scenario read must be as
+    /// they were, unless `allow_changed_inputs`.
+    pub fn from_checkpoint(
+        path: &Path,
+        sets: &[String],
+        allow_changed_inputs: bool,
+    ) -> Result<Self> {
         let (found, _skipped) = find(path)?;
+        found.check_inputs(allow_changed_inputs)?;
+        let found = match sets {
+            [] => found,
+            _ => found.restart_with_sets(sets)?,
+        };
         let loaded = found.loaded().clone();
         let s = &loaded.scenario;
         runner_only(&loaded)?;
@@ -276,16 +293,7 @@ impl Session {
     /// format of `grains run --checkpoint-every`, which
     /// [`Session::resume`] reads back to continue bit for bit.
     pub fn save_checkpoint(&self, path: &Path) -> Result<PathBuf> {
-        let scenario = scenario_text(&self.loaded.scenario)?;
-        let base_dir = self.loaded.base_dir.to_string_lossy().into_owned();
-        let run = RunHeader {
-            scenario: &scenario,
-            origin: &self.loaded.origin,
-            base_dir: &base_dir,
-            dim: self.dim(),
-            plan: self.plan,
-            interval: None,
-        };
+        let run = RunHeader::new(&self.loaded, self.plan, None)?;
         // No output files belong to a session.
         let outputs = OutputState::default();
         let engine = self.engine.engine().export().map_err(|e| match e {

@@ -308,6 +308,7 @@ fn good_checkpoint() -> &'static (PathBuf, Vec<u8>) {
             steps: Some(40),
             checkpoint_every: Some(Every::Steps(40)),
             stop: None,
+            overwrite: false,
         };
         runner::run(&loaded, &opts, &mut Silent).unwrap();
         let p = dir.join(checkpoint::file_name(40));
