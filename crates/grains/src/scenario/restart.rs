@@ -40,7 +40,10 @@ fn diff(prefix: &str, a: Option<&Value>, b: Option<&Value>, out: &mut Vec<String
                 diff(&join(prefix, k), x.get(k), y.get(k), out);
             }
         }
-        (Some(Value::Array(x)), Some(Value::Array(y))) if x.len() == y.len() => {
+        // Arrays of tables (walls, materials) by entry; vectors whole.
+        (Some(Value::Array(x)), Some(Value::Array(y)))
+            if x.len() == y.len() && x.iter().all(Value::is_table) =>
+        {
             for (i, (p, q)) in x.iter().zip(y).enumerate() {
                 diff(&join(prefix, &i.to_string()), Some(p), Some(q), out);
             }
