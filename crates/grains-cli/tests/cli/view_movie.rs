@@ -124,6 +124,38 @@ fn movie_legend_fits_a_narrow_picture() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The default run's displacement.png has a band under the grains with
+/// the time span, a scale bar and its legend in black text (the arrows
+/// were once all there was), and its tracers are a few colours, not one.
+#[test]
+fn displacement_picture_has_its_band() {
+    let dir = short_run("displacement");
+    let dec = png::Decoder::new(std::fs::File::open(dir.join("displacement.png")).unwrap());
+    let mut reader = dec.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgb);
+    let (w, h) = (info.width as usize, info.height as usize);
+    let px = |x: usize, y: usize| -> [u8; 3] {
+        let k = (y * w + x) * 3;
+        [buf[k], buf[k + 1], buf[k + 2]]
+    };
+    // Text scale 2 at 1000 pixels: a band of 28 rows.
+    let band = 28;
+    let black = (h - band..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| px(x, y) == [0, 0, 0])
+        .count();
+    assert!(black > 300, "{black} black pixels in the band");
+    // Nothing but white and black in the band's top rows above the text.
+    for y in h - band..h - band + 4 {
+        for x in 0..w {
+            assert_eq!(px(x, y), [255; 3], "({x}, {y}) in the band's margin");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// One GET over a fresh connection: (status line, body).
 fn get(addr: &str, path: &str) -> (String, Vec<u8>) {
     let mut s = TcpStream::connect(addr).unwrap();
