@@ -9,5 +9,6 @@ mod common;
 mod check_law;
 mod commands;
 mod mesh_input;
+mod progress;
 mod resume;
 mod view_movie;
