@@ -8,13 +8,25 @@ the measured cycles, and map the mean displacement on a grid.
 
 The plate lifts the middle hardest, so grains rise in the middle and sink
 at the sides: two counter-rotating rolls. Prints the mean vertical
-displacement of the middle and side bands and writes convection_rolls.png.
+displacement of the middle and side bands and writes
+runs/examples/convection_rolls/convection_rolls.png (under the current
+folder; --out names another file).
+
+Needs matplotlib: pip install '.[examples]' from the source tree.
 """
 
 import argparse
 import pathlib
+import sys
 
-import matplotlib
+try:
+    import matplotlib
+except ImportError:
+    sys.exit(
+        "This example draws its figure with matplotlib, which `pip install .` does not "
+        "bring.\nInstall the examples' extras from the grains source tree:\n\n"
+        "    pip install '.[examples]'\n\n(or just: pip install matplotlib)"
+    )
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
@@ -31,7 +43,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--relax", type=float, default=10, help="cycles before measuring")
     ap.add_argument("--cycles", type=float, default=15, help="cycles measured")
-    ap.add_argument("--out", default="convection_rolls.png")
+    ap.add_argument("--out", default="runs/examples/convection_rolls/convection_rolls.png")
     args = ap.parse_args()
 
     sim = grains.Simulation(ROOT / "scenarios" / "seed-convection-modulated.toml")
@@ -91,8 +103,10 @@ def main():
     ax.set_title(f"displacement over {args.cycles:g} cycles, relative to the mean")
     ax.set_aspect("equal")
     fig.tight_layout()
-    fig.savefig(args.out, dpi=120)
-    print(f"wrote {args.out}")
+    out = pathlib.Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=120)
+    print(f"wrote {out.resolve()}")
 
 
 if __name__ == "__main__":

@@ -6,15 +6,26 @@ beside tan(theta) = mu.
 
     python examples/python/repose_sweep.py --mu 0.1 0.2 0.3 0.4 --seeds 1 2 --jobs 2
 
-Writes runs/repose-2d-sweep/<variant>/ (each run's files) and
-repose_vs_mu.png in the sweep's directory.
+Writes runs/examples/repose-2d-sweep/<variant>/ (each run's files) and
+repose_vs_mu.png in the sweep's directory, under the current folder
+(--out names another directory).
+
+Needs matplotlib: pip install '.[examples]' from the source tree.
 """
 
 import argparse
 import pathlib
+import sys
 from collections import defaultdict
 
-import matplotlib
+try:
+    import matplotlib
+except ImportError:
+    sys.exit(
+        "This example draws its figure with matplotlib, which `pip install .` does not "
+        "bring.\nInstall the examples' extras from the grains source tree:\n\n"
+        "    pip install '.[examples]'\n\n(or just: pip install matplotlib)"
+    )
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
@@ -30,7 +41,7 @@ def main():
     ap.add_argument("--mu", type=float, nargs="+", default=[0.1, 0.2, 0.3, 0.4])
     ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2])
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--out", default="runs/repose-2d-sweep")
+    ap.add_argument("--out", default="runs/examples/repose-2d-sweep")
     args = ap.parse_args()
 
     results = grains.sweep(
@@ -70,8 +81,9 @@ def main():
     ax.legend()
     fig.tight_layout()
     png = pathlib.Path(args.out) / "repose_vs_mu.png"
+    png.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(png, dpi=120)
-    print(f"wrote {png}")
+    print(f"wrote {png.resolve()} (and each run's files in {png.parent.resolve()})")
 
 
 if __name__ == "__main__":

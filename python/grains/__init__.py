@@ -4,7 +4,7 @@ Drive a scenario from Python and read its state as numpy arrays::
 
     import grains
     sim = grains.Simulation("scenarios/pour-3d.toml")
-    sim.run(steps=1000)
+    sim.run(steps=1000)          # progress=True draws a progress bar
     x = sim.positions            # (n, 3) float64, in id order
     print(sim.kinetic_energy, sim.summary()["time"])
 

@@ -79,11 +79,16 @@ class Simulation:
         motions, run and outputs may change; grains, box, walls' shapes,
         integrator and skin may not (InputError names the key). Changed
         input files raise InputError unless `allow_changed_inputs`."""
-    def run(self, steps: Optional[int] = None, time: Optional[float] = None) -> None:
+    def run(
+        self, steps: Optional[int] = None, time: Optional[float] = None, progress: bool = False
+    ) -> None:
         """Advances `steps` steps, or `time` seconds (rounded to steps), or
         with neither to the end of the scenario's run. Releases the GIL;
         Ctrl-C raises KeyboardInterrupt within about a second with the
-        engine at a complete step. UnstableError when the state blows up."""
+        engine at a complete step. UnstableError when the state blows up.
+        `progress=True` draws a progress bar on sys.stderr (steps done,
+        simulated time, time left), redrawn in place about five times a
+        second and ended with a newline; off by default."""
     @property
     def step(self) -> int: ...
     @property

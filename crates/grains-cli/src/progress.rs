@@ -52,12 +52,44 @@ impl Progress for Bar {
 }
 
 /// One line every few seconds, for logs and pipes.
-#[derive(Default)]
 struct LogLines {
+    /// Put after "grains: " on each line (a sweep's variant), or empty.
+    label: String,
+    /// The least time between two lines of a phase (its last line aside).
+    every: Duration,
+    /// Whether a phase's start gets a line of its own.
+    announce: bool,
     name: String,
     total: u64,
     started: Option<Instant>,
     last: Option<Instant>,
+}
+
+impl Default for LogLines {
+    fn default() -> Self {
+        Self {
+            label: String::new(),
+            every: Duration::from_secs(5),
+            announce: true,
+            name: String::new(),
+            total: 0,
+            started: None,
+            last: None,
+        }
+    }
+}
+
+/// The reporter of one variant of `grains sweep`, named `variant`: a line
+/// at most every `every` (and at the end of each phase), each naming the
+/// variant, so that a long variant shows how far it got among the lines
+/// of the others running beside it.
+pub fn for_variant(variant: &str, every: Duration) -> Box<dyn Progress> {
+    Box::new(LogLines {
+        label: format!("[{variant}] "),
+        every,
+        announce: false,
+        ..LogLines::default()
+    })
 }
 
 impl Progress for LogLines {
@@ -66,12 +98,14 @@ impl Progress for LogLines {
         self.total = total;
         self.started = Some(Instant::now());
         self.last = Some(Instant::now());
-        eprintln!("grains: {name}: {total} steps");
+        if self.announce {
+            eprintln!("grains: {}{name}: {total} steps", self.label);
+        }
     }
 
     fn advance(&mut self, done: u64, time: f64) {
         let now = Instant::now();
-        if self.last.is_some_and(|l| now - l < Duration::from_secs(5)) && done < self.total {
+        if self.last.is_some_and(|l| now - l < self.every) && done < self.total {
             return;
         }
         self.last = Some(now);
@@ -82,8 +116,8 @@ impl Progress for LogLines {
         let rate = done as f64 / elapsed;
         let eta = (self.total - done) as f64 / rate.max(1e-9);
         eprintln!(
-            "grains: {}: step {done}/{} t = {time:.4e} s, {rate:.0} steps/s, ETA {eta:.0} s",
-            self.name, self.total
+            "grains: {}{}: step {done}/{} t = {time:.4e} s, {rate:.0} steps/s, ETA {eta:.0} s",
+            self.label, self.name, self.total
         );
     }
 

@@ -4,7 +4,7 @@
 
 use clap::Args;
 use grains::measure::plot::{save_plot, Series, Titles, PALETTE};
-use grains::runner::{self, RunOptions, Silent};
+use grains::runner::{self, RunOptions};
 use grains::scenario;
 use grains::scenario::sweep::{grid, variant_name, variant_sets};
 use grains::Error;
@@ -43,6 +43,9 @@ pub struct SweepArgs {
     /// summary.json scalar to plot against the first varied key (a varied `seed` is averaged over, with error bars).
     #[arg(long)]
     plot: Option<String>,
+    /// Seconds between two progress lines of a running variant (each names its variant; 0: at every report, every 256 steps).
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
+    progress_every: f64,
 }
 
 /// The CPUs this process may use (its affinity mask and cgroup quota, as
@@ -111,6 +114,13 @@ pub fn run(args: SweepArgs) -> grains::Result<()> {
     if args.threads == Some(0) {
         return Err(Error::input("--threads must be at least 1"));
     }
+    let every = args.progress_every;
+    if !(every.is_finite() && every >= 0.0) {
+        return Err(Error::input(format!(
+            "--progress-every {every}: must be a number of seconds >= 0"
+        )));
+    }
+    let every = std::time::Duration::from_secs_f64(every);
     // Load every variant first: a bad key or value fails before any run.
     let variants = grid(&axes);
     let mut loaded = Vec::new();
@@ -165,7 +175,9 @@ pub fn run(args: SweepArgs) -> grains::Result<()> {
                         overwrite: args.overwrite,
                         ..RunOptions::default()
                     };
-                    let r = runner::run(&loaded[k], &opts, &mut Silent);
+                    let name = variant_name(&axes, &variants[k]);
+                    let mut progress = crate::progress::for_variant(&name, every);
+                    let r = runner::run(&loaded[k], &opts, progress.as_mut());
                     match &r {
                         Ok(_) => eprintln!("grains: done {}", variant_name(&axes, &variants[k])),
                         Err(e) => eprintln!(

@@ -2,6 +2,7 @@
 //! as numpy arrays.
 
 use crate::errors::{guard, internal, InputError};
+use crate::progress::Bar;
 use crate::run::sets_arg;
 use crate::scenario::scenario_arg;
 use grains::session::{Column, Session};
@@ -158,9 +159,17 @@ impl Simulation {
     /// scenario's run (relaxation and measurement). Releases the GIL while
     /// it computes; Ctrl-C raises `KeyboardInterrupt` within about a
     /// second, the engine left at a complete step. Raises `UnstableError`
-    /// when the state blows up.
-    #[pyo3(signature = (steps=None, time=None))]
-    fn run(&mut self, py: Python<'_>, steps: Option<i64>, time: Option<f64>) -> PyResult<()> {
+    /// when the state blows up. With `progress=True` it draws a progress
+    /// bar on `sys.stderr` (steps done, simulated time, time left), redrawn
+    /// in place about five times a second and ended with a newline.
+    #[pyo3(signature = (steps=None, time=None, progress=false))]
+    fn run(
+        &mut self,
+        py: Python<'_>,
+        steps: Option<i64>,
+        time: Option<f64>,
+        progress: bool,
+    ) -> PyResult<()> {
         let n = match (steps, time) {
             (Some(_), Some(_)) => {
                 return Err(InputError::new_err("run: give steps or time, not both"))
@@ -182,11 +191,26 @@ impl Simulation {
                 .planned_steps()
                 .saturating_sub(self.session.step()),
         };
+        let bar = progress.then(|| Bar::new(n));
+        if let Some(b) = &bar {
+            b.draw(py, 0, self.session.time())?;
+        }
         let mut left = n;
         while left > 0 {
             let done = self.detached(py, |s| s.advance_for(left, SIGNAL_CHECK))?;
             left -= done;
-            py.check_signals()?;
+            if let Some(b) = &bar {
+                b.draw(py, n - left, self.session.time())?;
+            }
+            if let Err(e) = py.check_signals() {
+                if let Some(b) = &bar {
+                    b.end(py)?;
+                }
+                return Err(e);
+            }
+        }
+        if let Some(b) = &bar {
+            b.end(py)?;
         }
         Ok(())
     }

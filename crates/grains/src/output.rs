@@ -6,9 +6,9 @@ use crate::comm::Comm;
 use crate::dim::Dim;
 use crate::error::Error;
 use crate::error::Result;
-use crate::io::{draw_arrows, write_atomic, DumpWriter, Frame, Num, ThermoWriter, VtkSeries};
+use crate::io::{write_atomic, DumpWriter, Frame, Num, ThermoWriter, VtkSeries};
 use crate::md::Md;
-use crate::measure::draw::{draw_walls, faint, in_box};
+use crate::measure::draw::in_box;
 use crate::measure::{granular_temperature, DisplacementField};
 use crate::render::{Painter, Scene, StillOptions};
 use crate::scenario::schema::{FramesLayout, OutputSpec};
@@ -322,15 +322,8 @@ impl Outputs {
                 );
             }
             write_atomic(&self.dir.join("displacement.csv"), csv.as_bytes())?;
-            // Arrows from start to end on the plane of the picture (x and the
-            // vertical axis), over the final state drawn faintly.
-            let v = last.vertical();
-            let from: Vec<[f64; 2]> = rows.iter().map(|r| [r.start[0], r.start[v]]).collect();
-            let to: Vec<[f64; 2]> = rows.iter().map(|r| [r.end[0], r.end[v]]).collect();
-            let mut img = faint(last);
-            draw_walls(&mut img, walls, last.time, [60, 60, 60], 1.5);
-            draw_arrows(&mut img, &from, &to, [200, 30, 30]);
-            img.save_png(&self.dir.join("displacement.png"))?;
+            crate::measure::displacement_draw::picture(&rows, field.t0, last, walls)
+                .save_png(&self.dir.join("displacement.png"))?;
         }
         if self.movie {
             crate::render::make_movie(&self.dir, &Default::default())?;

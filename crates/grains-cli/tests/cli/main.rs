@@ -6,8 +6,10 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod check_law;
 mod commands;
 mod mesh_input;
+mod progress;
 mod restart;
 mod resume;
 mod view_movie;

@@ -89,6 +89,73 @@ fn movie_draws_every_frame_and_names_bad_input() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// At `--width 480` the band under each frame keeps all it draws inside
+/// the picture: its last columns stay blank (the height legend's last
+/// number and unit were cut there).
+#[test]
+fn movie_legend_fits_a_narrow_picture() {
+    let dir = short_run("narrow");
+    let d = dir.to_str().unwrap();
+    let (code, text) = grains(&[
+        "movie", d, "--view", "z", "--width", "480", "--color", "height", "--no-mp4",
+    ]);
+    assert_eq!(code, Some(0), "{text}");
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::RGBA);
+    let mut dec = opts
+        .read_info(std::fs::File::open(dir.join("movie.gif")).unwrap())
+        .unwrap();
+    let (w, h) = (dec.width() as usize, dec.height() as usize);
+    assert_eq!(w, 480);
+    let f = dec.read_next_frame().unwrap().expect("a frame");
+    assert_eq!((f.width as usize, f.height as usize), (w, h));
+    // The band: the bottom 14 rows (text scale 1 below 700 pixels).
+    let mut ink = 0;
+    for y in h - 14..h {
+        for x in 0..w {
+            let p = &f.buffer[(y * w + x) * 4..][..3];
+            if p.iter().any(|&c| c < 200) {
+                ink += 1;
+                assert!(x < w - 3, "the band is drawn to the edge at ({x}, {y})");
+            }
+        }
+    }
+    assert!(ink > 100, "no band drawn");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The default run's displacement.png has a band under the grains with
+/// the time span, a scale bar and its legend in black text (the arrows
+/// were once all there was), and its tracers are a few colours, not one.
+#[test]
+fn displacement_picture_has_its_band() {
+    let dir = short_run("displacement");
+    let dec = png::Decoder::new(std::fs::File::open(dir.join("displacement.png")).unwrap());
+    let mut reader = dec.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgb);
+    let (w, h) = (info.width as usize, info.height as usize);
+    let px = |x: usize, y: usize| -> [u8; 3] {
+        let k = (y * w + x) * 3;
+        [buf[k], buf[k + 1], buf[k + 2]]
+    };
+    // Text scale 2 at 1000 pixels: a band of 28 rows.
+    let band = 28;
+    let black = (h - band..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| px(x, y) == [0, 0, 0])
+        .count();
+    assert!(black > 300, "{black} black pixels in the band");
+    // Nothing but white and black in the band's top rows above the text.
+    for y in h - band..h - band + 4 {
+        for x in 0..w {
+            assert_eq!(px(x, y), [255; 3], "({x}, {y}) in the band's margin");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// One GET over a fresh connection: (status line, body).
 fn get(addr: &str, path: &str) -> (String, Vec<u8>) {
     let mut s = TcpStream::connect(addr).unwrap();

@@ -61,6 +61,11 @@ impl HertzPair {
             jkr_reach: jkr::separation_coefficient(p.e_star, p.surface_energy),
         }
     }
+
+    /// The damping coefficient α (Tsuji form) the pair's restitution gave.
+    pub fn alpha(&self) -> f64 {
+        self.alpha
+    }
 }
 
 /// The Hertz–Mindlin law of a set of materials.
@@ -69,6 +74,9 @@ pub struct HertzMindlin {
     materials: usize,
     /// `pairs[a * materials + b]`.
     pairs: Vec<HertzPair>,
+    /// The mixed coefficients each entry of `pairs` was made from (what
+    /// `grains check` prints).
+    coefficients: Vec<PairCoefficients>,
     /// The material of each grain kind.
     material_of_kind: Vec<u32>,
     /// The material of every grain kind, when they all have one: contacts
@@ -105,14 +113,14 @@ impl HertzMindlin {
                 .all(|&m| (m as usize) < n),
             "a material index beyond the {n} materials"
         );
-        let pairs = pair_table(materials, overrides, |a, b, over| {
-            HertzPair::new(&PairCoefficients::mix(a, b, over))
-        });
+        let coefficients = pair_table(materials, overrides, PairCoefficients::mix);
+        let pairs = coefficients.iter().map(HertzPair::new).collect();
         let first = material_of_kind.first().copied();
         let grain_material = first.filter(|&m| material_of_kind.iter().all(|&k| k == m));
         Self {
             materials: n,
             pairs,
+            coefficients,
             material_of_kind,
             grain_material,
             wall_material,
@@ -205,6 +213,27 @@ impl HertzMindlin {
     /// The coefficients of materials `a` and `b`.
     pub fn pair(&self, a: usize, b: usize) -> &HertzPair {
         &self.pairs[a * self.materials + b]
+    }
+
+    /// The mixed coefficients (E*, G*, restitution, friction, rolling
+    /// friction, surface energy) that materials `a` and `b` gave the law.
+    pub fn coefficients(&self, a: usize, b: usize) -> &PairCoefficients {
+        &self.coefficients[a * self.materials + b]
+    }
+
+    /// The material of each grain kind (the kinds no grain has: 0).
+    pub fn kind_materials(&self) -> &[u32] {
+        &self.material_of_kind
+    }
+
+    /// The material of each wall.
+    pub fn wall_materials(&self) -> &[u32] {
+        &self.wall_material
+    }
+
+    /// LAMMPS's `pair granular` table when the law is that preset.
+    pub fn granular(&self) -> Option<&GranularTable> {
+        self.granular.as_ref()
     }
 
     /// The coefficients of table entry `pair`.

@@ -102,6 +102,31 @@ impl GranularPair {
             gamma_roll: rolling.damping,
         }
     }
+
+    /// E*, as the law holds it ((4/3) E* over 4/3).
+    pub fn e_star(&self) -> f64 {
+        0.75 * self.four_thirds_e_star
+    }
+
+    /// G*, as the law holds it (8 G* over 8).
+    pub fn g_star(&self) -> f64 {
+        self.eight_g_star / 8.0
+    }
+
+    /// α of `damping tsuji`.
+    pub fn alpha(&self) -> f64 {
+        self.alpha
+    }
+
+    /// Sliding friction μ.
+    pub fn friction(&self) -> f64 {
+        self.mu
+    }
+
+    /// Rolling friction μ_r.
+    pub fn rolling_friction(&self) -> f64 {
+        self.mu_r
+    }
 }
 
 /// The table of a scenario's pairs, indexed as the material law's

@@ -18,6 +18,9 @@ pub struct DisplacementField {
     tracks: HashMap<u64, Track>,
     /// Ids in first-seen order, for stable output.
     order: Vec<u64>,
+    /// The time the tracking began (`None` when resumed from a checkpoint
+    /// written before it was kept).
+    pub t0: Option<f64>,
 }
 
 /// One grain's start and end.
@@ -32,7 +35,10 @@ impl DisplacementField {
     /// Starts tracking every mobile grain from its present position.
     pub fn begin<D: Dim>(md: &Md<D>) -> Self {
         let p = &md.particles;
-        let mut field = Self::default();
+        let mut field = Self {
+            t0: Some(md.time),
+            ..Self::default()
+        };
         for i in 0..p.n_owned() {
             if !p.frozen[i] {
                 let x = D::to_xyz(p.pos[i]);

@@ -115,6 +115,18 @@ impl Measurements {
             e.bool(true);
             i.save(&mut e);
         }
+        // Last, the time the displacement field began (for its picture),
+        // after both flags, false where absent: older checkpoints end
+        // before it and load with the time unknown.
+        if let Some(t0) = self.displacement.as_ref().and_then(|d| d.t0) {
+            if self.flow_field.is_none() && self.impact.is_none() {
+                e.bool(false);
+            }
+            if self.impact.is_none() {
+                e.bool(false);
+            }
+            e.f64(t0);
+        }
         e.buf
     }
 
@@ -204,6 +216,11 @@ impl Measurements {
         }
         if has_impact {
             out.impact = Some(Impacts::load(&mut d)?);
+        }
+        if let Some(field) = &mut out.displacement {
+            if d.remaining() > 0 {
+                field.t0 = Some(d.f64("displacement start time")?);
+            }
         }
         if d.remaining() != 0 {
             return Err(format!(

@@ -4,6 +4,7 @@
 
 pub mod convection;
 pub mod displacement;
+pub mod displacement_draw;
 pub mod draw;
 pub mod flow_field;
 pub mod gas;

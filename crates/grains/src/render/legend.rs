@@ -25,9 +25,164 @@ pub enum Legend<'a> {
     Note(&'a str),
 }
 
+/// How much of the band to draw, from the full layout down to the legend
+/// alone: the first that fits the picture's width is drawn.
+#[derive(Clone, Copy, Debug)]
+struct Fit {
+    /// The scale bar's target length is width / this (0: no scale bar).
+    scale_div: u32,
+    /// The colour bar's length is width / this (at least 20 px).
+    bar_div: u32,
+    /// Glyphs between the parts.
+    gap: u32,
+    /// The time's long label (else its short one; `None`: no time).
+    time: Option<bool>,
+    /// The colour scale's name before its lower end.
+    name: bool,
+}
+
+const FITS: [Fit; 6] = [
+    Fit {
+        scale_div: 6,
+        bar_div: 6,
+        gap: 2,
+        time: Some(true),
+        name: true,
+    },
+    Fit {
+        scale_div: 12,
+        bar_div: 12,
+        gap: 1,
+        time: Some(true),
+        name: true,
+    },
+    Fit {
+        scale_div: 12,
+        bar_div: 12,
+        gap: 1,
+        time: Some(false),
+        name: true,
+    },
+    Fit {
+        scale_div: 0,
+        bar_div: 12,
+        gap: 1,
+        time: Some(false),
+        name: true,
+    },
+    Fit {
+        scale_div: 0,
+        bar_div: 12,
+        gap: 1,
+        time: None,
+        name: true,
+    },
+    Fit {
+        scale_div: 0,
+        bar_div: 12,
+        gap: 1,
+        time: None,
+        name: false,
+    },
+];
+
+/// Where the parts of the band go under one [`Fit`].
+struct Placed {
+    time: Option<String>,
+    /// The scale bar's left end, length in pixels and label.
+    scale: Option<(i64, u32, String)>,
+    /// The legend's left end, its colour scale's lower label and its
+    /// colour bar's length.
+    legend_x: i64,
+    left: String,
+    bar: i64,
+    /// The right end of the last thing drawn.
+    end: i64,
+}
+
+/// The parts of the band laid out under `fit` in an image `width` pixels
+/// wide at `world_scale` pixels per metre.
+fn place(
+    fit: Fit,
+    width: u32,
+    world_scale: f64,
+    s: u32,
+    [long, short]: [&str; 2],
+    legend: &Legend,
+) -> Placed {
+    let glyph = (GLYPH * s) as i64;
+    let gap = fit.gap as i64 * glyph;
+    let time = fit.time.map(|l| {
+        if l {
+            long.to_string()
+        } else {
+            short.to_string()
+        }
+    });
+    let mut x = glyph / 2;
+    if let Some(time) = &time {
+        x += text_width(time, s) as i64 + gap;
+    }
+    let mut scale = None;
+    if fit.scale_div > 0 && world_scale.is_finite() && world_scale > 0.0 {
+        let (len, label) = nice_length(width as f64 / fit.scale_div as f64 / world_scale);
+        let px = (len * world_scale).round() as u32;
+        let at = x;
+        x += px as i64 + glyph / 2 + text_width(&label, s) as i64 + gap;
+        scale = Some((at, px, label));
+    }
+    let bar = (width as i64 / fit.bar_div as i64).max(20);
+    let mut left = String::new();
+    let (legend_x, extent) = match legend {
+        Legend::Scale { name, lo, hi, unit } => {
+            left = if fit.name {
+                format!("{name} {}", sig3(*lo))
+            } else {
+                sig3(*lo)
+            };
+            let left = text_width(&left, s) as i64;
+            let right = text_width(&format!("{} {unit}", sig3(*hi)), s) as i64;
+            let need = left + bar + right;
+            // Right-aligned when there is room, else after the scale bar.
+            let margin = if fit.gap == 2 {
+                2 * glyph
+            } else {
+                glyph / 2 + glyph
+            };
+            ((width as i64 - need - margin).max(x), need + glyph)
+        }
+        Legend::Kinds(kinds) => {
+            let mut w = text_width("kind ", s) as i64;
+            for &k in kinds.iter().take(8) {
+                w += glyph + 2 * s as i64 + text_width(&k.to_string(), s) as i64 + glyph;
+            }
+            (x, w - glyph)
+        }
+        Legend::Note(note) => (x, text_width(note, s) as i64),
+    };
+    Placed {
+        time,
+        scale,
+        legend_x,
+        left,
+        bar,
+        end: legend_x + extent,
+    }
+}
+
 /// Draws the band whose top is pixel row `top`: the time `t` (s), a scale
-/// bar for the image's world-to-pixel scale, and `legend`.
+/// bar for the image's world-to-pixel scale, and `legend`. On a narrow
+/// picture the bars shorten and then the scale bar and the time give way,
+/// so that what is drawn is never cut at the right edge.
 pub fn draw_band(img: &mut Image, top: u32, s: u32, t: f64, legend: &Legend) {
+    let long = format!("t = {} s", sig3(t));
+    let short = format!("{} s", sig3(t));
+    draw_band_labelled(img, top, s, [&long, &short], legend);
+}
+
+/// [`draw_band`] with the time's label given, long and short (say, a time
+/// span).
+pub fn draw_band_labelled(img: &mut Image, top: u32, s: u32, time: [&str; 2], legend: &Legend) {
     fill_rect(
         img,
         0,
@@ -37,38 +192,39 @@ pub fn draw_band(img: &mut Image, top: u32, s: u32, t: f64, legend: &Legend) {
         [255, 255, 255],
     );
     let y = top as i64 + 3 * s as i64;
-    let gap = (2 * GLYPH * s) as i64;
-    let time = format!("t = {} s", sig3(t));
-    draw_text(img, (GLYPH * s) as i64 / 2, y, s, &time, INK);
-    // Scale bar: about a sixth of the width.
-    let mut x = (GLYPH * s) as i64 / 2 + text_width(&time, s) as i64 + gap;
+    let glyph = (GLYPH * s) as i64;
     let scale = img.view.scale;
-    if scale.is_finite() && scale > 0.0 {
-        let (len, label) = nice_length(img.width as f64 / 6.0 / scale);
-        let px = (len * scale).round() as u32;
-        let mid = y + (GLYPH * s) as i64 / 2;
+    let mut placed = place(FITS[0], img.width, scale, s, time, legend);
+    for fit in &FITS[1..] {
+        if placed.end <= img.width as i64 {
+            break;
+        }
+        placed = place(*fit, img.width, scale, s, time, legend);
+    }
+    if let Some(time) = &placed.time {
+        draw_text(img, glyph / 2, y, s, time, INK);
+    }
+    if let Some((x, px, label)) = &placed.scale {
+        let (x, px) = (*x, *px);
+        let mid = y + glyph / 2;
         fill_rect(img, x, mid - s as i64 / 2, px, s.max(1), INK);
         fill_rect(img, x, y, s.max(1), GLYPH * s, INK);
         fill_rect(img, x + px as i64 - s as i64, y, s.max(1), GLYPH * s, INK);
-        x += px as i64 + (GLYPH * s) as i64 / 2;
-        draw_text(img, x, y, s, &label, INK);
-        x += text_width(&label, s) as i64 + gap;
+        draw_text(img, x + px as i64 + glyph / 2, y, s, label, INK);
     }
+    let x = placed.legend_x;
     match legend {
-        Legend::Scale { name, lo, hi, unit } => {
-            let left = format!("{name} {}", sig3(*lo));
+        Legend::Scale { hi, unit, .. } => {
+            let left = &placed.left;
             let right = format!("{} {unit}", sig3(*hi));
-            let bar = (img.width as i64 / 6).max(20);
-            let need = text_width(&left, s) as i64 + bar + text_width(&right, s) as i64;
-            // Right-aligned when there is room, else after the scale bar.
-            let x0 = (img.width as i64 - need - 2 * (GLYPH * s) as i64).max(x);
-            draw_text(img, x0, y, s, &left, INK);
-            let bx = x0 + text_width(&left, s) as i64 + (GLYPH * s) as i64 / 2;
+            let bar = placed.bar;
+            draw_text(img, x, y, s, left, INK);
+            let bx = x + text_width(left, s) as i64 + glyph / 2;
             for k in 0..bar {
                 let c = viridis(k as f64 / (bar - 1) as f64);
                 fill_rect(img, bx + k, y, 1, GLYPH * s, c);
             }
-            draw_text(img, bx + bar + (GLYPH * s) as i64 / 2, y, s, &right, INK);
+            draw_text(img, bx + bar + glyph / 2, y, s, &right, INK);
         }
         Legend::Kinds(kinds) => {
             let mut x0 = x;
@@ -76,10 +232,10 @@ pub fn draw_band(img: &mut Image, top: u32, s: u32, t: f64, legend: &Legend) {
             x0 += text_width("kind ", s) as i64;
             for &k in kinds.iter().take(8) {
                 fill_rect(img, x0, y, GLYPH * s, GLYPH * s, kind_colour(k));
-                x0 += (GLYPH * s) as i64 + s as i64 * 2;
+                x0 += glyph + s as i64 * 2;
                 let label = k.to_string();
                 draw_text(img, x0, y, s, &label, INK);
-                x0 += text_width(&label, s) as i64 + (GLYPH * s) as i64;
+                x0 += text_width(&label, s) as i64 + glyph;
             }
         }
         Legend::Note(note) => draw_text(img, x, y, s, note, INK),
@@ -146,5 +302,44 @@ mod tests {
         // The colour bar ends at the top of the map.
         let yellow = (0..1000).any(|x| img.pixel(x, row) == viridis(1.0));
         assert!(yellow);
+    }
+
+    /// On narrow pictures (a movie at --width 480, say) everything drawn
+    /// stays inside: no ink in the band's last columns, and the colour
+    /// bar's top end (the legend's last part but its label) is still there.
+    #[test]
+    fn a_narrow_band_keeps_its_legend_inside() {
+        for width in [200, 240, 320, 480, 640, 1000] {
+            let view = View {
+                origin: [0.0, 0.0],
+                // A scale bar of 52 px at 480: the old layout's cut then
+                // falls inside a glyph of the last number (ink at 478).
+                scale: width as f64 / 0.0093,
+                height: 40,
+            };
+            let s = if width >= 700 { 2 } else { 1 };
+            let mut img = Image::new(width, 40 + BAND_ROWS * s, view);
+            let legend = Legend::Scale {
+                name: "height",
+                lo: -1.2345e-4,
+                hi: 1.2345e-2,
+                unit: "m",
+            };
+            draw_band(&mut img, 40, s, 1.2345e-3, &legend);
+            let band = 40..img.height;
+            for x in width - 2..width {
+                for y in band.clone() {
+                    assert_eq!(
+                        img.pixel(x, y),
+                        [255; 3],
+                        "ink at ({x}, {y}), width {width}"
+                    );
+                }
+            }
+            let yellow = band
+                .clone()
+                .any(|y| (0..width).any(|x| img.pixel(x, y) == viridis(1.0)));
+            assert!(yellow, "no colour bar at width {width}");
+        }
     }
 }

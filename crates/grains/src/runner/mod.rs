@@ -37,7 +37,7 @@ pub fn check(loaded: &Loaded) -> Result<Value> {
         let loaded = &*crate::scenario::hopper::expand(loaded)?;
         let (md, r) = build_md::<D>(loaded)?;
         crate::scenario::flow::FlowRun::begin(loaded, &md)?;
-        Ok(resolved_json(loaded, &md, &r))
+        resolved_json(loaded, &md, &r)
     }
     match loaded.scenario.dimension {
         Dimension::Two => go::<D2>(loaded),
@@ -64,21 +64,29 @@ fn run_on_pool(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) 
     }
 }
 
-fn resolved_json<D: Dim>(loaded: &Loaded, md: &Md<D>, r: &Resolved) -> Value {
+fn resolved_json<D: Dim>(loaded: &Loaded, md: &Md<D>, r: &Resolved) -> Result<Value> {
+    use crate::scenario::law_report;
     let law = &r.law;
-    json!({
+    // Under materials the law is the pair table's; `r.law` is only the
+    // stand-in the time step was taken from.
+    let contact = match &md.settings.materials {
+        Some(m) => law_report::material_law(&loaded.scenario, md, m)?,
+        None => json!({
+            "kn": law.kn, "beta": law.beta, "gamma_n": law.gamma_n, "gamma_t": law.gamma_t,
+            "kt": law.kt, "mu": if law.mu.is_finite() { json!(law.mu) } else { json!("inf") },
+            "scaling": format!("{:?}", law.scaling).to_lowercase(), "rotation": law.rotation,
+        }),
+    };
+    Ok(json!({
         "scenario": loaded.scenario.name,
         "source": loaded.origin,
         "dimension": D::NAME,
         "particles": md.particles.n_owned(),
         "frozen": md.particles.n_owned() - md.particles.n_mobile(),
         "walls": md.walls.iter().map(|w| w.name.clone()).collect::<Vec<_>>(),
-        "contact": {
-            "kn": law.kn, "beta": law.beta, "gamma_n": law.gamma_n, "gamma_t": law.gamma_t,
-            "kt": law.kt, "mu": if law.mu.is_finite() { json!(law.mu) } else { json!("inf") },
-            "scaling": format!("{:?}", law.scaling).to_lowercase(), "rotation": law.rotation,
-        },
+        "contact": contact,
         "integrator": md.settings.integrator.name(),
+        "time_step": law_report::time_step(md, r),
         "contact_time": r.contact_time,
         "dt": r.dt,
         "dt_origin": r.dt_origin,
@@ -88,5 +96,6 @@ fn resolved_json<D: Dim>(loaded: &Loaded, md: &Md<D>, r: &Resolved) -> Value {
         "measure_steps": r.measure_steps,
         "output_every_steps": r.output_every,
         "skin": md.settings.skin,
-    })
+        "memory": law_report::memory(md),
+    }))
 }

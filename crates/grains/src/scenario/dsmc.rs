@@ -55,6 +55,13 @@ pub fn build_dsmc_reporting<D: GasDim>(
             "particles.d0 and particles.density must be positive",
         ));
     }
+    if s.output.dump {
+        return Err(Error::input(
+            "output.dump = true, but method = \"dsmc\" writes no LAMMPS dump (the gas's \
+             positions go to the VTK frames, output.frames): remove output.dump or set it \
+             to false",
+        ));
+    }
     if ps.width != 0.0 {
         return Err(Error::input(
             "method = \"dsmc\" simulates one diameter: particles.width must be 0",
