@@ -9,6 +9,7 @@ pub mod dense;
 pub mod diagnostics;
 pub mod engine;
 pub mod haff;
+pub mod placement;
 pub mod rng;
 pub mod sort;
 pub mod spec;
