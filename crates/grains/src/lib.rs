@@ -26,6 +26,7 @@ pub mod render;
 pub mod runner;
 pub mod scenario;
 pub mod session;
+pub mod settings;
 pub mod simd;
 
 pub use dim::{Dim, D2, D3};

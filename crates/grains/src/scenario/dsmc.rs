@@ -12,9 +12,9 @@ use crate::domain::Domain;
 use crate::dsmc::collide::GasDim;
 use crate::dsmc::engine::{Dsmc, DsmcSettings, PlaneWall};
 use crate::dsmc::placement::{gas_in_cell_order, GasDraw, GasVelocity};
-use crate::dsmc::spec::DsmcSpec;
 use crate::dsmc::store::{particle_volume, Store};
 use crate::error::{Error, Result};
+use crate::settings::DsmcSpec;
 use serde_json::{json, Value};
 
 /// Step counts of a run.

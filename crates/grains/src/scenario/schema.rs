@@ -21,7 +21,7 @@ pub struct Scenario {
     pub dimension: Dimension,
     /// "md" (soft spheres, default) or "dsmc" (stochastic hard-sphere gas).
     #[serde(default)]
-    pub method: crate::dsmc::Method,
+    pub method: crate::settings::Method,
     /// Seed of every random stream (placement, velocities).
     #[serde(default = "default_seed")]
     pub seed: u64,
@@ -47,13 +47,13 @@ pub struct Scenario {
     pub measure: MeasureSpec,
     /// Settings of method = "dsmc".
     #[serde(default)]
-    pub dsmc: Option<crate::dsmc::DsmcSpec>,
+    pub dsmc: Option<crate::settings::DsmcSpec>,
     /// A silo generated from a few numbers (`hopper.outlet` is the outlet width).
     #[serde(default)]
     pub hopper: Option<HopperSpec>,
     /// How a distributed (MPI) MD run splits the box over its ranks.
     #[serde(default)]
-    pub parallel: crate::md::decomp::parallel_spec::ParallelSpec,
+    pub parallel: crate::settings::ParallelSpec,
 }
 
 fn default_seed() -> u64 {

@@ -33,7 +33,6 @@
 
 pub mod balance;
 pub mod halo;
-pub mod parallel_spec;
 pub mod subdomains;
 
 use super::{Md, MdStats};
@@ -43,9 +42,9 @@ use crate::domain::Domain;
 use crate::error::{Error, Result};
 use crate::neighbors::{spatial_sort_order, NeighborList};
 use crate::particles::Particles;
+use crate::settings::parallel::ParallelSpec;
 use balance::imbalance;
 use halo::{get_record, put_record, Halo};
-use parallel_spec::ParallelSpec;
 use std::collections::{HashMap, HashSet};
 use std::time::Instant;
 use subdomains::Subdomains;
