@@ -1,6 +1,7 @@
-//! DSMC gas placement: particles drawn one after another from one stream
-//! of (seed, purpose), each a uniform position in a box and a velocity,
-//! and written straight into cell order.
+//! DSMC gas placement, drawn from one stream straight into cell order.
+//!
+//! Particles are drawn one after another from one stream of (seed,
+//! purpose), each a uniform position in a box and a velocity.
 //!
 //! The draw ([`gas_in_cell_order`]) runs in parallel: a first pass finds
 //! where each block of particles starts in the stream, the blocks then draw

@@ -1,5 +1,7 @@
-//! The `[dsmc]` table of a scenario file, its dense-gas choice and the
-//! method switch: what the scenario file reads and the DSMC engine runs by.
+//! The method switch and the `[dsmc]` table of a scenario file.
+//!
+//! With its dense-gas choice: what the scenario file reads and the DSMC
+//! engine runs by.
 
 use serde::{Deserialize, Serialize};
 

@@ -1,6 +1,8 @@
-//! The GPU engine's state between host and device: a mirror uploaded to
-//! device 0 (context, stream, the kernels loaded from the PTX, every
-//! buffer allocated once) and the device's arrays downloaded into a mirror.
+//! The GPU engine's state between host and device.
+//!
+//! A mirror uploaded to device 0 (context, stream, the kernels loaded from
+//! the PTX, every buffer allocated once), and the device's arrays
+//! downloaded into a mirror.
 
 use super::{Cuda, Dev3, DevList, GrainSet, Kernels, Options, Work, SCAN};
 use crate::error::{Error, Result};

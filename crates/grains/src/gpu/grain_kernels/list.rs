@@ -1,7 +1,8 @@
-//! The list build's part of one GPU thread: a grain wrapped into the
-//! periodic box and binned into its cell, its partners found in the
-//! neighbouring cells, a row of the full list put in order, and the cells'
-//! Morton order.
+//! The list build's part of one GPU thread.
+//!
+//! A grain wrapped into the periodic box and binned into its cell, its
+//! partners found in the neighbouring cells, a row of the full list put in
+//! order, and the cells' Morton order.
 
 use super::{dot, is_zero, neg, sub, FullList, Soa3, V3};
 

@@ -1,7 +1,8 @@
-//! The mirror's state given back in the CPU engine's terms: its grains in
-//! the CPU engine's order, an [`MdState`] to import (with the overlap
-//! statistics recomputed), a frame, and the bits compared with another
-//! mirror's.
+//! The mirror's state given back in the CPU engine's terms.
+//!
+//! Its grains in the CPU engine's order, an [`MdState`] to import (with the
+//! overlap statistics recomputed), a frame, and the bits compared with
+//! another mirror's.
 
 use super::Mirror;
 use crate::dim::{Dim, D3};

@@ -1,6 +1,8 @@
-//! The whole engine and the ranks' parts: every rank's grains gathered on
-//! rank 0 (for the hooks, and with springs and history for a checkpoint in
-//! the serial format), and a restored whole engine split again.
+//! The ranks' grains gathered on rank 0, and a whole engine split again.
+//!
+//! Every rank's grains gathered for the hooks, or with springs and history
+//! for a checkpoint in the serial format; a restored whole engine split
+//! over the ranks again.
 
 use super::halo::{get_record, put_record};
 use super::{get_ang, get_vec, put_ang, put_vec, DecomposedMd, PairSpring, PairSprings};

@@ -1,6 +1,7 @@
-//! Migration at a rebuild: the owned grains that left this rank's box
-//! sent to their new owners with their pair and wall springs, and those
-//! arriving taken in.
+//! Migration at a rebuild: grains that change rank, with their springs.
+//!
+//! The owned grains that left this rank's box are sent to their new owners
+//! with their pair and wall springs, and those arriving are taken in.
 
 use super::halo::{get_record, put_record};
 use super::{get_vec, put_vec, DecomposedMd, PairSpring, PairSprings};

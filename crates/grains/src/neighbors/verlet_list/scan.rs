@@ -1,6 +1,7 @@
-//! The pair search of a list build: the neighbouring cells of a grain's
-//! cell on each axis (with their periodic shifts) and the scan of a range
-//! of grains against them.
+//! The pair search of a neighbour-list build.
+//!
+//! The neighbouring cells of a grain's cell on each axis (with their
+//! periodic shifts), and the scan of a range of grains against them.
 
 use super::POW3;
 use crate::dim::Dim;

@@ -1,6 +1,7 @@
-//! A neighbour list's checkpoint state: what it carries from one step to
-//! the next, exported for a checkpoint and imported back with every index
-//! and code checked.
+//! A neighbour list's checkpoint state, exported and imported back.
+//!
+//! What the list carries from one step to the next; an import checks every
+//! index and code.
 
 use super::{NeighborList, POW3};
 use crate::dim::Dim;

@@ -1,7 +1,8 @@
-//! The contact keys checked against each other before any law is made:
-//! the `lammps-granular` preset's keys, cohesion and rolling resistance
-//! only with the material law (and what they need besides), material keys
-//! only with materials.
+//! The contact keys of a scenario checked against each other.
+//!
+//! Before any law is made: the `lammps-granular` preset's keys, cohesion
+//! and rolling resistance only with the material law (and what they need
+//! besides), material keys only with materials.
 
 use super::{lammps_granular, uses_materials};
 use crate::contact::cohesion::CohesionModel;

@@ -1,5 +1,7 @@
-//! The contact keys of a scenario: `[contact]` (the law, its preset and
-//! coefficients), `[[materials]]` and `[[material_pairs]]`.
+//! The contact keys of a scenario file.
+//!
+//! `[contact]` (the law, its preset and coefficients), `[[materials]]` and
+//! `[[material_pairs]]`.
 
 use crate::contact::MassScaling;
 use serde::{Deserialize, Serialize};

@@ -1,5 +1,7 @@
-//! What a flow scenario adds: `run.events` (settle, remove a wall, tilt,
-//! sink) and the `[hopper]` silo.
+//! What a flow scenario adds: `run.events` and the `[hopper]` silo.
+//!
+//! Events settle the grains, then remove a wall, tilt gravity or sink
+//! grains; the hopper is a silo built from a few numbers.
 
 use serde::{Deserialize, Serialize};
 

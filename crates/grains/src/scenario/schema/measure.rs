@@ -1,5 +1,4 @@
-//! The `[measure]` table of a scenario: which measurements a run makes
-//! and their settings.
+//! The `[measure]` table of a scenario file: the measurements of a run.
 
 use serde::{Deserialize, Serialize};
 

@@ -1,5 +1,7 @@
-//! The `[run]` and `[output]` tables of a scenario: integrator, time step,
-//! durations, device, and the files a run writes as it goes.
+//! The `[run]` and `[output]` tables of a scenario file.
+//!
+//! Integrator, time step, durations, device, and the files a run writes as
+//! it goes.
 
 use super::flow::EventsSpec;
 use crate::integrate::Integrator;

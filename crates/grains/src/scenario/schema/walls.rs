@@ -1,5 +1,4 @@
-//! The `[[walls]]` of a scenario: each wall's shape and its prescribed
-//! motion.
+//! The `[[walls]]` of a scenario file: shapes and prescribed motions.
 
 use crate::boundary::PlateSurface;
 use serde::{Deserialize, Serialize};
