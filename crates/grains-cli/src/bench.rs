@@ -12,6 +12,7 @@
 //! untimed warm-up steps (`--warmup`), then the timed ones. The set-up (placement in
 //! cell order) is timed apart and reported line by line on stderr.
 
+use crate::bench_gpu::GpuArgs;
 use clap::Args;
 use grains::comm::Comm;
 use grains::md::decomp::{Balance, DecomposedMd};
@@ -46,35 +47,8 @@ pub struct BenchArgs {
     /// One JSON line instead of text.
     #[arg(long)]
     pub(crate) json: bool,
-    /// cpu, gpu (the CUDA engine, feature cuda) or mirror (the GPU
-    /// pipeline as CPU loops) [default: cpu]; chute and bed3d only.
-    #[arg(long, value_parser = ["cpu", "gpu", "mirror"])]
-    pub(crate) device: Option<String>,
-    /// With --device gpu: also run the mirror and compare every grain's
-    /// bits with the GPU's.
-    #[arg(long)]
-    pub(crate) verify: bool,
-    /// With --device gpu: the kernels with fused multiply-add (not the
-    /// mirror's bits; --verify then checks that two runs agree).
-    #[arg(long)]
-    pub(crate) fma: bool,
-    /// With --device gpu: the host reads the step words after every step
-    /// and launches the rebuild only when one is due, instead of gated
-    /// launches with no look at the device until the end.
-    #[arg(long)]
-    pub(crate) sync_each_step: bool,
-    /// With --device gpu: launch the steps of a stretch by sixteen as one
-    /// CUDA graph (not with --sync-each-step).
-    #[arg(long)]
-    pub(crate) graph: bool,
-    /// With --device gpu|mirror: store the grains in the CPU engine's cell
-    /// order instead of Morton order (the same bits either way).
-    #[arg(long)]
-    pub(crate) cpu_order: bool,
-    /// With --device gpu|mirror: re-sort every this many list builds
-    /// instead of the engine's 20 (to exercise the re-sort in a short run).
-    #[arg(long)]
-    pub(crate) sort_every: Option<u32>,
+    #[command(flatten)]
+    pub(crate) gpu: GpuArgs,
 }
 
 /// Finds `scenarios/<file>` from the working directory or the source tree.
@@ -228,14 +202,16 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     let (loaded, default_steps) = md_workload(&args)?;
     let steps = args.steps.unwrap_or(default_steps);
-    match args.device.as_deref() {
-        Some("gpu") | Some("mirror") => return crate::bench_gpu::run(&args, &loaded, steps),
-        _ if args.verify
-            || args.fma
-            || args.graph
-            || args.sync_each_step
-            || args.cpu_order
-            || args.sort_every.is_some() =>
+    match args.gpu.device.as_deref() {
+        Some("gpu") | Some("mirror") => {
+            return crate::bench_gpu::run(&args.workload, args.json, &args.gpu, &loaded, steps)
+        }
+        _ if args.gpu.verify
+            || args.gpu.fma
+            || args.gpu.graph
+            || args.gpu.sync_each_step
+            || args.gpu.cpu_order
+            || args.gpu.sort_every.is_some() =>
         {
             return Err(Error::input(
                 "--verify, --fma, --graph, --sync-each-step, --cpu-order and --sort-every go with \

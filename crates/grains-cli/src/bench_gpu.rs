@@ -3,23 +3,60 @@
 //! particle-steps per second; `--verify` runs the mirror too and compares
 //! every grain's bits (with `--fma`: a second GPU run), docs/gpu.md.
 
-use crate::bench::BenchArgs;
+use clap::Args;
 use grains::gpu::mirror::{CellOrder, Mirror};
 use grains::scenario::{build_md, Loaded};
 use grains::{Error, Result, D3};
 use serde_json::json;
 use std::time::Instant;
 
+/// The options of `grains bench` for the GPU pipeline (flattened into
+/// `crate::bench::BenchArgs`).
+#[derive(Args)]
+pub struct GpuArgs {
+    /// cpu, gpu (the CUDA engine, feature cuda) or mirror (the GPU
+    /// pipeline as CPU loops) [default: cpu]; chute and bed3d only.
+    #[arg(long, value_parser = ["cpu", "gpu", "mirror"])]
+    pub device: Option<String>,
+    /// With --device gpu: also run the mirror and compare every grain's
+    /// bits with the GPU's.
+    #[arg(long)]
+    pub verify: bool,
+    /// With --device gpu: the kernels with fused multiply-add (not the
+    /// mirror's bits; --verify then checks that two runs agree).
+    #[arg(long)]
+    pub fma: bool,
+    /// With --device gpu: the host reads the step words after every step
+    /// and launches the rebuild only when one is due, instead of gated
+    /// launches with no look at the device until the end.
+    #[arg(long)]
+    pub sync_each_step: bool,
+    /// With --device gpu: launch the steps of a stretch by sixteen as one
+    /// CUDA graph (not with --sync-each-step).
+    #[arg(long)]
+    pub graph: bool,
+    /// With --device gpu|mirror: store the grains in the CPU engine's cell
+    /// order instead of Morton order (the same bits either way).
+    #[arg(long)]
+    pub cpu_order: bool,
+    /// With --device gpu|mirror: re-sort every this many list builds
+    /// instead of the engine's 20 (to exercise the re-sort in a short run).
+    #[arg(long)]
+    pub sort_every: Option<u32>,
+}
+
 /// Wall seconds, device memory (used, total), whether the bits matched
 /// the mirror's (when checked).
 type Timed = (f64, Option<(usize, usize)>, Option<bool>);
 
-pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
+/// Times `workload` (chute or bed3d, built as `loaded`) on the device or
+/// mirror `args.device` for `steps` steps; `json`: one JSON line.
+pub fn run(workload: &str, json: bool, args: &GpuArgs, loaded: &Loaded, steps: u64) -> Result<()> {
     let device = args.device.as_deref().unwrap_or("cpu");
-    if !matches!(args.workload.as_str(), "chute" | "bed3d") {
+    if !matches!(workload, "chute" | "bed3d") {
         return Err(Error::input(format!(
             "--device {device}: the GPU pipeline runs chute and bed3d, not {}",
-            args.workload
+            workload
         )));
     }
     if device == "gpu" && !cfg!(feature = "cuda") {
@@ -54,11 +91,11 @@ pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
     let setup = setup.elapsed().as_secs_f64() - wall;
     let rate = steps as f64 * mobile.max(1) as f64 / wall;
     let ns = 1e9 / rate;
-    if args.json {
+    if json {
         println!(
             "{}",
             json!({
-                "workload": args.workload, "device": device, "particles": mobile,
+                "workload": workload, "device": device, "particles": mobile,
                 "steps": steps, "wall_seconds": wall, "ns_per_particle_step": ns,
                 "particle_steps_per_second": rate, "setup_seconds": setup,
                 "device_memory_bytes": memory.map(|m: (usize, usize)| m.0),
@@ -87,7 +124,7 @@ pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
         };
         println!(
             "{}: {mobile} mobile particles, {steps} steps, device {device}: {wall:.3} s, {ns:.3} ns per particle-step ({rate:.3e} particle-steps/s){mem}{check}",
-            args.workload
+            workload
         );
     }
     if verified == Some(false) {
@@ -104,7 +141,7 @@ pub fn run(args: &BenchArgs, loaded: &Loaded, steps: u64) -> Result<()> {
 /// `--verify` whether the mirror (with `--fma`: a second GPU run) gives the
 /// same bits.
 #[cfg(feature = "cuda")]
-fn gpu(mirror: Mirror, steps: u64, args: &BenchArgs) -> Result<Timed> {
+fn gpu(mirror: Mirror, steps: u64, args: &GpuArgs) -> Result<Timed> {
     use grains::gpu::cuda::{Cuda, Options};
     let options = Options {
         fma: args.fma,
@@ -146,6 +183,6 @@ fn gpu(mirror: Mirror, steps: u64, args: &BenchArgs) -> Result<Timed> {
 }
 
 #[cfg(not(feature = "cuda"))]
-fn gpu(_: Mirror, _: u64, _: &BenchArgs) -> Result<Timed> {
+fn gpu(_: Mirror, _: u64, _: &GpuArgs) -> Result<Timed> {
     Err(Error::input(grains::gpu::NO_FEATURE))
 }

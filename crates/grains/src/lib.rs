@@ -27,6 +27,7 @@ pub mod run_dir;
 pub mod runner;
 pub mod scenario;
 pub mod session;
+pub mod settings;
 pub mod simd;
 
 pub use dim::{Dim, D2, D3};

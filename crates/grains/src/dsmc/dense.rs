@@ -15,20 +15,7 @@
 //!   this makes the cell-averaged rate carry χ of the mean ν to first order,
 //!   where N_c would overstate ν by a factor (⟨N⟩ + 2)/⟨N⟩.
 
-use serde::{Deserialize, Serialize};
-
-/// Which correction multiplies the ideal-gas collision frequency.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum DenseGas {
-    /// Ideal gas: χ = 1.
-    None,
-    /// Free volume Ṽ_c = V_c − V_b/ν_rcp (the seed's choice).
-    #[default]
-    FreeVolume,
-    /// Enskog factor χ(ν) (Henderson 2D, Carnahan–Starling 3D).
-    Enskog,
-}
+pub use crate::settings::dsmc::DenseGas;
 
 /// The Enskog pair correlation at contact: Henderson (2D) or
 /// Carnahan–Starling (3D).

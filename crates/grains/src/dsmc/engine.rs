@@ -115,7 +115,7 @@ impl<D: GasDim> Dsmc<D> {
 
     /// [`Self::new`] given Σ|v|² over the particles (summed in the order
     /// they were drawn, when the store is already in cell order:
-    /// `crate::scenario::placement::gas_in_cell_order`).
+    /// `super::placement::gas_in_cell_order`).
     pub fn with_speed_sum(
         store: Store<D>,
         domain: Domain<D>,

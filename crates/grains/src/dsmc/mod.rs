@@ -9,15 +9,15 @@ pub mod dense;
 pub mod diagnostics;
 pub mod engine;
 pub mod haff;
+pub mod placement;
 pub mod rng;
 pub mod sort;
-pub mod spec;
 pub mod store;
 pub mod stream;
 pub mod workload;
 
+pub use crate::settings::dsmc::{DsmcSpec, Method};
 pub use collide::{CellState, GasDim, Tally};
 pub use dense::DenseGas;
 pub use engine::{collision_frequency, haff_time, maxwellian, Dsmc, DsmcSettings, PlaneWall};
-pub use spec::{DsmcSpec, Method};
 pub use store::{Particle, Store};

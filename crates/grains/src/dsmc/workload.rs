@@ -9,11 +9,11 @@
 use super::collide::GasDim;
 use super::dense::DenseGas;
 use super::engine::{collision_frequency, maxwellian, Dsmc, DsmcSettings};
+use super::placement::{gas_in_cell_order, GasDraw, GasVelocity};
 use super::rng::Stream;
 use super::sort::CellGrid;
 use super::store::{Particle, Store};
 use crate::domain::Domain;
-use crate::scenario::placement::{gas_in_cell_order, GasDraw, GasVelocity};
 
 /// Particles per cell of the workload.
 pub const PER_CELL: f64 = 10.0;

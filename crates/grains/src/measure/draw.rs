@@ -1,5 +1,6 @@
 //! Drawing helpers shared by the measurement pictures: walls at a given time
-//! on a particle picture, faint backgrounds, per-grain colours.
+//! on a particle picture, faint backgrounds (per-grain colours are
+//! `crate::render::legend::id_colour`).
 
 use crate::boundary::Wall;
 use crate::dim::Dim;
@@ -85,15 +86,4 @@ pub fn faint(frame: &Frame) -> Image {
         }
     }
     img
-}
-
-/// A colour per grain id, for telling trajectories apart.
-pub fn id_colour(id: u64) -> [u8; 3] {
-    let h = (id.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40) as f64 / (1u64 << 24) as f64;
-    // A hue wheel kept away from very light colours.
-    let f = |o: f64| {
-        let x = ((h + o).fract() * 6.0 - 3.0).abs() - 1.0;
-        (40.0 + 170.0 * x.clamp(0.0, 1.0)) as u8
-    };
-    [f(0.0), f(1.0 / 3.0), f(2.0 / 3.0)]
 }

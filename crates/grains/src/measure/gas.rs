@@ -5,7 +5,7 @@ use crate::codec::{Dec, DecResult, Enc};
 use crate::dsmc::collide::{GasDim, Tally};
 use crate::dsmc::diagnostics::Validity;
 use crate::dsmc::engine::{haff_time, Dsmc};
-use crate::dsmc::spec::DsmcSpec;
+use crate::settings::DsmcSpec;
 use serde_json::{json, Map, Value};
 use std::fmt::Write as _;
 

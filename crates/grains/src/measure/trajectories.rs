@@ -2,13 +2,14 @@
 //! every mobile grain's position every `every` steps during the last cycle
 //! of the run.
 
-use super::draw::{draw_walls, faint, hv3, id_colour};
+use super::draw::{draw_walls, faint, hv3};
 use crate::boundary::Wall;
 use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::{write_atomic, Frame};
 use crate::md::Md;
+use crate::render::legend::id_colour;
 use std::fmt::Write as _;
 use std::path::Path;
 

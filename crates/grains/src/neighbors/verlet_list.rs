@@ -10,27 +10,17 @@
 //! Positions are wrapped only at builds, so the code stays valid while grains
 //! drift out of the box between builds.
 
+mod scan;
+mod state;
+
+pub use state::ListState;
+
 use super::cell_grid::{CellGrid, GridShape};
 use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
 use rayon::prelude::*;
-use std::ops::Range;
-
-/// Everything a neighbour list carries from one step to the next (its cell
-/// grid is scratch). Restoring it brings back the exact pair order, image
-/// codes and skin reference positions, so forces are summed in the same
-/// order as in an uninterrupted run.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ListState<D: Dim> {
-    pub pairs: Vec<[u32; 2]>,
-    pub image: Vec<u8>,
-    /// The 27 image shifts of the last build.
-    pub shifts: Vec<D::V>,
-    pub ref_pos: Vec<D::V>,
-    pub builds: u64,
-    pub built: bool,
-}
+use scan::Scan;
 
 /// Particles per work unit of a parallel build. Fixed, not derived from the
 /// thread count, so the list comes out the same on any number of threads.
@@ -270,175 +260,6 @@ impl<D: Dim> NeighborList<D> {
     /// walls' per-grain triangle lists know they must be remade.
     pub fn builds(&self) -> u64 {
         self.builds
-    }
-}
-
-impl<D: Dim> NeighborList<D> {
-    /// The list's state for a checkpoint (the cell grid is scratch and not
-    /// part of it).
-    pub fn export_state(&self) -> ListState<D> {
-        ListState {
-            pairs: self.pairs.clone(),
-            image: self.image.clone(),
-            shifts: self.shifts.to_vec(),
-            ref_pos: self.ref_pos.clone(),
-            builds: self.builds,
-            built: self.built,
-        }
-    }
-
-    /// Replaces the list by a saved state for `n` particles. Checks that
-    /// every index, image code and length is consistent (a state from a
-    /// damaged file is refused, never trusted); the list is unchanged on error.
-    pub fn import_state(&mut self, s: ListState<D>, n: usize) -> Result<()> {
-        let codes = POW3[D::D - 1] as usize * 3;
-        if s.image.len() != s.pairs.len() {
-            return Err(Error::input(format!(
-                "neighbour list: {} pairs but {} image codes",
-                s.pairs.len(),
-                s.image.len()
-            )));
-        }
-        if s.shifts.len() != 27 {
-            return Err(Error::input(format!(
-                "neighbour list: {} image shifts instead of 27",
-                s.shifts.len()
-            )));
-        }
-        if s.built && s.ref_pos.len() != n {
-            return Err(Error::input(format!(
-                "neighbour list: {} reference positions for {n} particles",
-                s.ref_pos.len()
-            )));
-        }
-        if let Some(p) = s
-            .pairs
-            .iter()
-            .find(|p| p[0] as usize >= n || p[1] as usize >= n || p[0] == p[1])
-        {
-            return Err(Error::input(format!(
-                "neighbour list: pair {:?} is not a pair of distinct grains among {n}",
-                p
-            )));
-        }
-        if let Some(c) = s.image.iter().find(|&&c| c as usize >= codes) {
-            return Err(Error::input(format!(
-                "neighbour list: image code {c} out of range (fewer than {codes} in {})",
-                D::NAME
-            )));
-        }
-        self.pairs = s.pairs;
-        self.image = s.image;
-        self.shifts.copy_from_slice(&s.shifts);
-        self.ref_pos = s.ref_pos;
-        self.builds = s.builds;
-        self.built = s.built;
-        Ok(())
-    }
-}
-
-/// Neighbouring cells along one axis: (cell coordinate, shift in box lengths).
-#[derive(Clone, Copy)]
-struct AxisStencil {
-    cells: [(usize, i32); 3],
-    len: usize,
-    /// The axis is periodic with fewer than 3 cells: every cell is visited
-    /// once and the image is chosen per pair (the minimum image, unique
-    /// within reach because the length is at least twice the reach).
-    min_image: bool,
-}
-
-impl AxisStencil {
-    fn new(n: usize, periodic: bool, c: usize) -> Self {
-        let mut st = Self {
-            cells: [(0, 0); 3],
-            len: 0,
-            min_image: false,
-        };
-        if periodic && n < 3 {
-            // Offsets −1 and +1 would reach the same cell twice.
-            for k in 0..n {
-                st.cells[k] = (k, 0);
-            }
-            st.len = n;
-            st.min_image = true;
-        } else if periodic {
-            let below = if c == 0 { (n - 1, -1) } else { (c - 1, 0) };
-            let above = if c + 1 == n { (0, 1) } else { (c + 1, 0) };
-            st.cells = [below, (c, 0), above];
-            st.len = 3;
-        } else {
-            for k in c.saturating_sub(1)..=(c + 1).min(n - 1) {
-                st.cells[st.len] = (k, 0);
-                st.len += 1;
-            }
-        }
-        st
-    }
-
-    fn cells(&self) -> &[(usize, i32)] {
-        &self.cells[..self.len]
-    }
-}
-
-/// Read-only inputs of the pair search, shared by the parallel work units.
-struct Scan<'a, D: Dim> {
-    pos: &'a [D::V],
-    radius: &'a [f64],
-    frozen: &'a [bool],
-    grid: &'a CellGrid,
-    periodic: [bool; 3],
-    length: [f64; 3],
-    shifts: &'a [D::V; 27],
-    skin: f64,
-}
-
-impl<D: Dim> Scan<'_, D> {
-    /// Appends the pairs (i, j > i) for every i in `range`, in order of i.
-    fn run(&self, range: Range<usize>, pairs: &mut Vec<[u32; 2]>, image: &mut Vec<u8>) {
-        let shape = &self.grid.shape;
-        let zero_code = (POW3[D::D - 1] * 3 - 1) / 2;
-        for i in range {
-            let pi = self.pos[i];
-            let ri = self.radius[i];
-            let fi = self.frozen[i];
-            let c = shape.unlinear(self.grid.cell[i] as usize);
-            let st: [AxisStencil; 3] =
-                std::array::from_fn(|a| AxisStencil::new(shape.dims[a], self.periodic[a], c[a]));
-            let any_min_image = st.iter().any(|s| s.min_image);
-            for &(z, sz) in st[2].cells() {
-                for &(y, sy) in st[1].cells() {
-                    for &(x, sx) in st[0].cells() {
-                        let base = zero_code + sx + 3 * sy + 9 * sz;
-                        let members = self.grid.cell_members(shape.linear([x, y, z]));
-                        // Members are in ascending order: skip to those after i.
-                        let from = members.partition_point(|&j| j as usize <= i);
-                        for &j in &members[from..] {
-                            let j = j as usize;
-                            if fi && self.frozen[j] {
-                                continue;
-                            }
-                            let pj = self.pos[j];
-                            let mut code = base;
-                            if any_min_image {
-                                for (a, s) in st.iter().enumerate().take(D::D) {
-                                    if s.min_image {
-                                        let dx = D::get(pi, a) - D::get(pj, a);
-                                        code += (dx / self.length[a]).round() as i32 * POW3[a];
-                                    }
-                                }
-                            }
-                            let d = (pi - pj) - self.shifts[code as usize];
-                            let cut = ri + self.radius[j] + self.skin;
-                            if D::norm2(d) < cut * cut {
-                                pairs.push([i as u32, j as u32]);
-                                image.push(code as u8);
-                            }
-                        }
-                    }
-                }
-            }
-        }
     }
 }
 

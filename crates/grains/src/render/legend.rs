@@ -1,5 +1,6 @@
 //! The band under a picture: the time on the left, a scale bar in the
-//! middle, the colour legend on the right.
+//! middle, the colour legend on the right; and the grains' colours by kind
+//! and by id.
 
 use super::text::{draw_text, fill_rect, nice_length, sig3, text_width, GLYPH};
 use crate::io::{viridis, Image};
@@ -257,6 +258,17 @@ const KIND_COLOURS: [[u8; 3]; 8] = [
 /// The colour of the grains of `kind`.
 pub fn kind_colour(kind: u32) -> [u8; 3] {
     KIND_COLOURS[(kind as usize + KIND_COLOURS.len() - 1) % KIND_COLOURS.len()]
+}
+
+/// A colour per grain id, for telling trajectories apart.
+pub fn id_colour(id: u64) -> [u8; 3] {
+    let h = (id.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40) as f64 / (1u64 << 24) as f64;
+    // A hue wheel kept away from very light colours.
+    let f = |o: f64| {
+        let x = ((h + o).fract() * 6.0 - 3.0).abs() - 1.0;
+        (40.0 + 170.0 * x.clamp(0.0, 1.0)) as u8
+    };
+    [f(0.0), f(1.0 / 3.0), f(2.0 / 3.0)]
 }
 
 #[cfg(test)]

@@ -6,10 +6,9 @@
 //! A [`Painter`] fixes the drawn rectangle and the colour range once, so
 //! the frames of a movie share them.
 
-use super::legend::{draw_band, kind_colour, Legend, BAND_ROWS};
+use super::legend::{draw_band, id_colour, kind_colour, Legend, BAND_ROWS};
 use super::wires::Wire;
 use crate::io::{viridis, world_rect_of, Frame, Image, View};
-use crate::measure::draw::id_colour;
 
 /// What the grains' colour shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

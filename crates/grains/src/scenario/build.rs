@@ -507,7 +507,7 @@ duration = 0.01
 }
 
 /// The `[parallel]` keys, checked by name when a scenario is loaded
-/// ([`crate::md::decomp::parallel_spec`]).
+/// ([`crate::settings::parallel`]).
 #[cfg(test)]
 mod parallel_keys {
     use super::tests_base::BASE;

@@ -11,10 +11,10 @@ use crate::dim::{Dim, D2, D3};
 use crate::domain::Domain;
 use crate::dsmc::collide::GasDim;
 use crate::dsmc::engine::{Dsmc, DsmcSettings, PlaneWall};
-use crate::dsmc::spec::DsmcSpec;
+use crate::dsmc::placement::{gas_in_cell_order, GasDraw, GasVelocity};
 use crate::dsmc::store::{particle_volume, Store};
 use crate::error::{Error, Result};
-use crate::scenario::placement::{gas_in_cell_order, GasDraw, GasVelocity};
+use crate::settings::DsmcSpec;
 use serde_json::{json, Value};
 
 /// Step counts of a run.

@@ -32,9 +32,12 @@
 //! order (the list order differs), never a different physics.
 
 pub mod balance;
+mod gather;
 pub mod halo;
-pub mod parallel_spec;
+mod migrate;
 pub mod subdomains;
+
+pub use gather::index_by_id;
 
 use super::{Md, MdStats};
 use crate::comm::{Comm, Reader, Writer};
@@ -42,10 +45,9 @@ use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
 use crate::neighbors::{spatial_sort_order, NeighborList};
-use crate::particles::Particles;
+use crate::settings::parallel::ParallelSpec;
 use balance::imbalance;
-use halo::{get_record, put_record, Halo};
-use parallel_spec::ParallelSpec;
+use halo::Halo;
 use std::collections::{HashMap, HashSet};
 use std::time::Instant;
 use subdomains::Subdomains;
@@ -302,101 +304,6 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         x
     }
 
-    /// Sends the owned grains (wrapped) that another rank owns there, with
-    /// their pair and wall springs, and takes in those that arrive; returns
-    /// how many arrived (see [`Self::tally`]).
-    fn migrate(&mut self, saved: &mut PairSprings<D>, walls: &mut Vec<(u64, u32, D::V)>) -> u64 {
-        let (r, size) = (self.comm.rank(), self.comm.size());
-        let p = &mut self.md.particles;
-        // Leaving grains travel with their springs.
-        let mut out = vec![Writer::default(); size];
-        let mut leaving: HashMap<u64, usize> = HashMap::new();
-        let mut records: Vec<Vec<_>> = vec![Vec::new(); size];
-        let mut keep = Vec::with_capacity(p.n_owned());
-        for i in 0..p.n_owned() {
-            let dest = self.sub.owner(&D::to_xyz(p.pos[i]));
-            if dest == r {
-                keep.push(i as u32);
-            } else {
-                leaving.insert(p.id[i], dest);
-                records[dest].push(p.pack(i));
-            }
-        }
-        let mut pair_out: Vec<Vec<PairSpring<D>>> = vec![Vec::new(); size];
-        // Nothing to look up when no grain leaves (most rebuilds of a dense bed).
-        if !leaving.is_empty() {
-            for (&key, &s) in saved.iter() {
-                // A pair whose two grains leave for different ranks goes to both.
-                let d0 = leaving.get(&key.0);
-                let d1 = leaving.get(&key.1);
-                if let Some(&d) = d0 {
-                    pair_out[d].push((key, s));
-                }
-                if let Some(&d) = d1 {
-                    if d0 != Some(&d) {
-                        pair_out[d].push((key, s));
-                    }
-                }
-            }
-        }
-        let mut wall_out: Vec<Vec<(u64, u32, D::V)>> = vec![Vec::new(); size];
-        walls.retain(|&(id, w, s)| match leaving.get(&id) {
-            Some(&d) => {
-                wall_out[d].push((id, w, s));
-                false
-            }
-            None => true,
-        });
-        for d in 0..size {
-            let w = &mut out[d];
-            if records[d].is_empty() {
-                continue;
-            }
-            w.u64(records[d].len() as u64);
-            for rec in &records[d] {
-                put_record(w, rec, &[0.0; 3]);
-            }
-            w.u64(pair_out[d].len() as u64);
-            // Sorted so that the message does not depend on hash order.
-            pair_out[d].sort_unstable_by_key(|e| e.0);
-            for &((x, y), s) in &pair_out[d] {
-                w.u64(x);
-                w.u64(y);
-                put_vec::<D>(w, s);
-            }
-            w.u64(wall_out[d].len() as u64);
-            for &(id, wall, s) in &wall_out[d] {
-                w.u64(id);
-                w.u32(wall);
-                put_vec::<D>(w, s);
-            }
-        }
-        p.retain_owned(&keep);
-        saved.retain(|k, _| !(leaving.contains_key(&k.0) && leaving.contains_key(&k.1)));
-        let bufs: Vec<Vec<u8>> = out.into_iter().map(|w| w.buf).collect();
-        let got = self.comm.exchange(&bufs);
-        let mut arrived = 0u64;
-        for buf in &got {
-            if buf.is_empty() {
-                continue;
-            }
-            let mut rd = Reader::new(buf);
-            for _ in 0..rd.u64() {
-                p.push_record(get_record::<D>(&mut rd));
-                arrived += 1;
-            }
-            for _ in 0..rd.u64() {
-                let key = (rd.u64(), rd.u64());
-                saved.insert(key, get_vec::<D>(&mut rd));
-            }
-            for _ in 0..rd.u64() {
-                walls.push((rd.u64(), rd.u32(), get_vec::<D>(&mut rd)));
-            }
-            assert!(rd.done(), "migration message longer than its layout");
-        }
-        arrived
-    }
-
     /// With this rank's owned grains in place: sort (every few rebuilds),
     /// send the ghost shells, build the list without ghost–ghost pairs, and
     /// put the springs back by id.
@@ -559,169 +466,9 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         &self.sub
     }
 
-    /// Puts every rank's owned grains (position, velocity, spin) into
-    /// `whole` on rank 0, an engine of the same run holding every grain
-    /// (found by id); also its time and step. All ranks call this.
-    pub fn gather(&self, whole: Option<&mut Md<D>>, index_of: &HashMap<u64, usize>) {
-        let p = &self.md.particles;
-        let mut w = Writer::default();
-        for i in 0..p.n_owned() {
-            w.u64(p.id[i]);
-            put_vec::<D>(&mut w, p.pos[i]);
-            put_vec::<D>(&mut w, p.vel[i]);
-            put_ang::<D>(&mut w, p.omega[i]);
-        }
-        let Some(all) = self.comm.gather_bytes(&w.buf) else {
-            return;
-        };
-        let Some(whole) = whole else { return };
-        whole.time = self.md.time;
-        whole.step = self.md.step;
-        let q = &mut whole.particles;
-        for blob in &all {
-            let mut rd = Reader::new(blob);
-            while !rd.done() {
-                let i = index_of[&rd.u64()];
-                q.pos[i] = get_vec::<D>(&mut rd);
-                q.vel[i] = get_vec::<D>(&mut rd);
-                q.omega[i] = get_ang::<D>(&mut rd);
-            }
-        }
-    }
-
     /// The ids of this rank's owned grains.
     pub fn owned_ids(&self) -> &[u64] {
         &self.md.particles.id[..self.n_owned()]
-    }
-
-    /// Splits an engine restored from a checkpoint: as [`Self::with_spec`], but
-    /// every grain keeps the checkpoint's force, torque and springs. The
-    /// split's force evaluation sees the full-step velocities where the run
-    /// saw Velocity Verlet's half-step ones: its forces would differ, and
-    /// the Coulomb cap would cut sliding springs to other lengths.
-    pub fn resume(full: Md<D>, comm: &'c dyn Comm, spec: &ParallelSpec) -> Result<Self> {
-        let p = &full.particles;
-        let loads: HashMap<u64, (D::V, D::A)> = (0..p.n_owned())
-            .map(|i| (p.id[i], (p.force[i], p.torque[i])))
-            .collect();
-        let stats = full.stats.clone();
-        let springs = full.save_springs();
-        let mut walls: HashMap<(u64, u32), D::V> = HashMap::new();
-        for ((g, w), s) in full.wall_springs.entries() {
-            walls.insert((p.id[g as usize], w), s);
-        }
-        let mut dec = Self::with_spec(full, comm, spec)?;
-        let md = &mut dec.md;
-        let p = &mut md.particles;
-        for i in 0..p.n_owned() {
-            (p.force[i], p.torque[i]) = loads[&p.id[i]];
-        }
-        md.stats = stats;
-        md.restore_springs(springs);
-        let id = &md.particles.id;
-        let entries = md
-            .wall_springs
-            .entries()
-            .map(|((g, w), s)| {
-                (
-                    (g, w),
-                    walls.get(&(id[g as usize], w)).copied().unwrap_or(s),
-                )
-            })
-            .collect();
-        md.wall_springs = super::wall_springs::WallSprings::from_entries(entries);
-        Ok(dec)
-    }
-
-    /// Puts the whole dynamic state into `whole` on rank 0, for a checkpoint
-    /// in the serial format: every grain's record (Gear history included)
-    /// with its force and torque, the pair springs (a pair that two ranks
-    /// hold comes from the rank owning its smaller id) and the wall springs
-    /// by grain id. `whole` (an engine of the same run, grains found by id)
-    /// then builds its neighbour list at these positions and takes the
-    /// springs on it. All ranks call this.
-    pub fn gather_state(
-        &self,
-        whole: Option<&mut Md<D>>,
-        index_of: &HashMap<u64, usize>,
-    ) -> Result<()> {
-        let p = &self.md.particles;
-        let n = p.n_owned();
-        let mut w = Writer::default();
-        w.u64(n as u64);
-        for i in 0..n {
-            put_record(&mut w, &p.pack(i), &[0.0; 3]);
-            put_vec::<D>(&mut w, p.force[i]);
-            put_ang::<D>(&mut w, p.torque[i]);
-        }
-        let mine: HashSet<u64> = self.owned_ids().iter().copied().collect();
-        let mut pairs: Vec<PairSpring<D>> = self
-            .md
-            .save_springs()
-            .into_iter()
-            .filter(|(k, _)| mine.contains(&k.0))
-            .collect();
-        pairs.sort_unstable_by_key(|e| e.0);
-        w.u64(pairs.len() as u64);
-        for ((x, y), s) in pairs {
-            w.u64(x);
-            w.u64(y);
-            put_vec::<D>(&mut w, s);
-        }
-        let walls = self.wall_springs_by_id();
-        w.u64(walls.len() as u64);
-        for (id, wall, s) in walls {
-            w.u64(id);
-            w.u32(wall);
-            put_vec::<D>(&mut w, s);
-        }
-        let Some(all) = self.comm.gather_bytes(&w.buf) else {
-            return Ok(());
-        };
-        let Some(whole) = whole else { return Ok(()) };
-        whole.time = self.md.time;
-        whole.step = self.md.step;
-        whole.stats = self.md.stats.clone();
-        whole.rebuilds_since_sort = self.md.rebuilds_since_sort;
-        let mut springs = PairSprings::<D>::default();
-        let mut wall_springs = Vec::new();
-        let q = &mut whole.particles;
-        for blob in &all {
-            let mut rd = Reader::new(blob);
-            for _ in 0..rd.u64() {
-                let r = get_record::<D>(&mut rd);
-                let i = index_of[&r.id];
-                q.ensure_gear_history(r.gear.len(), r.gear_ang.len());
-                // Wrapped, as a serial run's grains are after a list build.
-                q.pos[i] = self.global.wrap(r.pos);
-                q.vel[i] = r.vel;
-                q.omega[i] = r.omega;
-                r.gear.iter().zip(&mut q.gear).for_each(|(g, a)| a[i] = *g);
-                (r.gear_ang.iter().zip(&mut q.gear_ang)).for_each(|(g, a)| a[i] = *g);
-                q.force[i] = get_vec::<D>(&mut rd);
-                q.torque[i] = get_ang::<D>(&mut rd);
-            }
-            for _ in 0..rd.u64() {
-                let key = (rd.u64(), rd.u64());
-                springs.insert(key, get_vec::<D>(&mut rd));
-            }
-            for _ in 0..rd.u64() {
-                let (id, wall) = (rd.u64(), rd.u32());
-                wall_springs.push(((index_of[&id] as u32, wall), get_vec::<D>(&mut rd)));
-            }
-            assert!(rd.done(), "state message longer than its layout");
-        }
-        whole
-            .neighbors
-            .build(&q.pos, &q.radius, &q.frozen, &whole.domain)?;
-        // The run's build count, not the mirror's.
-        let mut list = whole.neighbors.export_state();
-        list.builds = self.neighbor_builds();
-        whole.neighbors.import_state(list, q.len())?;
-        whole.blocks = super::PairBlocks::build(&whole.neighbors.pairs, q.len());
-        whole.restore_springs(springs);
-        whole.wall_springs = super::wall_springs::WallSprings::from_entries(wall_springs);
-        Ok(())
     }
 }
 
@@ -757,13 +504,4 @@ fn put_ang<D: Dim>(w: &mut Writer, a: D::A) {
 
 fn get_ang<D: Dim>(r: &mut Reader) -> D::A {
     D::ang_from_xyz([r.f64(), r.f64(), r.f64()])
-}
-
-/// The whole engine's index of every grain id, for [`DecomposedMd::gather`].
-pub fn index_by_id<D: Dim>(p: &Particles<D>) -> HashMap<u64, usize> {
-    p.id[..p.n_owned()]
-        .iter()
-        .enumerate()
-        .map(|(i, &id)| (id, i))
-        .collect()
 }

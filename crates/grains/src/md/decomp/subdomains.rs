@@ -15,11 +15,11 @@
 //! ends still have an owner.
 
 use super::balance::{cuts_by_count, keep_min_width};
-use super::parallel_spec::GridSpec;
 use crate::comm::{Comm, SingleProcess};
 use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
+use crate::settings::parallel::GridSpec;
 
 const AXES: [&str; 3] = ["x", "y", "z"];
 

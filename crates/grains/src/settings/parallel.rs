@@ -1,5 +1,8 @@
-//! The `[parallel]` section of a scenario: how a distributed MD run splits
-//! the box over its ranks. A serial run ignores it (but still checks it).
+//! The `[parallel]` section of a scenario: how MD ranks cut the box.
+//!
+//! A distributed MD run splits the box over its ranks as it says; a serial
+//! run ignores it (but still checks it). The scenario file reads it and
+//! `crate::md::decomp` cuts by it.
 
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};

@@ -1,6 +1,8 @@
-//! The `[dsmc]` table of a scenario file and the method switch.
+//! The method switch and the `[dsmc]` table of a scenario file.
+//!
+//! With its dense-gas choice: what the scenario file reads and the DSMC
+//! engine runs by.
 
-use super::dense::DenseGas;
 use serde::{Deserialize, Serialize};
 
 /// Which engine runs a scenario.
@@ -12,6 +14,19 @@ pub enum Method {
     Md,
     /// Direct Simulation Monte Carlo (hard spheres, stochastic collisions).
     Dsmc,
+}
+
+/// Which correction multiplies the ideal-gas collision frequency.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DenseGas {
+    /// Ideal gas: χ = 1.
+    None,
+    /// Free volume Ṽ_c = V_c − V_b/ν_rcp (the seed's choice).
+    #[default]
+    FreeVolume,
+    /// Enskog factor χ(ν) (Henderson 2D, Carnahan–Starling 3D).
+    Enskog,
 }
 
 /// DSMC settings. Everything else (domain, particles, walls, gravity,
