@@ -12,11 +12,11 @@
 //! the time span, a scale bar and what the marks mean.
 
 use super::displacement::Displacement;
-use super::draw::{draw_walls, faint, id_colour};
+use super::draw::{draw_walls, faint};
 use crate::boundary::Wall;
 use crate::dim::Dim;
 use crate::io::{Frame, Image, View};
-use crate::render::legend::{draw_band_labelled, Legend, BAND_ROWS};
+use crate::render::legend::{draw_band_labelled, id_colour, Legend, BAND_ROWS};
 use crate::render::text::sig3;
 use std::collections::HashMap;
 
