@@ -45,8 +45,9 @@ pub const MAGIC: &[u8; 8] = b"GRAINSCK";
 /// measurement section, as an MD run keeps it; version 6 added the
 /// rolling springs of the MD state; version 7 added mesh walls' springs
 /// and loads; version 8 made the base directory absolute and added the
-/// scenario's input files (path, length, CRC-32).
-pub const VERSION: u32 = 8;
+/// scenario's input files (path, length, CRC-32); version 9 added the
+/// flow section (an MD run's flow events and flow measurements).
+pub const VERSION: u32 = 9;
 /// Checkpoints kept in a run directory (older ones are deleted).
 pub const KEEP: usize = 2;
 const HEADER: usize = 8 + 4 + 8 + 4;
@@ -176,9 +177,9 @@ mod tests {
         let e = unseal(&c, p).unwrap_err().to_string();
         assert!(e.contains("checksum"), "{e}");
         let mut v = sealed.clone();
-        v[8] = 9;
+        v[8] = 99;
         let e = unseal(&v, p).unwrap_err().to_string();
-        assert!(e.contains("version 9"), "{e}");
+        assert!(e.contains("version 99"), "{e}");
         let e = unseal(b"short", p).unwrap_err().to_string();
         assert!(e.contains("header"), "{e}");
     }

@@ -1,9 +1,11 @@
 //! A run's checkpoint payload: the scenario as TOML with its origin and
 //! absolute base directory, the files it read ([`super::inputs`]), the dimension, the run plan, the checkpoint interval,
-//! where the output files stood, the step, the engine's exported state, and
-//! the measurement section (a flag, and when set the accumulators'
-//! length-prefixed bytes); written by [`payload`], read back by [`decode`]
-//! and [`find`] (the newest valid file of a run directory).
+//! where the output files stood, the step, the engine's exported state, the
+//! measurement section (a flag, and when set the accumulators'
+//! length-prefixed bytes) and the flow section (the same, for an MD run's
+//! flow events and flow measurements, `scenario::flow`); written by
+//! [`payload`], read back by [`decode`] and [`find`] (the newest valid file
+//! of a run directory).
 
 use super::inputs::{self, InputFile};
 use crate::codec::{Dec, Enc};
@@ -62,17 +64,17 @@ impl RunHeader {
 }
 
 /// Writes one checkpoint: the run header, where the outputs stood, the
-/// step, the engine's bytes and the (MD) measurement section. [`decode`]
-/// reads exactly this layout, for both engines.
+/// step, the engine's bytes, the measurement section and the (MD) flow
+/// section. [`decode`] reads exactly this layout, for both engines.
 pub(crate) fn write_payload(
     dir: &Path,
     run: &RunHeader,
     outputs: &OutputState,
     step: u64,
     engine: &[u8],
-    measurements: Option<&[u8]>,
+    sections: (Option<&[u8]>, Option<&[u8]>),
 ) -> Result<PathBuf> {
-    let payload = payload(run, outputs, step, engine, measurements);
+    let payload = payload(run, outputs, step, engine, sections);
     super::write(dir, step, &payload)
 }
 
@@ -82,7 +84,7 @@ pub(crate) fn payload(
     outputs: &OutputState,
     step: u64,
     engine: &[u8],
-    measurements: Option<&[u8]>,
+    (measurements, flow): (Option<&[u8]>, Option<&[u8]>),
 ) -> Vec<u8> {
     let mut e = Enc::default();
     e.str(&run.scenario);
@@ -97,7 +99,8 @@ pub(crate) fn payload(
     e.u64(step);
     e.len(engine.len());
     e.buf.extend_from_slice(engine);
-    encode_measurements(&mut e, measurements);
+    encode_section(&mut e, measurements);
+    encode_section(&mut e, flow);
     e.buf
 }
 
@@ -113,8 +116,8 @@ pub(crate) fn scenario_text(s: &Scenario) -> Result<String> {
     }
 }
 
-/// The measurement section: a flag, then the accumulators' bytes.
-fn encode_measurements(e: &mut Enc, bytes: Option<&[u8]>) {
+/// The measurement or flow section: a flag, then the state's bytes.
+fn encode_section(e: &mut Enc, bytes: Option<&[u8]>) {
     e.bool(bytes.is_some());
     if let Some(b) = bytes {
         e.len(b.len());
@@ -138,12 +141,12 @@ fn opt(e: &mut Enc, v: Option<u64>) {
     e.u64(v.unwrap_or(0));
 }
 
-fn decode_measurements(d: &mut Dec) -> std::result::Result<Option<Vec<u8>>, String> {
-    if !d.bool("measurement flag")? {
+fn decode_section(d: &mut Dec, what: &str) -> std::result::Result<Option<Vec<u8>>, String> {
+    if !d.bool(what)? {
         return Ok(None);
     }
-    let n = d.len(1, "measurement state")?;
-    Ok(Some(d.take(n, "measurement state")?.to_vec()))
+    let n = d.len(1, what)?;
+    Ok(Some(d.take(n, what)?.to_vec()))
 }
 
 fn read_opt(d: &mut Dec, what: &str) -> std::result::Result<Option<u64>, String> {
@@ -165,6 +168,8 @@ pub struct Found {
     pub(crate) outputs: OutputState,
     pub(crate) engine: Vec<u8>,
     pub(crate) measurements: Option<Vec<u8>>,
+    /// The MD flow run's state ([`crate::scenario::flow::FlowRun::save`]).
+    pub(crate) flow: Option<Vec<u8>>,
     /// Set when the state continues under a changed scenario (a restart):
     /// the scenario keys that changed, which may be none.
     pub(crate) restart: Option<Vec<String>>,
@@ -197,7 +202,8 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
         let step = d.u64("step")?;
         let n = d.len(1, "engine state")?;
         let engine = d.take(n, "engine state")?.to_vec();
-        let measurements = decode_measurements(&mut d)?;
+        let measurements = decode_section(&mut d, "measurement state")?;
+        let flow = decode_section(&mut d, "flow state")?;
         if d.remaining() != 0 {
             return Err(format!("{} unexpected bytes at the end", d.remaining()));
         }
@@ -212,7 +218,7 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
             outputs,
             step,
             engine,
-            measurements,
+            (measurements, flow),
         ))
     };
     let (
@@ -226,7 +232,7 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
         outputs,
         step,
         engine,
-        measurements,
+        (measurements, flow),
     ) = go().map_err(|e| Error::input(format!("checkpoint {}: {e}", path.display())))?;
     let scenario: Scenario = toml::from_str(&scenario).map_err(|e| {
         Error::input(format!(
@@ -265,6 +271,7 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
         outputs,
         engine,
         measurements,
+        flow,
         restart: None,
     })
 }

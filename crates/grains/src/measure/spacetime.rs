@@ -3,6 +3,7 @@
 //! every sample. spacetime.csv (one row per sample) and spacetime.png (time
 //! to the right, height up, darker = denser).
 
+use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::{write_atomic, Image, View};
@@ -50,6 +51,32 @@ impl Spacetime {
             }
         }
         self.rows.push((md.time, n));
+    }
+
+    /// The samples so far (a checkpoint's part), every number as its bits.
+    pub fn save(&self, e: &mut Enc) {
+        e.len(self.rows.len());
+        for (t, n) in &self.rows {
+            e.f64(*t);
+            e.f64s(n);
+        }
+    }
+
+    /// The samples [`Spacetime::save`] wrote, into one with the same bins.
+    pub fn load(&mut self, d: &mut Dec) -> DecResult<()> {
+        let n = d.len(16, "spacetime rows")?;
+        let mut rows = Vec::with_capacity(n);
+        for _ in 0..n {
+            let t = d.f64("spacetime time")?;
+            let row = d.f64s("spacetime row")?;
+            if row.len() != self.bins {
+                let bins = self.bins;
+                return Err(format!("spacetime row of {} bins, not {bins}", row.len()));
+            }
+            rows.push((t, row));
+        }
+        self.rows = rows;
+        Ok(())
     }
 
     /// Relative standard deviation of the density over bins and samples (a

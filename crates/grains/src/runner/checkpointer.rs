@@ -2,57 +2,27 @@
 //! scenario as TOML with its origin, absolute base directory and input
 //! files, the dimension, the
 //! run plan, the checkpoint interval, the output state, the step, the
-//! engine's exported state, and the measurement section: a flag, and when
-//! set the accumulators' length-prefixed bytes) inside the sealed file of
-//! [`crate::checkpoint`].
+//! engine's exported state, the measurement section and the flow section:
+//! each a flag, and when set the state's length-prefixed bytes) inside the
+//! sealed file of [`crate::checkpoint`].
 
 use super::engine::Engine;
 use super::options::RunOptions;
 use crate::checkpoint;
 use crate::checkpoint::run::{write_payload, OutputState, RunHeader};
-use crate::error::{Error, Result};
-use crate::scenario::schema::Scenario;
+use crate::error::Result;
 use crate::scenario::Loaded;
 use serde_json::{json, Value};
 use std::path::PathBuf;
 
-/// The hooks' parts of a checkpoint: where the output files stand, and the
-/// measurement accumulators once the measurement has begun.
+/// The hooks' parts of a checkpoint: where the output files stand, the
+/// measurement accumulators once the measurement has begun, and an MD run's
+/// flow state.
 #[derive(Default)]
 pub(crate) struct Saved {
     pub outputs: Option<OutputState>,
     pub measurements: Option<Vec<u8>>,
-}
-
-/// Why a scenario's state cannot be checkpointed yet, if it cannot: the
-/// flow events (settling, recycling) and the measurements the flow run keeps
-/// (repose, surface_angle, spacetime) are not part of a checkpoint.
-fn blocker(scenario: &Scenario) -> Option<String> {
-    if scenario.hopper.is_some() || scenario.run.events.is_some() {
-        return Some(
-            "checkpoints do not carry the state of [hopper] recycling or run.events yet; \
-             run this scenario without --checkpoint-every"
-                .to_string(),
-        );
-    }
-    let m = &scenario.measure;
-    let flow: Vec<&str> = [
-        ("measure.repose", m.repose.is_some()),
-        ("measure.surface_angle", m.surface_angle.is_some()),
-        ("measure.spacetime", m.spacetime.is_some()),
-    ]
-    .into_iter()
-    .filter_map(|(k, on)| on.then_some(k))
-    .collect();
-    if flow.is_empty() {
-        return None;
-    }
-    Some(format!(
-        "checkpoints do not carry the state of {} yet; remove {} (or --set it off) \
-         to checkpoint this run",
-        flow.join(", "),
-        if flow.len() == 1 { "it" } else { "them" }
-    ))
+    pub flow: Option<Vec<u8>>,
 }
 
 /// Writes the checkpoints of one run, MD or DSMC: the run loop calls it
@@ -60,34 +30,23 @@ fn blocker(scenario: &Scenario) -> Option<String> {
 pub(crate) struct Checkpointer {
     dir: PathBuf,
     interval: Option<u64>,
-    /// Why this scenario cannot be checkpointed, if it cannot.
-    blocked: Option<String>,
     /// What each checkpoint says about the run.
     run: RunHeader,
 }
 
 impl Checkpointer {
     /// The checkpoints of a run of `loaded` with time step `dt` and
-    /// (relaxation, measured) steps `plan`; refuses `--checkpoint-every`
-    /// for a scenario whose state a checkpoint does not carry.
+    /// (relaxation, measured) steps `plan`.
     pub(crate) fn new(
         loaded: &Loaded,
         opts: &RunOptions,
         dt: f64,
         plan: (u64, u64),
     ) -> Result<Self> {
-        let blocked = match loaded.scenario.method {
-            crate::dsmc::Method::Dsmc => None,
-            _ => blocker(&loaded.scenario),
-        };
-        if let (Some(_), Some(why)) = (opts.checkpoint_every, &blocked) {
-            return Err(Error::input(format!("--checkpoint-every: {why}")));
-        }
         let interval = opts.checkpoint_every.map(|e| e.steps(dt));
         Ok(Self {
             dir: opts.out_dir.clone(),
             interval,
-            blocked,
             run: RunHeader::new(loaded, plan, interval)?,
         })
     }
@@ -99,7 +58,6 @@ impl Checkpointer {
         Self {
             dir: dir.to_path_buf(),
             interval,
-            blocked: None,
             run: RunHeader {
                 scenario: String::new(),
                 origin: String::new(),
@@ -118,18 +76,9 @@ impl Checkpointer {
     }
 
     /// The summary of a run stopped by a signal at the step `engine` stands
-    /// at, with a checkpoint there unless the scenario cannot take one.
+    /// at, with a checkpoint there.
     pub(crate) fn interrupt(&self, engine: &dyn Engine, saved: &Saved) -> Result<Value> {
         let (step, time) = (engine.step_count(), engine.sim_time());
-        if let Some(why) = &self.blocked {
-            return Ok(json!({
-                "interrupted": true,
-                "step": step,
-                "time": time,
-                "checkpoint": Value::Null,
-                "message": format!("stopped at step {step} without a checkpoint: {why}"),
-            }));
-        }
         let path = self.write(engine, saved)?;
         Ok(json!({
             "interrupted": true,
@@ -159,7 +108,7 @@ impl Checkpointer {
             &outputs,
             engine.step_count(),
             &bytes,
-            saved.measurements.as_deref(),
+            (saved.measurements.as_deref(), saved.flow.as_deref()),
         )
     }
 }

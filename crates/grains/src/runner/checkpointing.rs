@@ -12,7 +12,6 @@ use crate::dim::{Dim, D2, D3};
 use crate::error::{Error, Result};
 use crate::md::Md;
 use crate::output::Outputs;
-use crate::scenario::flow::FlowRun;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -112,7 +111,8 @@ fn resume_on_pool(
     }
 }
 
-/// The engine restored from the checkpoint, the outputs cut back to it.
+/// The engine and flow run restored from the checkpoint, the outputs cut
+/// back to it.
 fn restart<D: Dim>(
     found: &Found,
     steps: Option<u64>,
@@ -120,10 +120,9 @@ fn restart<D: Dim>(
 ) -> Result<Start<D, Md<D>>> {
     let mut r = found.restore::<D>(steps)?;
     r.md.timing.reset();
-    let loaded = &found.loaded;
     let outputs = resumed_outputs(found, opts)?;
     Ok(Start {
-        flow: Some(FlowRun::begin(loaded, &r.md)?),
+        flow: Some(r.flow),
         engine: r.md,
         resolved: r.resolved,
         outputs: Some(outputs),

@@ -74,16 +74,12 @@ pub fn run<D: Dim>(
         Some(n) => (0, n),
         None => (resolved.relax_steps, resolved.measure_steps),
     };
+    // Every rank makes the flow run, so a scenario it refuses stops all.
+    let flow = FlowRun::begin(loaded, &full)?;
+    let restored = (None, flow);
+    let engines = (full, mirror);
     start(
-        loaded,
-        opts,
-        (full, mirror),
-        resolved,
-        outputs,
-        plan,
-        None,
-        progress,
-        comm,
+        loaded, opts, engines, resolved, outputs, plan, restored, progress, comm,
     )
 }
 
@@ -108,7 +104,7 @@ pub(super) fn resume<D: Dim>(
         }
         false => (None, None),
     };
-    let restored = r.measurements.filter(|_| root);
+    let restored = (r.measurements.filter(|_| root), r.flow);
     let engines = (r.md, mirror);
     start(
         loaded, opts, engines, r.resolved, outputs, r.plan, restored, progress, comm,
@@ -125,14 +121,12 @@ fn start<D: Dim>(
     resolved: Resolved,
     mut outputs: Option<Outputs>,
     plan: (u64, u64),
-    restored: Option<Measurements>,
+    (restored, flow): (Option<Measurements>, FlowRun<D>),
     progress: &mut dyn Progress,
     comm: &dyn Comm,
 ) -> Result<Value> {
-    // Every rank makes the flow run (and, below, the checkpointer), so a
-    // scenario either refuses stops all; rank 0 keeps the flow run (as the
-    // serial run, made from the engine before its first step).
-    let flow = FlowRun::begin(loaded, &full)?;
+    // Rank 0 keeps the flow run (begun, as the serial run's, from the
+    // engine before its first step, or restored from the checkpoint).
     // Rank 0 begins the measurements after relaxing; a scenario they refuse
     // (phases without a vibrating wall) must stop every rank now.
     let m = &loaded.scenario.measure;

@@ -249,7 +249,7 @@ pub(crate) fn run_loop<D: GasDim, E: GasView<D = D>>(
     if ck.interval().is_some() && first_step == 0 {
         let saved = Saved {
             outputs: outputs.as_ref().map(Outputs::state).transpose()?,
-            measurements: None,
+            ..Saved::default()
         };
         ck.write(&engine, &saved)?;
     }

@@ -8,6 +8,7 @@ use crate::dsmc::Method;
 use crate::error::{Error, Result};
 use crate::md::Md;
 use crate::measure::measurements::Measurements;
+use crate::scenario::flow::FlowRun;
 use crate::scenario::{build_md, restart, Loaded, Resolved};
 
 /// The (relax, measured) step plan of a resumed run: the checkpoint's own,
@@ -39,25 +40,28 @@ pub(crate) fn resume_plan(
 
 /// What a resumed MD run starts from, every rank alike: the engine
 /// restored from the checkpoint, the scenario's resolved settings, the step
-/// plan, and the measurement accumulators when the checkpoint lies inside
-/// the measurement.
+/// plan, the measurement accumulators when the checkpoint lies inside
+/// the measurement, and the flow run (a restart's begun afresh).
 pub(crate) struct Restored<D: Dim> {
     pub md: Md<D>,
     pub resolved: crate::scenario::Resolved,
     pub plan: (u64, u64),
     pub measurements: Option<Measurements>,
+    pub flow: FlowRun<D>,
 }
 
 impl Found {
     /// A fresh engine of the checkpoint's scenario with the checkpoint's MD
     /// state in it.
     pub fn restore_md<D: Dim>(&self) -> Result<Md<D>> {
-        self.restore_built::<D>().map(|(md, _)| md)
+        self.restore_built::<D>().map(|(md, ..)| md)
     }
 
     /// [`Found::restore_md`] with the scenario's resolved run parameters
-    /// from the same build.
-    pub(crate) fn restore_built<D: Dim>(&self) -> Result<(Md<D>, Resolved)> {
+    /// from the same build, and (not for a restart) the flow run, whose
+    /// changes to the engine (tilted gravity, removed wall) are in `md`
+    /// before its state is restored and its fingerprint checked.
+    pub(crate) fn restore_built<D: Dim>(&self) -> Result<(Md<D>, Resolved, Option<FlowRun<D>>)> {
         // Refused by name before the scenario is built as MD (a DSMC
         // scenario has no contact law to build).
         if crate::checkpoint::dsmc::is_dsmc(&self.engine) {
@@ -67,11 +71,19 @@ impl Found {
             )));
         }
         let (mut md, resolved) = build_md::<D>(&self.loaded)?;
-        match &self.restart {
-            None => md.import(&self.engine, &self.path.display().to_string())?,
-            Some(_) => crate::checkpoint::engine::restore_changed(&mut md, &self.engine)
-                .map_err(|e| Error::input(format!("{}: {e}", self.path.display())))?,
-        }
+        let origin = self.path.display().to_string();
+        let flow = match &self.restart {
+            None => {
+                let flow = FlowRun::restored(&self.loaded, &mut md, self.flow.as_deref(), &origin)?;
+                md.import(&self.engine, &origin)?;
+                Some(flow)
+            }
+            Some(_) => {
+                crate::checkpoint::engine::restore_changed(&mut md, &self.engine)
+                    .map_err(|e| Error::input(format!("{origin}: {e}")))?;
+                None
+            }
+        };
         if md.step != self.step {
             return Err(Error::input(format!(
                 "checkpoint {}: header step {} but engine step {}",
@@ -80,7 +92,7 @@ impl Found {
                 md.step
             )));
         }
-        Ok((md, resolved))
+        Ok((md, resolved, flow))
     }
 
     /// This checkpoint's state continued under `new`, a changed scenario
@@ -124,7 +136,11 @@ impl Found {
     /// fresh measurements.
     pub(crate) fn restore<D: Dim>(&self, steps: Option<u64>) -> Result<Restored<D>> {
         let loaded = &self.loaded;
-        let (md, resolved) = self.restore_built::<D>()?;
+        let (md, resolved, flow) = self.restore_built::<D>()?;
+        let flow = match flow {
+            Some(f) => f,
+            None => FlowRun::begin(loaded, &md)?,
+        };
         if self.restart.is_some() {
             let at = md.step;
             let plan = match steps {
@@ -139,6 +155,7 @@ impl Found {
                 resolved,
                 plan,
                 measurements: None,
+                flow,
             });
         }
         let path = self.path.display();
@@ -167,6 +184,7 @@ impl Found {
             resolved,
             plan: (relax, measure),
             measurements,
+            flow,
         })
     }
 }

@@ -123,6 +123,7 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
         let saved = Saved {
             outputs: outputs.as_ref().map(Outputs::state).transpose()?,
             measurements: None,
+            flow: flow.as_ref().map(FlowRun::save),
         };
         ck.write(&engine, &saved)?;
     }
@@ -323,6 +324,10 @@ impl<D: Dim, E: MdView<D = D>> Hook<E> for FlowHook<'_, D> {
             }
         }
         Ok(Control::Go)
+    }
+    fn pack(&self, saved: &mut Saved) -> Result<()> {
+        saved.flow = self.flow.as_deref().map(FlowRun::save);
+        Ok(())
     }
 }
 

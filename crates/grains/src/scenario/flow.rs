@@ -23,6 +23,8 @@ use serde_json::{json, Map, Value};
 use std::fmt::Write as _;
 use std::path::Path;
 
+mod state;
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Stage {
     Settling,
@@ -57,6 +59,8 @@ pub struct FlowRun<D: Dim> {
     /// Simulated time at which settling ended (kept apart from the stage:
     /// a tilt after a wall removal starts later).
     settled_at: Option<f64>,
+    /// The gravity the tilt last set, once it has set one.
+    gravity: Option<D::V>,
     hopper: Option<Recycler>,
     repose: Option<SurfaceSpec>,
     drum: Option<(SurfaceSpec, Vec<f64>)>,
@@ -132,6 +136,7 @@ impl<D: Dim> FlowRun<D> {
             fill_top: None,
             settled_grains: 0,
             settled_at: None,
+            gravity: None,
             hopper,
             repose: s.measure.repose.clone(),
             drum: s.measure.surface_angle.clone().map(|m| (m, Vec::new())),
@@ -239,6 +244,7 @@ impl<D: Dim> FlowRun<D> {
                 D::set(&mut gv, 0, g * a.sin());
                 D::set(&mut gv, v, -g * a.cos());
                 md.settings.gravity = gv;
+                self.gravity = Some(gv);
             }
             _ => {}
         }

@@ -47,7 +47,7 @@ fn wrap<D: Dim>(mut md: Md<D>, resolved: Resolved, plan: (u64, u64)) -> Built {
 
 /// The engine of an MD checkpoint and its output interval.
 pub(super) fn restore<D: Dim>(found: &Found) -> Result<(Box<dyn Held>, u64)> {
-    let (md, resolved) = found.restore_built::<D>()?;
+    let (md, resolved, _) = found.restore_built::<D>()?;
     let (engine, _, every) = wrap(md, resolved, found.plan);
     Ok((engine, every))
 }

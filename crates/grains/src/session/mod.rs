@@ -306,7 +306,7 @@ impl Session {
             &outputs,
             self.step(),
             &engine,
-            measurements.as_deref(),
+            (measurements.as_deref(), None),
         );
         crate::io::write_atomic(path, &crate::checkpoint::seal(&bytes))?;
         Ok(path.to_path_buf())
