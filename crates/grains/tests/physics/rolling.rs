@@ -10,16 +10,16 @@
 //!   μ_r r m g cos θ, so the ball stays put when tan θ < μ_r and otherwise
 //!   rolls with a = (5/7) g (sin θ − μ_r cos θ), the torque at its limit.
 
-use super::chung_ooi::close;
-use super::hertz_mindlin::HertzMindlin;
-use super::material::Material;
-use super::rolling::RollingModel;
-use crate::boundary::{Motion, Shape, Wall};
-use crate::dim::D3;
-use crate::domain::Domain;
-use crate::md::{Md, MdSettings};
-use crate::particles::{ParticleRecord, Particles};
+use super::chung_ooi::{close, material as elastic};
+use super::jkr::forget_rolling_springs;
 use glam::DVec3;
+use grains::boundary::{Motion, Shape, Wall};
+use grains::contact::hertz_mindlin::HertzMindlin;
+use grains::contact::material::Material;
+use grains::contact::rolling::RollingModel;
+use grains::domain::Domain;
+use grains::md::{Md, MdSettings};
+use grains::{ParticleRecord, Particles, D3};
 
 const R: f64 = 0.01;
 const G: f64 = 9.81;
@@ -27,7 +27,7 @@ const G: f64 = 9.81;
 fn material(name: &str, e: f64, rest: f64, mu: f64, mu_r: f64) -> Material {
     Material {
         rolling_friction: mu_r,
-        ..Material::elastic(name, e, 0.25, 2500.0, rest, mu)
+        ..elastic(name, e, 0.25, 2500.0, rest, mu)
     }
 }
 
@@ -142,9 +142,9 @@ fn rolling_springs_resume_bit_for_bit() {
     let fresh = || ball_on_plane(RollingModel::Epsd, 0.1, g_vec, 0.0);
     let mut md = fresh();
     md.run(2_000).unwrap();
-    let bytes = crate::checkpoint::engine::encode(&md).unwrap();
+    let bytes = grains::checkpoint::engine::encode(&md).unwrap();
     let mut resumed = fresh();
-    crate::checkpoint::engine::restore(&mut resumed, &bytes).unwrap();
+    grains::checkpoint::engine::restore(&mut resumed, &bytes).unwrap();
     md.run(2_000).unwrap();
     resumed.run(2_000).unwrap();
     let bits = |m: &Md<D3>| {
@@ -155,8 +155,8 @@ fn rolling_springs_resume_bit_for_bit() {
     // Without the rolling spring the resumed ball would take a different
     // path: the test can tell.
     let mut forgetful = fresh();
-    crate::checkpoint::engine::restore(&mut forgetful, &bytes).unwrap();
-    forgetful.forget_rolling_springs();
+    grains::checkpoint::engine::restore(&mut forgetful, &bytes).unwrap();
+    forget_rolling_springs(&mut forgetful);
     forgetful.run(2_000).unwrap();
     assert_ne!(bits(&md), bits(&forgetful));
 }

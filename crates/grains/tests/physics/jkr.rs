@@ -12,17 +12,16 @@
 //!   contact holds to the separation δ_c = (3/4)(π² Γ² R*/E*²)^{1/3} beyond
 //!   touching and breaks there.
 
-use super::chung_ooi::close;
-use super::cohesion::CohesionModel;
-use super::hertz_mindlin::HertzMindlin;
-use super::jkr;
-use super::material::Material;
-use crate::boundary::{Motion, Shape, Wall};
-use crate::dim::D3;
-use crate::domain::Domain;
-use crate::md::{Md, MdSettings};
-use crate::particles::{ParticleRecord, Particles};
+use super::chung_ooi::{close, material as elastic};
 use glam::DVec3;
+use grains::boundary::{Motion, Shape, Wall};
+use grains::contact::cohesion::CohesionModel;
+use grains::contact::hertz_mindlin::HertzMindlin;
+use grains::contact::jkr;
+use grains::contact::material::Material;
+use grains::domain::Domain;
+use grains::md::{Md, MdSettings};
+use grains::{ParticleRecord, Particles, D3};
 use std::f64::consts::PI;
 
 const R: f64 = 0.01;
@@ -32,7 +31,7 @@ const E_BALL: f64 = 1e7 / (1.0 - 0.25 * 0.25);
 fn material(name: &str, e: f64) -> Material {
     Material {
         surface_energy: GAMMA,
-        ..Material::elastic(name, e, 0.25, 2500.0, 0.3, 0.5)
+        ..elastic(name, e, 0.25, 2500.0, 0.3, 0.5)
     }
 }
 
@@ -196,9 +195,9 @@ fn jkr_contacts_resume_bit_for_bit() {
         md.step().unwrap();
     }
     assert_eq!(md.stats.contacts, 1);
-    let bytes = crate::checkpoint::engine::encode(&md).unwrap();
+    let bytes = grains::checkpoint::engine::encode(&md).unwrap();
     let mut resumed = fresh();
-    crate::checkpoint::engine::restore(&mut resumed, &bytes).unwrap();
+    grains::checkpoint::engine::restore(&mut resumed, &bytes).unwrap();
     md.run(2_000).unwrap();
     resumed.run(2_000).unwrap();
     let bits = |m: &Md<D3>| {
@@ -207,8 +206,17 @@ fn jkr_contacts_resume_bit_for_bit() {
     };
     assert_eq!(bits(&md), bits(&resumed));
     let mut forgetful = fresh();
-    crate::checkpoint::engine::restore(&mut forgetful, &bytes).unwrap();
-    forgetful.forget_rolling_springs();
+    grains::checkpoint::engine::restore(&mut forgetful, &bytes).unwrap();
+    forget_rolling_springs(&mut forgetful);
     forgetful.run(2_000).unwrap();
     assert_ne!(bits(&md), bits(&forgetful));
+}
+
+/// Drops every rolling spring (and JKR mark) of `md` through its exported
+/// state: a test's way of showing that they matter.
+pub fn forget_rolling_springs(md: &mut Md<D3>) {
+    let mut state = md.export_state().unwrap();
+    state.rolling.iter_mut().for_each(|s| *s = DVec3::ZERO);
+    state.wall_rolling.iter_mut().for_each(|s| *s = DVec3::ZERO);
+    md.import_state(state).unwrap();
 }
