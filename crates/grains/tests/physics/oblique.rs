@@ -19,8 +19,9 @@
 //! within the contact area, so in the sticking regime it is the
 //! independent integration of this law, not MBF's curves, that gives the
 //! expected numbers. In the gross-sliding regime both reduce to
-//! rigid-body theory, v_t' = v_t − μ (1 + e) v_n and ω' R = (5/2) μ (1 + e)
-//! v_n, which the test checks as well.
+//! rigid-body theory, v_t' = v_t − 2 μ v_n and ω' R = 5 μ v_n when elastic,
+//! which the test checks on the reference as well (damped, the normal
+//! force's attractive tail adds to the friction impulse, see [`compare`]).
 //!
 //! Tolerance: the engine's step is t_c/2000. Elastic, its rebound is the
 //! reference's within 6e-6 of the incident speed (measured); with damping
