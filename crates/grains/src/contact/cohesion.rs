@@ -111,8 +111,13 @@ mod tests {
     }
 
     /// DMT pulls two touching balls, and a ball and a plane, to rest at
-    /// the overlap where Hertz's force equals 2π Γ R*; without cohesion
-    /// they stay barely touching.
+    /// the overlap where Hertz's force equals the pull; without cohesion
+    /// they stay barely touching. The expected overlap is written here
+    /// from Derjaguin, Muller & Toporov (1975), F_po = 2π Γ R*, and Hertz,
+    /// (4/3) E* √R* ξ^{3/2} = F_po, not from the law's own functions; held
+    /// to 1e-6 (the contact is damped out after 0.4 s, measured 1e-9, as
+    /// the JKR settling test), where a pull of π Γ R* or 4π Γ R* is off by
+    /// 37 % or 59 %.
     #[test]
     fn dmt_pairs_rest_at_the_equilibrium_overlap() {
         let e_ball = 1e7 / (1.0 - 0.25 * 0.25);
@@ -122,12 +127,13 @@ mod tests {
             } else {
                 (0.5 * e_ball, 0.5 * R)
             };
-            let want = dmt_equilibrium_overlap(e_star, r_star, 0.05);
+            let pull = 2.0 * std::f64::consts::PI * 0.05 * r_star;
+            let want = (pull / (4.0 / 3.0 * e_star * r_star.sqrt())).powf(2.0 / 3.0);
             let mut md = pair(CohesionModel::Dmt, on_wall);
             md.run(20_000).unwrap();
             let overlap = md.stats.max_overlap;
             assert!(
-                (overlap / want - 1.0).abs() < 5e-3,
+                (overlap / want - 1.0).abs() < 1e-6,
                 "wall {on_wall}: {overlap:e} against {want:e}"
             );
             assert!(md.particles.vel[0].length() < 1e-6, "still moving");

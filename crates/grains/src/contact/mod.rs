@@ -27,8 +27,6 @@
 //! automatic time step use.
 
 pub mod binary;
-#[cfg(test)]
-mod chung_ooi;
 pub mod cohesion;
 pub mod contract;
 pub mod cundall_strack;
@@ -36,19 +34,13 @@ pub mod damping;
 pub mod hertz_mindlin;
 pub mod hooke_history;
 pub mod jkr;
-#[cfg(test)]
-mod jkr_tests;
 pub mod lammps_granular;
-#[cfg(test)]
-mod lammps_granular_tests;
 pub mod lanes;
 pub mod law;
 pub mod mass_scaling;
 pub mod material;
 pub mod normal_power_law;
 pub mod rolling;
-#[cfg(test)]
-mod rolling_tests;
 pub mod tsuji_damping;
 
 pub use contract::{Contact, ContactModel, ContactOutcome, Step};

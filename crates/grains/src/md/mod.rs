@@ -462,13 +462,6 @@ impl<D: Dim> Md<D> {
             .is_some_and(|h| h.keeps_second_history())
     }
 
-    /// Drops every rolling spring (a test's way of showing they matter).
-    #[cfg(test)]
-    pub(crate) fn forget_rolling_springs(&mut self) {
-        self.rolling.iter_mut().for_each(|s| *s = D::zero());
-        self.wall_rolling = WallSprings::default();
-    }
-
     /// Recomputes every force and torque (the pair loop starts the sums). `update_history` is
     /// false when no time has passed (the start of a run): springs are then
     /// read but not stretched.

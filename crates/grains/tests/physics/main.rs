@@ -7,8 +7,13 @@
 mod common;
 
 mod binary_collision;
+mod chung_ooi;
 mod conservation;
 mod friction_and_walls;
 mod impact;
+mod jkr;
+mod lammps_granular;
+mod oblique;
 mod rebuild_springs;
+mod rolling;
 mod rotation;

@@ -1,10 +1,10 @@
 //! The silo of hopper-3d with its floor read from an STL (mesh-silo-3d)
 //! discharges as fast as with the analytic floor, within the scatter of
 //! three seeds. Six 1 s runs of 3000 grains: about 10 minutes on one
-//! core, so ignored by default; docs/validation.md ("Mesh walls") quotes
-//! the figures of a run.
+//! core, so in the long tier (`.ci/long.sh`, feature `long-tests`);
+//! docs/validation.md ("Mesh walls") quotes the figures of a run.
 //!
-//!     cargo test --profile opt-test -p grains --test scenarios mesh_discharge -- --ignored --nocapture
+//!     cargo test --profile opt-test -p grains --features long-tests --test scenarios mesh_discharge -- --nocapture
 
 use crate::common;
 
@@ -19,7 +19,7 @@ fn mean_sem(x: &[f64]) -> (f64, f64) {
 }
 
 #[test]
-#[ignore = "six 1 s silo runs, about 10 minutes; run by hand (see the file's doc)"]
+#[cfg_attr(not(feature = "long-tests"), ignore = "long tier: .ci/long.sh")]
 fn stl_floor_discharges_like_the_analytic_floor() {
     let rates = |name: &str| -> Vec<f64> {
         (1..=3)

@@ -43,22 +43,36 @@ fn try_run(name: &str, tag: &str, sets: &[String]) -> Option<serde_json::Value> 
     s
 }
 
-/// (centre, edge) mean vertical velocities (m/s) of seeds 1..=n that ran
-/// to the end.
+/// (centre, edge) mean vertical velocities (m/s) of seeds 1..=n, every
+/// one of which must run to the end: a run that stops as unstable fails
+/// the ensemble, naming its seed, rather than shrinking it quietly.
 fn ensemble(name: &str, tag: &str, extra: &[&str], n: u64) -> Vec<(f64, f64)> {
-    (1..=n)
-        .filter_map(|seed| {
-            let mut sets: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
-            sets.push(format!("seed={seed}"));
-            try_run(name, &format!("{tag}-{seed}"), &sets)
-        })
-        .map(|s| {
-            (
+    let (runs, unstable) = ensemble_counted(name, tag, extra, n);
+    assert!(
+        unstable.is_empty(),
+        "{name} {extra:?}: seeds {unstable:?} of 1..={n} stopped as unstable"
+    );
+    runs
+}
+
+/// [`ensemble`] that counts the runs stopped as unstable instead of failing
+/// on them: (the runs that ended, the seeds that stopped); the two add up to
+/// n.
+fn ensemble_counted(name: &str, tag: &str, extra: &[&str], n: u64) -> (Vec<(f64, f64)>, Vec<u64>) {
+    let (mut runs, mut unstable) = (Vec::new(), Vec::new());
+    for seed in 1..=n {
+        let mut sets: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
+        sets.push(format!("seed={seed}"));
+        match try_run(name, &format!("{tag}-{seed}"), &sets) {
+            Some(s) => runs.push((
                 num(&s, "convection_center_vz"),
                 num(&s, "convection_edge_vz"),
-            )
-        })
-        .collect()
+            )),
+            None => unstable.push(seed),
+        }
+    }
+    assert_eq!(runs.len() + unstable.len(), n as usize);
+    (runs, unstable)
 }
 
 /// Mean and standard error of the mean.
@@ -84,9 +98,9 @@ fn strengths(runs: &[(f64, f64)]) -> Vec<f64> {
 /// were neither sign preferred, 11 or 12 of 12 would come with
 /// probability 13/4096 = 0.3 %.
 #[test]
+#[cfg_attr(not(feature = "long-tests"), ignore = "long tier: .ci/long.sh")]
 fn modulated_plate_flows_up_in_the_centre() {
     let runs = ensemble("seed-convection-modulated", "base", &[], 12);
-    assert_eq!(runs.len(), 12, "a run stopped");
     let rolls = runs.iter().filter(|(c, e)| *c > 0.0 && *e < 0.0).count();
     assert!(rolls >= 11, "{rolls}/12 with rolls: {runs:?}");
     // Two rolls in the column profile of seed 1: every column of the
@@ -114,6 +128,7 @@ fn modulated_plate_flows_up_in_the_centre() {
 /// spreads) and by more than half on the means (measured ratio
 /// 0.31 ± 0.04).
 #[test]
+#[cfg_attr(not(feature = "long-tests"), ignore = "long tier: .ci/long.sh")]
 fn ten_times_the_dissipation_weakens_the_convection() {
     let s = strengths(&ensemble("seed-convection-modulated", "g200", &[], 8));
     let s10 = strengths(&ensemble(
@@ -139,17 +154,19 @@ fn ten_times_the_dissipation_weakens_the_convection() {
 #[ignore = "not reproduced: 155 +- 7 mm/s at gamma_s = 400 against 24 +- 12 at gamma_s = 0 (20 seeds); see comment"]
 fn modulated_plate_convection_is_insensitive_to_shear_friction() {
     let s = strengths(&ensemble("seed-convection-modulated", "gs400", &[], 8));
-    let s0 = strengths(&ensemble(
+    // 9 of 20 runs stop at gamma_s = 0: counted, and the claim asks for
+    // all 8 to run.
+    let (runs0, unstable) = ensemble_counted(
         "seed-convection-modulated",
         "gs0",
         &["contact.gamma_t=0"],
         8,
-    ));
+    );
+    let s0 = strengths(&runs0);
     let ((m, _), (m0, _)) = (mean_se(&s), mean_se(&s0));
     assert!(
-        s0.len() == 8 && m0 / m > 0.5 && m0 / m < 2.0,
-        "strength {m} vs {m0} at gamma_s = 0 ({} of 8 ran)",
-        s0.len()
+        unstable.is_empty() && m0 / m > 0.5 && m0 / m < 2.0,
+        "strength {m} vs {m0} at gamma_s = 0 (seeds {unstable:?} of 1..=8 stopped)"
     );
 }
 
@@ -167,6 +184,7 @@ fn rise_at_walls(runs: &[(f64, f64)]) -> Vec<f64> {
 /// t > 4, and that the wall columns sink on the γ_s = 400 ensemble's mean
 /// by more than three standard errors (measured 4.7).
 #[test]
+#[cfg_attr(not(feature = "long-tests"), ignore = "long tier: .ci/long.sh")]
 fn side_walls_with_shear_friction_drag_the_grains_down() {
     let w = "seed-convection-walls";
     let drag = ensemble(w, "gs400", &["contact.gamma_t=400"], 8);
@@ -195,9 +213,9 @@ fn side_walls_with_shear_friction_drag_the_grains_down() {
 /// side walls (`contact.elastic_walls=[]`, the first pass) the rise is
 /// +3.1 ± 1.1 mm/s over 20 seeds, 13 of 20 runs: too weak for a test.
 #[test]
+#[cfg_attr(not(feature = "long-tests"), ignore = "long tier: .ci/long.sh")]
 fn side_walls_without_shear_friction_lift_the_grains() {
     let free = ensemble("seed-convection-walls", "gs0", &["contact.gamma_t=0"], 8);
-    assert_eq!(free.len(), 8, "a run stopped");
     let (m, se) = mean_se(&rise_at_walls(&free));
     assert!(m > 4.0 * se, "edge - centre {m} +- {se} m/s at gamma_s = 0");
 }
