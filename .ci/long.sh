@@ -2,8 +2,9 @@
 # The long tier of the test suite: the tests marked
 # `cfg_attr(not(feature = "long-tests"), ignore = ...)`, which the README's
 # `cargo test --profile opt-test` lists as ignored: the convection seed
-# ensembles (tests/seeds) and the silo discharge through an STL floor
-# (tests/scenarios/mesh_discharge.rs), minutes each. CI runs it after the
+# ensembles and the conveyor's saturation (tests/seeds), the silo discharge
+# through an STL floor and the 3D sand pile over rolling friction
+# (tests/scenarios), from 40 s to minutes each. CI runs it after the
 # default suite; by hand:
 #
 #   .ci/long.sh

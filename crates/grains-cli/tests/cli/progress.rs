@@ -13,7 +13,13 @@ fn sweep_reports_progress_within_a_variant() {
     let run = |extra: &[&str]| {
         let out = Command::new(env!("CARGO_BIN_EXE_grains"))
             .args(["sweep", scenario.to_str().unwrap(), "--vary", "seed=1,2"])
-            .args(["--steps", "600", "--out", dir.to_str().unwrap()])
+            .args([
+                "--steps",
+                "600",
+                "--out",
+                dir.to_str().unwrap(),
+                "--overwrite",
+            ])
             .args(extra)
             .output()
             .expect("start grains");

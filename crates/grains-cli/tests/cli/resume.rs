@@ -394,18 +394,6 @@ fn unusable_directories_and_options_exit_2() {
         "0steps",
     ]);
     assert_eq!(code(&o), Some(2), "{}", stderr(&o));
-    let with_measure = format!("{SCENARIO}\n[measure]\nspacetime = {{ bin = 1.0 }}\n");
-    std::fs::write(&scen, with_measure).unwrap();
-    let o = run(&[
-        "run",
-        scen.to_str().unwrap(),
-        "--out",
-        sb.path("m").to_str().unwrap(),
-        "--checkpoint-every",
-        "10steps",
-    ]);
-    assert_eq!(code(&o), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("measure.spacetime"), "{}", stderr(&o));
 }
 
 /// Every plain file of a run directory (measurement CSVs and pictures

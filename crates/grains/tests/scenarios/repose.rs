@@ -214,6 +214,7 @@ fn non_rotating_disk_holds_on_one_neighbour_up_to_arctan_mu() {
 /// margins (below 12°, a rise of more than 15°, below 45°) are several
 /// times the seed spread. Two runs of 440 000 steps of 700 spheres.
 #[test]
+#[cfg_attr(not(feature = "long-tests"), ignore = "long tier: .ci/long.sh")]
 fn sand_repose_angle_3d_rises_with_rolling_friction() {
     let run = |mu_r: &str| {
         let set = format!("materials.0.rolling_friction={mu_r}");

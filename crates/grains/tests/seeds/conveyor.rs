@@ -73,6 +73,7 @@ fn an_obstacle_slows_the_flow() {
 /// asks seeds 1-4 for a change under 20 % in the first reading (the ratio's
 /// standard error is about 5 %) and over 30 % in the second.
 #[test]
+#[cfg_attr(not(feature = "long-tests"), ignore = "long tier: .ci/long.sh")]
 fn transport_saturates_in_shear_friction_in_the_unit_reading() {
     let mean = |tag: &str, sets: &[&str]| {
         (1..=4)
