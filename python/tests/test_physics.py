@@ -57,6 +57,7 @@ def test_sweep_over_restitution(scenarios, tmp_path):
     # A bad key fails before any run; a bad value fails its variant only.
     with pytest.raises(grains.InputError, match="restitutio"):
         grains.sweep(path, vary={"contact.restitutio": [0.5]}, out=tmp_path)
-    bad = grains.sweep(path, vary={"contact.restitution": [0.5, 2.0]}, out=tmp_path)
+    # The first sweep's runs are in tmp_path: replaced, not mixed.
+    bad = grains.sweep(path, vary={"contact.restitution": [0.5, 2.0]}, out=tmp_path, overwrite=True)
     assert bad[0]["error"] is None and bad[1]["summary"] is None
     assert "contact.restitution = 2" in bad[1]["error"]
