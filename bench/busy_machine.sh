@@ -25,7 +25,7 @@ trap 'stop_busy; rm -rf "$out"' EXIT
 
 # Seconds of one command, from its own JSON (run: summary.json; bench: --json).
 run_seconds() {
-  "$grains" run --out "$out/run" --quiet "$@"
+  "$grains" run --out "$out/run" --overwrite --quiet "$@"
   python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["wall_seconds"])' "$out/run/summary.json"
 }
 bench_seconds() {

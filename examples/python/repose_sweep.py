@@ -50,6 +50,7 @@ def main():
         out=args.out,
         jobs=args.jobs,
         quiet=False,
+        overwrite=True,  # a rerun replaces the example's own earlier runs
     )
     angles = defaultdict(list)
     for r in results:
