@@ -289,6 +289,11 @@ fn on_ranks_note(comm: Option<&dyn Comm>) -> String {
 /// caller adds the stop flag where it has one). Rank 0 says what runs
 /// where unless quiet.
 fn run_set_up(args: &RunArgs, comm: Option<&dyn Comm>) -> grains::Result<(Loaded, RunOptions)> {
+    if args.allow_changed_inputs && args.from.is_none() {
+        return Err(Error::input(
+            "--allow-changed-inputs acts on the files of a checkpoint: give --from (or use grains resume)",
+        ));
+    }
     let loaded = load(args.scenario.as_deref(), &args.sets)?;
     let from_file = Some(loaded.scenario.run.threads).filter(|&n| n > 0);
     set_threads(args.threads.or(from_file))?;

@@ -335,6 +335,15 @@ fn a_restart_refuses_what_the_state_is_made_of() {
         let err = refused(&g(&["resume", "c", "--out", "d", "--set", set]));
         assert!(err.contains(&format!("`{key}")), "{set}: {err}");
     }
+    // An option that would do nothing says so.
+    let err = refused(&g(&[
+        "run",
+        "s.toml",
+        "--out",
+        "z",
+        "--allow-changed-inputs",
+    ]));
+    assert!(err.contains("--from"), "{err}");
     // A changed scenario needs a folder of its own.
     let err = refused(&g(&["resume", "c", "--set", "contact.kn=1000.0"]));
     assert!(err.contains("--out"), "{err}");
