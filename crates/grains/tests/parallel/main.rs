@@ -8,4 +8,5 @@ mod common;
 
 mod determinism;
 mod distributed_dsmc;
+mod distributed_flow;
 mod distributed_md;
