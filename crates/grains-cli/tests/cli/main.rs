@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod bad_input;
 mod check_law;
 mod commands;
 mod mesh_input;
