@@ -175,20 +175,35 @@ pub struct Found {
     pub(crate) restart: Option<Vec<String>>,
 }
 
-/// Decodes a checkpoint payload (from `path`, for messages).
-pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
-    let mut d = Dec::new(payload);
-    let mut go = || -> std::result::Result<_, String> {
-        let scenario = d.str("scenario")?;
-        let origin = d.str("scenario origin")?;
-        let base_dir = d.str("scenario directory")?;
-        let inputs = inputs::decode(&mut d)?;
-        let dim = d.u8("dimension")? as usize;
-        let plan = (d.u64("relax steps")?, d.u64("measured steps")?);
-        let interval = d.u64("checkpoint interval")?;
-        let outputs = OutputState {
+/// A payload's fields as read, before its scenario is parsed and checked.
+struct Raw {
+    scenario: String,
+    origin: String,
+    base_dir: String,
+    inputs: Vec<InputFile>,
+    dim: usize,
+    plan: (u64, u64),
+    interval: u64,
+    outputs: OutputState,
+    step: u64,
+    engine: Vec<u8>,
+    measurements: Option<Vec<u8>>,
+    flow: Option<Vec<u8>>,
+}
+
+/// Reads the fields [`payload`] writes, in its order.
+fn read_raw(d: &mut Dec) -> std::result::Result<Raw, String> {
+    let raw = Raw {
+        scenario: d.str("scenario")?,
+        origin: d.str("scenario origin")?,
+        base_dir: d.str("scenario directory")?,
+        inputs: inputs::decode(d)?,
+        dim: d.u8("dimension")? as usize,
+        plan: (d.u64("relax steps")?, d.u64("measured steps")?),
+        interval: d.u64("checkpoint interval")?,
+        outputs: OutputState {
             thermo_len: d.u64("thermo length")?,
-            dump_len: read_opt(&mut d, "dump length")?,
+            dump_len: read_opt(d, "dump length")?,
             frames: {
                 let n = d.len(16, "frame count")?;
                 let mut v = Vec::with_capacity(n);
@@ -197,31 +212,25 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
                 }
                 v
             },
-            last_step: read_opt(&mut d, "last output step")?,
-        };
-        let step = d.u64("step")?;
-        let n = d.len(1, "engine state")?;
-        let engine = d.take(n, "engine state")?.to_vec();
-        let measurements = decode_section(&mut d, "measurement state")?;
-        let flow = decode_section(&mut d, "flow state")?;
-        if d.remaining() != 0 {
-            return Err(format!("{} unexpected bytes at the end", d.remaining()));
-        }
-        Ok((
-            scenario,
-            origin,
-            base_dir,
-            inputs,
-            dim,
-            plan,
-            interval,
-            outputs,
-            step,
-            engine,
-            (measurements, flow),
-        ))
+            last_step: read_opt(d, "last output step")?,
+        },
+        step: d.u64("step")?,
+        engine: {
+            let n = d.len(1, "engine state")?;
+            d.take(n, "engine state")?.to_vec()
+        },
+        measurements: decode_section(d, "measurement state")?,
+        flow: decode_section(d, "flow state")?,
     };
-    let (
+    if d.remaining() != 0 {
+        return Err(format!("{} unexpected bytes at the end", d.remaining()));
+    }
+    Ok(raw)
+}
+
+/// Decodes a checkpoint payload (from `path`, for messages).
+pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
+    let Raw {
         scenario,
         origin,
         base_dir,
@@ -232,8 +241,10 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
         outputs,
         step,
         engine,
-        (measurements, flow),
-    ) = go().map_err(|e| Error::input(format!("checkpoint {}: {e}", path.display())))?;
+        measurements,
+        flow,
+    } = read_raw(&mut Dec::new(payload))
+        .map_err(|e| Error::input(format!("checkpoint {}: {e}", path.display())))?;
     let scenario: Scenario = toml::from_str(&scenario).map_err(|e| {
         Error::input(format!(
             "checkpoint {}: its scenario does not parse: {e}",
