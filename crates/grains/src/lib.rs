@@ -12,6 +12,7 @@ pub mod contact;
 pub mod dim;
 pub mod domain;
 pub mod dsmc;
+pub mod engine;
 pub mod error;
 pub mod gpu;
 pub mod integrate;

@@ -12,7 +12,8 @@ use crate::measure::draw::in_box;
 use crate::measure::{granular_temperature, DisplacementField};
 use crate::render::{Painter, Scene, StillOptions};
 use crate::scenario::schema::{FramesLayout, OutputSpec};
-use serde_json::Value;
+use crate::scenario::{Loaded, Resolved};
+use serde_json::{json, Map, Value};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -335,4 +336,43 @@ impl Outputs {
         let text = serde_json::to_string_pretty(summary).expect("JSON values always serialize");
         write_atomic(&self.dir.join("summary.json"), text.as_bytes())
     }
+}
+
+/// The summary scalars every MD run reports: what ran, how long it took
+/// (`stepped` steps of this process's timing) and the final energies.
+pub fn md_summary<D: Dim>(
+    loaded: &Loaded,
+    md: &Md<D>,
+    resolved: &Resolved,
+    steps: u64,
+    stepped: u64,
+    wall_seconds: f64,
+) -> Map<String, Value> {
+    let updates = (stepped.max(1) as f64) * md.particles.n_mobile().max(1) as f64;
+    let mut summary = Map::new();
+    summary.insert("scenario".into(), json!(loaded.scenario.name));
+    summary.insert("dimension".into(), json!(D::NAME));
+    summary.insert("particles".into(), json!(md.particles.n_owned()));
+    summary.insert("steps".into(), json!(steps));
+    summary.insert("time".into(), json!(md.time));
+    summary.insert("dt".into(), json!(resolved.dt));
+    summary.insert("contact_time".into(), json!(resolved.contact_time));
+    summary.insert("wall_seconds".into(), json!(wall_seconds));
+    summary.insert(
+        "ns_per_particle_step".into(),
+        json!(1e9 * wall_seconds / updates),
+    );
+    summary.insert(
+        "kinetic_energy".into(),
+        json!(md.particles.kinetic_energy()),
+    );
+    summary.insert(
+        "rotational_energy".into(),
+        json!(md.particles.rotational_energy()),
+    );
+    summary.insert(
+        "granular_temperature".into(),
+        json!(granular_temperature(&md.particles)),
+    );
+    summary
 }

@@ -12,6 +12,7 @@
 
 #[cfg(feature = "cuda")]
 pub mod cuda;
+pub mod engine;
 pub mod grain_kernels;
 #[cfg(feature = "cuda")]
 mod kernel_params;

@@ -16,7 +16,9 @@
 //! between steps (see the scenario runner).
 
 mod carry;
+pub mod codec;
 pub mod contact_list;
+pub mod contract;
 pub mod decomp;
 pub mod edit;
 mod field_forces;

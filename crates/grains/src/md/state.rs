@@ -1,6 +1,6 @@
 //! The complete dynamic state of an MD engine, as a checkpoint carries it
 //! ([`super::Md::export_state`], [`super::Md::import_state`]; encoded by
-//! `checkpoint::state`).
+//! [`super::codec`]).
 
 use super::pair_forces::{Deferred, PairBlocks};
 use super::wall_loads::WallLoad;

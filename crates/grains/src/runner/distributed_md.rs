@@ -30,12 +30,13 @@
 //! which (one summed flag per step).
 
 use super::checkpointing;
-use super::engine::{Engine, MdView};
+use super::engine::MdView;
 use super::md_run::{run_loop, Start};
 use super::options::{prepare_fresh, Progress, RunOptions};
 use crate::checkpoint::run::Found;
 use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
+use crate::engine::Engine;
 use crate::error::{Error, Result};
 use crate::io::Frame;
 use crate::md::decomp::{get_vec, index_by_id, put_vec, DecomposedMd};

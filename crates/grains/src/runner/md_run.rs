@@ -11,14 +11,12 @@ use super::run_loop::{
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::md::Md;
-use crate::measure::granular_temperature;
 use crate::measure::measurements::Measurements;
 use crate::measure::wall_table::WallTable;
-use crate::output::Outputs;
+use crate::output::{md_summary, Outputs};
 use crate::scenario::flow::FlowRun;
 use crate::scenario::{build_md, Loaded, Resolved};
-use serde_json::Map;
-use serde_json::{json, Value};
+use serde_json::{Map, Value};
 use std::time::Instant;
 
 /// Runs an MD scenario from step 0.
@@ -246,45 +244,6 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
     let summary = Value::Object(summary);
     outputs.write_summary(&summary)?;
     Ok(summary)
-}
-
-/// The summary scalars every MD run reports: what ran, how long it took
-/// (`stepped` steps of this process's timing) and the final energies.
-pub(crate) fn md_summary<D: Dim>(
-    loaded: &Loaded,
-    md: &Md<D>,
-    resolved: &Resolved,
-    steps: u64,
-    stepped: u64,
-    wall_seconds: f64,
-) -> Map<String, Value> {
-    let updates = (stepped.max(1) as f64) * md.particles.n_mobile().max(1) as f64;
-    let mut summary = Map::new();
-    summary.insert("scenario".into(), json!(loaded.scenario.name));
-    summary.insert("dimension".into(), json!(D::NAME));
-    summary.insert("particles".into(), json!(md.particles.n_owned()));
-    summary.insert("steps".into(), json!(steps));
-    summary.insert("time".into(), json!(md.time));
-    summary.insert("dt".into(), json!(resolved.dt));
-    summary.insert("contact_time".into(), json!(resolved.contact_time));
-    summary.insert("wall_seconds".into(), json!(wall_seconds));
-    summary.insert(
-        "ns_per_particle_step".into(),
-        json!(1e9 * wall_seconds / updates),
-    );
-    summary.insert(
-        "kinetic_energy".into(),
-        json!(md.particles.kinetic_energy()),
-    );
-    summary.insert(
-        "rotational_energy".into(),
-        json!(md.particles.rotational_energy()),
-    );
-    summary.insert(
-        "granular_temperature".into(),
-        json!(granular_temperature(&md.particles)),
-    );
-    summary
 }
 
 /// The flow events as a hook of the run loop: after the stretches that end

@@ -3,7 +3,8 @@
 //! pair of materials that meet, the values the engine's law holds (E*, G*,
 //! the damping coefficient, friction, rolling and cohesion) and the spread
 //! of R* and m* over the grains that meet; then the time step's reasoning
-//! and the memory estimate, for every law.
+//! and the memory estimate, for every law; [`md_report`] puts them
+//! together with the run's plan.
 //!
 //! Every number is read from the built engine's objects (the law's pair
 //! table, the grains' radii and masses) or computed by the functions the
@@ -13,6 +14,7 @@
 use super::memory::md_bytes_per_grain;
 use super::resolve::Resolved;
 use super::schema::Scenario;
+use super::Loaded;
 use crate::contact::cohesion::{dmt_pull_off, CohesionModel};
 use crate::contact::hertz_mindlin::HertzMindlin;
 use crate::contact::material::r_star;
@@ -260,4 +262,41 @@ pub fn memory<D: Dim>(md: &Md<D>) -> Value {
         "estimate_bytes": bytes,
         "estimate": format!("{:.1} MiB", bytes as f64 / 1048576.0),
     })
+}
+
+/// What `grains check` prints of an MD scenario built as `md` with the
+/// resolved settings `r`.
+pub fn md_report<D: Dim>(loaded: &Loaded, md: &Md<D>, r: &Resolved) -> Result<Value> {
+    let law = &r.law;
+    // Under materials the law is the pair table's; `r.law` is only the
+    // stand-in the time step was taken from.
+    let contact = match &md.settings.materials {
+        Some(m) => material_law(&loaded.scenario, md, m)?,
+        None => json!({
+            "kn": law.kn, "beta": law.beta, "gamma_n": law.gamma_n, "gamma_t": law.gamma_t,
+            "kt": law.kt, "mu": if law.mu.is_finite() { json!(law.mu) } else { json!("inf") },
+            "scaling": format!("{:?}", law.scaling).to_lowercase(), "rotation": law.rotation,
+        }),
+    };
+    Ok(json!({
+        "scenario": loaded.scenario.name,
+        "source": loaded.origin,
+        "dimension": D::NAME,
+        "particles": md.particles.n_owned(),
+        "frozen": md.particles.n_owned() - md.particles.n_mobile(),
+        "walls": md.walls.iter().map(|w| w.name.clone()).collect::<Vec<_>>(),
+        "contact": contact,
+        "integrator": md.settings.integrator.name(),
+        "time_step": time_step(md, r),
+        "contact_time": r.contact_time,
+        "dt": r.dt,
+        "dt_origin": r.dt_origin,
+        "steps_per_contact": r.contact_time / r.dt,
+        "cycle_frequency": r.cycle_frequency,
+        "relax_steps": r.relax_steps,
+        "measure_steps": r.measure_steps,
+        "output_every_steps": r.output_every,
+        "skin": md.settings.skin,
+        "memory": memory(md),
+    }))
 }

@@ -8,9 +8,11 @@
 //! the same engine taken one `Md::step` at a time: frames, a measurement
 //! file and checkpoints bit for bit.
 
-use grains::checkpoint::{codec::Enc, engine, state::encode_md};
+use grains::codec::Enc;
 use grains::dim::{Dim, D2, D3};
 use grains::io::vtp_string;
+use grains::md::codec::encode_md;
+use grains::md::contract as engine;
 use grains::md::Md;
 use grains::measure::Convection;
 use grains::runner::checkpointing::{self, Every};
