@@ -69,7 +69,7 @@ fn resolved_json<D: Dim>(loaded: &Loaded, md: &Md<D>, r: &Resolved) -> Result<Va
     let law = &r.law;
     // Under materials the law is the pair table's; `r.law` is only the
     // stand-in the time step was taken from.
-    let contact = match &md.settings.materials {
+    let contact = match md.settings.law.materials() {
         Some(m) => law_report::material_law(&loaded.scenario, md, m)?,
         None => json!({
             "kn": law.kn, "beta": law.beta, "gamma_n": law.gamma_n, "gamma_t": law.gamma_t,
