@@ -2,8 +2,7 @@
 //! normal, force), for analysis from outside the engine.
 
 use super::Md;
-use crate::contact::hertz_mindlin::RunLaw;
-use crate::contact::{Contact, ContactModel, Step};
+use crate::contact::{Contact, ContactModel, RunLaw, Step};
 use crate::dim::Dim;
 
 /// The touching pairs of the neighbour list, in list order.
@@ -28,12 +27,9 @@ impl<D: Dim> Md<D> {
     /// force evaluation made in this state. Grain–wall contacts are not
     /// listed.
     pub fn contact_list(&self) -> ContactList<D> {
-        match &self.settings.materials {
-            // The material law as compiled for the run (LAMMPS's forces
-            // under the `lammps-granular` preset).
-            Some(law) => law.with_rolling(ListRun(self)),
-            None => self.contacts_under(&self.settings.contact),
-        }
+        // The law as compiled for the run (LAMMPS's forces under the
+        // `lammps-granular` preset).
+        self.settings.law.with_kernel(ListRun(self))
     }
 
     fn contacts_under<L: ContactModel>(&self, law: &L) -> ContactList<D> {
@@ -90,7 +86,7 @@ impl<D: Dim> Md<D> {
     }
 }
 
-/// [`Md::contacts_under`] for a material law as compiled.
+/// [`Md::contacts_under`] for the run's law as compiled.
 struct ListRun<'a, D: Dim>(&'a Md<D>);
 
 impl<D: Dim> RunLaw<ContactList<D>> for ListRun<'_, D> {

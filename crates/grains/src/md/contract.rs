@@ -82,7 +82,7 @@ fn fingerprint<D: Dim>(md: &Md<D>) -> Vec<(&'static str, String)> {
         ("neighbour skin", bits(&[s.skin])),
         ("sort interval", s.sort_every.to_string()),
         ("gravity", bits(&D::to_xyz(s.gravity))),
-        ("contact law", format!("{:?}", s.contact)),
+        ("contact law", format!("{:?}", s.law.estimate())),
         (
             "domain",
             format!("{} {} {:?}", bits(&lo), bits(&hi), md.domain.periodic),
@@ -96,7 +96,7 @@ fn fingerprint<D: Dim>(md: &Md<D>) -> Vec<(&'static str, String)> {
                 .join("; "),
         ),
     ];
-    if let Some(law) = &s.materials {
+    if let Some(law) = s.law.materials() {
         fp.push(("material law", format!("{law:?}")));
     }
     fp

@@ -170,10 +170,7 @@ impl<D: Dim> Md<D> {
                 s.rolling.len(),
                 s.wall_rolling.len(),
                 self.rolling_model().name(),
-                self.settings
-                    .materials
-                    .as_ref()
-                    .map_or("none", |h| h.cohesion().name()),
+                self.settings.law.cohesion().name(),
                 want(s.list.pairs.len()),
                 want(n * nw)
             ));

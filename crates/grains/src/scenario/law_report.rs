@@ -62,7 +62,7 @@ fn range(lo: f64, hi: f64) -> Value {
     }
 }
 
-/// The material law of `md` (`law`, its `settings.materials`) as JSON.
+/// The material law of `md` (`law`, its `settings.law`'s materials) as JSON.
 pub fn material_law<D: Dim>(s: &Scenario, md: &Md<D>, law: &HertzMindlin) -> Result<Value> {
     let names: Vec<String> = super::materials::materials(s)?
         .into_iter()
@@ -186,22 +186,23 @@ fn pair_json(
     let mut o = Map::new();
     o.insert("between".into(), json!(between));
     o.insert("materials".into(), json!([names[a], names[b]]));
+    let (mu, mu_r) = law.friction(a, b);
     if let Some(t) = law.granular() {
         let g = &t.pairs[a * names.len() + b];
         o.insert("e_star".into(), json!(g.e_star()));
         o.insert("g_star".into(), json!(g.g_star()));
         o.insert("damping_alpha".into(), json!(g.alpha()));
-        o.insert("friction".into(), json!(g.friction()));
-        o.insert("rolling_friction".into(), json!(g.rolling_friction()));
+        o.insert("friction".into(), json!(mu));
+        o.insert("rolling_friction".into(), json!(mu_r));
     } else {
         let c = law.coefficients(a, b);
         o.insert("e_star".into(), json!(c.e_star));
         o.insert("g_star".into(), json!(c.g_star));
         o.insert("restitution".into(), json!(c.restitution));
         o.insert("damping_alpha".into(), json!(law.pair(a, b).alpha()));
-        o.insert("friction".into(), json!(c.friction));
+        o.insert("friction".into(), json!(mu));
         if law.rolling != RollingModel::None {
-            o.insert("rolling_friction".into(), json!(c.rolling_friction));
+            o.insert("rolling_friction".into(), json!(mu_r));
         }
         let gamma = c.surface_energy;
         match law.cohesion() {
@@ -232,7 +233,7 @@ fn pair_json(
 /// that contact time is of, dt, the steps per contact and where dt came
 /// from.
 pub fn time_step<D: Dim>(md: &Md<D>, r: &Resolved) -> Value {
-    let of = if md.settings.materials.is_some() {
+    let of = if md.settings.law.materials().is_some() {
         format!(
             "an undamped Hertz contact of two of the smallest grains (d = d0 (1 - width/2)) of the \
              stiffest material, k_n = (4/3) E* sqrt(R*) = {:.4e}, at the impact speed",
@@ -270,7 +271,7 @@ pub fn md_report<D: Dim>(loaded: &Loaded, md: &Md<D>, r: &Resolved) -> Result<Va
     let law = &r.law;
     // Under materials the law is the pair table's; `r.law` is only the
     // stand-in the time step was taken from.
-    let contact = match &md.settings.materials {
+    let contact = match md.settings.law.materials() {
         Some(m) => material_law(&loaded.scenario, md, m)?,
         None => json!({
             "kn": law.kn, "beta": law.beta, "gamma_n": law.gamma_n, "gamma_t": law.gamma_t,
