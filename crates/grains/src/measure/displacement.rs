@@ -6,7 +6,7 @@
 
 use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
-use crate::md::Md;
+use crate::view::GrainView;
 use std::collections::HashMap;
 
 /// Start position, unwrapped current position, last wrapped position.
@@ -33,13 +33,13 @@ pub struct Displacement {
 
 impl DisplacementField {
     /// Starts tracking every mobile grain from its present position.
-    pub fn begin<D: Dim>(md: &Md<D>) -> Self {
-        let p = &md.particles;
+    pub fn begin<D: Dim>(view: &GrainView<D>) -> Self {
+        let p = &view.grains;
         let mut field = Self {
-            t0: Some(md.time),
+            t0: Some(view.time),
             ..Self::default()
         };
-        for i in 0..p.n_owned() {
+        for i in 0..p.len() {
             if !p.frozen[i] {
                 let x = D::to_xyz(p.pos[i]);
                 field.tracks.insert(p.id[i], (x, x, x));
@@ -50,12 +50,12 @@ impl DisplacementField {
     }
 
     /// Follows the grains since the last sample.
-    pub fn sample<D: Dim>(&mut self, md: &Md<D>) {
-        let p = &md.particles;
-        for i in 0..p.n_owned() {
+    pub fn sample<D: Dim>(&mut self, view: &GrainView<D>) {
+        let p = &view.grains;
+        for i in 0..p.len() {
             if let Some((_, unwrapped, last)) = self.tracks.get_mut(&p.id[i]) {
                 let now = p.pos[i];
-                let step = md.domain.minimum_image(now - D::from_xyz(*last));
+                let step = view.domain.minimum_image(now - D::from_xyz(*last));
                 let s = D::to_xyz(step);
                 for a in 0..3 {
                     unwrapped[a] += s[a];

@@ -162,7 +162,7 @@ impl Found {
         let (relax, measure) = resume_plan(self.plan, md.step, steps, &path.to_string())?;
         let measurements = match &self.measurements {
             Some(bytes) if md.step > relax => Some(
-                Measurements::load(loaded, &md, bytes)
+                Measurements::load(loaded, &md.view(), bytes)
                     .map_err(|e| Error::input(format!("checkpoint {path}: {e}")))?,
             ),
             Some(_) => {
