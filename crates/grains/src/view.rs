@@ -131,3 +131,51 @@ impl<D: Dim> GrainView<'_, D> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dim::D2;
+    use crate::particles::ParticleRecord;
+    use glam::DVec2;
+
+    /// An engine without mesh walls.
+    struct NoLoads;
+    impl MeshLoads for NoLoads {
+        fn mesh_loads(&self) -> Vec<MeshLoad> {
+            Vec::new()
+        }
+    }
+
+    /// Two owned disks and a ghost copy of the first: the view holds the
+    /// two owned ones (a ghost read as a grain would be counted twice), and
+    /// its frame gives a 2D box the unit z extent LAMMPS writes.
+    #[test]
+    fn a_view_holds_the_owned_grains_and_frames_them() {
+        let mut p = Particles::<D2>::new();
+        p.push_record(ParticleRecord::new(7, DVec2::new(0.25, 0.5), 0.1, 1.0, 0.1));
+        p.push_record(ParticleRecord::new(3, DVec2::new(0.75, 0.5), 0.2, 2.0, 0.1));
+        p.push_ghost(ParticleRecord::new(7, DVec2::new(1.25, 0.5), 0.1, 1.0, 0.1));
+        let domain = Domain::<D2>::new(DVec2::ZERO, DVec2::ONE, [true, false, false]);
+        let view = GrainView {
+            step: 4,
+            time: 0.5,
+            dt: 0.125,
+            domain: &domain,
+            gravity: DVec2::new(0.0, -9.81),
+            walls: &[],
+            grains: Grains::owned(&p),
+            contacts: 0,
+            loads: &NoLoads,
+        };
+        assert_eq!(view.grains.len(), 2);
+        assert_eq!(view.grains.mass, &[1.0, 2.0]);
+        let f = view.frame();
+        assert_eq!((f.step, f.time, f.dim), (4, 0.5, 2));
+        assert_eq!(f.id, vec![7, 3]);
+        assert_eq!(f.pos, vec![[0.25, 0.5, 0.0], [0.75, 0.5, 0.0]]);
+        assert_eq!((f.box_lo, f.box_hi), ([0.0, 0.0, -0.5], [1.0, 1.0, 0.5]));
+        assert_eq!(f.periodic, [true, false, false]);
+        assert!(view.mesh_loads().is_empty());
+    }
+}
