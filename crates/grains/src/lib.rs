@@ -30,6 +30,7 @@ pub mod scenario;
 pub mod session;
 pub mod settings;
 pub mod simd;
+pub mod view;
 
 pub use dim::{Dim, D2, D3};
 pub use domain::Domain;

@@ -27,6 +27,7 @@ mod pair_forces;
 mod pair_hash;
 pub mod phase_times;
 pub mod state;
+mod view;
 
 pub use state::MdState;
 mod wall_loads;
@@ -45,13 +46,13 @@ use crate::io::Frame;
 use crate::neighbors::{spatial_sort_order, NeighborList};
 use crate::parallel::Governor;
 use crate::particles::Particles;
+pub use crate::view::MeshLoad;
 use field_forces::{finish_fields, FieldInput};
 use mesh_lists::MeshLists;
 use pair_forces::{pair_forces, Deferred, PairBlocks, PairInput};
 use phase_times::{add_since, PhaseTimes};
 use rayon::prelude::*;
 use std::time::Instant;
-pub use wall_loads::MeshLoad;
 use wall_loads::WallLoad;
 use wall_springs::{MeshKey, WallSprings};
 
@@ -595,29 +596,7 @@ impl<D: Dim> Md<D> {
     /// A neutral snapshot of the grains for the writers (2D boxes get a unit
     /// z extent, as LAMMPS writes them).
     pub fn frame(&self) -> Frame {
-        let p = &self.particles;
-        let n = p.n_owned();
-        let mut periodic = [false; 3];
-        periodic[..D::D].copy_from_slice(&self.domain.periodic[..D::D]);
-        let (mut lo, mut hi) = (D::to_xyz(self.domain.lo), D::to_xyz(self.domain.hi));
-        if D::D == 2 {
-            lo[2] = -0.5;
-            hi[2] = 0.5;
-        }
-        Frame {
-            step: self.step,
-            time: self.time,
-            dim: D::D,
-            box_lo: lo,
-            box_hi: hi,
-            periodic,
-            id: p.id[..n].to_vec(),
-            kind: p.kind[..n].to_vec(),
-            pos: p.pos[..n].iter().map(|&x| D::to_xyz(x)).collect(),
-            vel: p.vel[..n].iter().map(|&x| D::to_xyz(x)).collect(),
-            omega: p.omega[..n].iter().map(|&x| D::ang_to_xyz(x)).collect(),
-            radius: p.radius[..n].to_vec(),
-        }
+        self.view().frame()
     }
 
     /// Contact time of two typical grains, for advice on dt.

@@ -132,7 +132,7 @@ fn start<D: Dim>(
     // (phases without a vibrating wall) must stop every rank now.
     let m = &loaded.scenario.measure;
     if m.phases.is_some() || m.trajectories.is_some() || m.impact {
-        Measurements::begin(loaded, &full, 0, resolved.dt)?;
+        Measurements::begin(loaded, &full.view(), 0, resolved.dt)?;
     }
     let flow = mirror.is_some().then_some(flow);
     if let Some(out) = outputs.as_mut() {

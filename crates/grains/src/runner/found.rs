@@ -99,7 +99,7 @@ impl Found {
         let (relax, measure) = self.resume_plan(md.step, steps)?;
         let measurements = match &self.measurements {
             Some(bytes) if md.step > relax => Some(
-                Measurements::load(loaded, &md, bytes)
+                Measurements::load(loaded, &md.view(), bytes)
                     .map_err(|e| Error::input(format!("checkpoint {path}: {e}")))?,
             ),
             Some(_) => {

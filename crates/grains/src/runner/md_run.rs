@@ -90,7 +90,7 @@ impl<E: MdView> Recorder<E> for MdRecord<'_> {
         if let (Some(md), Some(out)) = (engine.whole()?, outputs) {
             out.record_md(md)?;
             if let Some(w) = self.walls.as_deref_mut() {
-                w.record(md)?;
+                w.record(&md.view())?;
             }
         }
         Ok(())
@@ -126,7 +126,7 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
         ck.write(&engine, &saved)?;
     }
     let mut walls_csv = match engine.whole()? {
-        Some(md) => WallTable::create(&opts.out_dir, md)?,
+        Some(md) => WallTable::create(&opts.out_dir, &md.view())?,
         None => None,
     };
     let mut interval = Interval(ck.interval());
@@ -174,7 +174,7 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
         (Some(m), Some(_)) => Some(m),
         (None, Some(md)) => Some(Measurements::begin(
             loaded,
-            md,
+            &md.view(),
             measure - measure_done,
             resolved.dt,
         )?),
@@ -232,10 +232,10 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
     else {
         return Ok(Value::Null);
     };
-    measurements.sample(md);
+    measurements.sample(&md.view());
     let last = md.frame();
     outputs.finish(&last, &md.walls, measurements.displacement.as_ref())?;
-    measurements.write(&opts.out_dir, md, &last)?;
+    measurements.write(&opts.out_dir, &md.view(), &last)?;
     let steps = relax + measure;
     let mut summary = md_summary(loaded, md, &resolved, steps, stepped, wall_seconds);
     summary.extend(extra);
@@ -321,12 +321,12 @@ impl<E: MdView> Hook<E> for MeasureHook<'_> {
             let t = engine.sim_time();
             let want = self.m.as_deref().is_some_and(|m| m.due(now, t));
             if let (Some(md), Some(m)) = (engine.whole_if(want)?, self.m.as_deref_mut()) {
-                m.step(md);
+                m.step(&md.view());
             }
         }
         if self.sample.due(now) {
             if let (Some(md), Some(m)) = (engine.whole()?, self.m.as_deref_mut()) {
-                m.sample(md);
+                m.sample(&md.view());
             }
         }
         Ok(Control::Go)

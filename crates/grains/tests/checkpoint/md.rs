@@ -264,7 +264,7 @@ fn runner_matches_single_steps<D: Dim>(dim: &str, integrator: &str, events: bool
                 continue;
             };
             if k > 0 && k % 37 == 0 {
-                convection.sample(&md);
+                convection.sample(&md.view());
             }
             if k % OUTPUT_EVERY == 0 || md.step == end {
                 frame_is(&md, frames);
@@ -275,7 +275,7 @@ fn runner_matches_single_steps<D: Dim>(dim: &str, integrator: &str, events: bool
     })
     .unwrap();
     assert_eq!(frames, 7, "frames at k = 0, 373, ..., 1865 and the end");
-    convection.sample(&md);
+    convection.sample(&md.view());
     if !events {
         let newest = checkpointing::find(&dir).unwrap().0;
         let newest = newest.restore_md::<D>().unwrap();
