@@ -1,7 +1,10 @@
 """Setters mid-run carry the stretched springs: the contact forces of a
 settled bed (Hertz-Mindlin with epsd rolling springs; JKR adhesion with
 constant rolling torque) are the same right after the positions and
-velocities are set to themselves, the Cundall-Strack spring included."""
+velocities are set to themselves, the Cundall-Strack spring included; and
+a run whose state is set to itself mid-run, with grains resting on a
+tilted wall and on a grain (wall, grain and rolling springs) or leaving
+them through stretched JKR contacts, goes on as the straight run does."""
 
 import numpy as np
 import pytest
