@@ -10,3 +10,4 @@ mod hopper;
 mod mesh_discharge;
 mod repose;
 mod shipped_check;
+mod size_distributions;
