@@ -130,7 +130,8 @@ fn unused(spec: &SizeSpec, law: &str, allowed: &[&str]) -> Result<()> {
     Ok(())
 }
 
-/// Optional bounds of a table: positive, min < max when both are given.
+/// Optional bounds of a table: positive, min ≤ max when both are given
+/// (equal bounds keep one class).
 fn bounds(spec: &SizeSpec) -> Result<(f64, f64)> {
     let lo = match spec.min {
         Some(_) => positive("min", spec.min, "")?,
@@ -140,9 +141,9 @@ fn bounds(spec: &SizeSpec) -> Result<(f64, f64)> {
         Some(_) => positive("max", spec.max, "")?,
         None => f64::INFINITY,
     };
-    if lo >= hi {
+    if lo > hi {
         return Err(Error::input(format!(
-            "{KEY}: min = {lo} must be below max = {hi}"
+            "{KEY}: min = {lo} must not exceed max = {hi}"
         )));
     }
     Ok((lo, hi))

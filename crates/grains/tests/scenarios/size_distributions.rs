@@ -433,6 +433,11 @@ fn bad_sizes_are_named() {
         e.contains("particles.size.classes") && e.contains("sum to 0.9"),
         "{e}"
     );
+    // One class: its size is both bounds once the scenario is read.
+    let one =
+        scenario("size = { distribution = \"discrete\", classes = [[1.5e-3, 1.0]] }").unwrap();
+    let (radii, _) = radii_and_positions(&one, 1);
+    assert!(radii.iter().all(|&r| r == 0.75e-3));
     let e = err("size = { distribution = \"uniform\", min = 2.0e-3, max = 1.0e-3 }");
     assert!(
         e.contains("particles.size") && e.contains("must be below max"),
