@@ -1,7 +1,8 @@
 //! `grains bench`: time a reference workload and report ns per particle-step.
 //!
 //! `chute` and `vib2d` are the LAMMPS workloads of `bench/` (scenario files
-//! `scenarios/bench-*.toml` reading the same data files); `bed3d` is a
+//! `scenarios/bench-*.toml` reading the same data files); `chute-psd` is
+//! the chute's box with a 5:1 lognormal mix placed at random; `bed3d` is a
 //! synthetic dense bed of N spheres built without a data file, its set-up
 //! reported pass by pass on stderr. Only the stepping loop is timed, as
 //! LAMMPS's "Loop time" is; the set-up is timed apart (`setup_seconds`).
@@ -26,7 +27,7 @@ use std::time::Instant;
 
 #[derive(Args)]
 pub struct BenchArgs {
-    /// chute, chute-hertz, vib2d, bed3d, gas2d or gas3d.
+    /// chute, chute-hertz, chute-psd, vib2d, bed3d, gas2d or gas3d.
     pub(crate) workload: String,
     /// Steps to time [default: chute and chute-hertz 1000, vib2d 10000, bed3d 1000, gas 300].
     #[arg(long)]
@@ -47,6 +48,9 @@ pub struct BenchArgs {
     /// One JSON line instead of text.
     #[arg(long)]
     pub(crate) json: bool,
+    /// Scenario overrides KEY=VALUE of the MD workloads (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub(crate) sets: Vec<String>,
     #[command(flatten)]
     pub(crate) gpu: GpuArgs,
 }
@@ -154,10 +158,15 @@ fn md_workload(args: &BenchArgs) -> Result<(Loaded, u64)> {
     if let Some(i) = &args.integrator {
         sets.push(format!("run.integrator={i}"));
     }
+    sets.extend(args.sets.iter().cloned());
     let (loaded, default_steps) = match args.workload.as_str() {
         "chute" => (load_file(&scenario_path("bench-chute.toml")?, &sets)?, 1000),
         "chute-hertz" => (
             load_file(&scenario_path("bench-chute-hertz.toml")?, &sets)?,
+            1000,
+        ),
+        "chute-psd" => (
+            load_file(&scenario_path("bench-chute-psd.toml")?, &sets)?,
             1000,
         ),
         "vib2d" => (
@@ -176,7 +185,7 @@ fn md_workload(args: &BenchArgs) -> Result<(Loaded, u64)> {
         }
         other => {
             return Err(Error::input(format!(
-            "unknown workload `{other}`: choose chute, chute-hertz, vib2d, bed3d, gas2d or gas3d"
+            "unknown workload `{other}`: choose chute, chute-hertz, chute-psd, vib2d, bed3d, gas2d or gas3d"
         )))
         }
     };
@@ -186,11 +195,16 @@ fn md_workload(args: &BenchArgs) -> Result<(Loaded, u64)> {
 pub fn run(args: BenchArgs) -> Result<()> {
     crate::set_threads(args.threads)?;
     if let Some(dim) = args.workload.strip_prefix("gas") {
+        if !args.sets.is_empty() {
+            return Err(Error::input(
+                "--set applies to the MD workloads only (not gas2d, gas3d)",
+            ));
+        }
         return match dim {
             "2d" => gas::<grains::D2>(&args),
             "3d" => gas::<grains::D3>(&args),
             _ => Err(Error::input(format!(
-                "unknown workload `{}`: choose chute, chute-hertz, vib2d, bed3d, gas2d or gas3d",
+                "unknown workload `{}`: choose chute, chute-hertz, chute-psd, vib2d, bed3d, gas2d or gas3d",
                 args.workload
             ))),
         };

@@ -45,7 +45,7 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
     },
-    /// Time a reference workload: chute, chute-hertz, vib2d, bed3d, gas2d or gas3d.
+    /// Time a reference workload: chute, chute-hertz, chute-psd, vib2d, bed3d, gas2d or gas3d.
     Bench(bench::BenchArgs),
     /// Run a grid of scenario variants; collect summaries in sweep.csv and plot one.
     Sweep(sweep::SweepArgs),

@@ -4,6 +4,7 @@ use super::memory;
 use super::placement;
 use super::resolve::{resolve, Resolved};
 use super::schema::{FileFormat, MotionSpec, Placement, Scenario, ShapeSpec, WallSpec};
+use super::sizes::SizeLaw;
 use super::Loaded;
 use crate::boundary::{Motion, Shape, Wall};
 use crate::contact::hertz_mindlin::MaterialLaw;
@@ -148,9 +149,16 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Particles<D>> {
                     "particles.count must be at least 1 for lattice or random placement",
                 ));
             }
-            let d = placement::diameters(band, ps.count, s.seed);
+            let (d, largest) = match &ps.size {
+                Some(spec) => {
+                    let law = SizeLaw::new(spec, ps.mass_model, &loaded.base_dir)?;
+                    fits::<D>(&law, rlo, rhi)?;
+                    (law.draw(ps.count, s.seed)?, law.max())
+                }
+                None => (placement::diameters(band, ps.count, s.seed), band.max()),
+            };
             let pos = if ps.placement == Placement::Lattice {
-                placement::lattice::<D>(rlo, rhi, band.max() * ps.spacing, ps.count)?
+                placement::lattice::<D>(rlo, rhi, largest * ps.spacing, ps.count)?
             } else {
                 placement::random::<D>(rlo, rhi, &d, s.seed)?
             };
@@ -199,6 +207,21 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Particles<D>> {
         ));
     }
     Ok(out)
+}
+
+/// Refuses a size law whose largest grain is wider than the region it fills.
+fn fits<D: Dim>(law: &SizeLaw, lo: D::V, hi: D::V) -> Result<()> {
+    for a in 0..D::D {
+        let side = D::get(hi, a) - D::get(lo, a);
+        if law.max() >= side {
+            return Err(Error::input(format!(
+                "particles.size.max = {:e} m is not below the placement region's side {side:e} m \
+                 along axis {a}: enlarge particles.region (or the domain) or lower max",
+                law.max()
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Names the scenario key when the initial-state file cannot be read.

@@ -62,6 +62,11 @@ pub fn build_dsmc_reporting<D: GasDim>(
              to false",
         ));
     }
+    if ps.size.is_some() {
+        return Err(Error::input(
+            "method = \"dsmc\" simulates one diameter: particles.size does not apply",
+        ));
+    }
     if ps.width != 0.0 {
         return Err(Error::input(
             "method = \"dsmc\" simulates one diameter: particles.width must be 0",

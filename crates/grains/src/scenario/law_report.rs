@@ -284,6 +284,7 @@ pub fn md_report<D: Dim>(loaded: &Loaded, md: &Md<D>, r: &Resolved) -> Result<Va
         "source": loaded.origin,
         "dimension": D::NAME,
         "particles": md.particles.n_owned(),
+        "sizes": crate::scenario::sizes::report(loaded)?,
         "frozen": md.particles.n_owned() - md.particles.n_mobile(),
         "walls": md.walls.iter().map(|w| w.name.clone()).collect::<Vec<_>>(),
         "contact": contact,

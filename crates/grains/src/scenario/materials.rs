@@ -271,7 +271,11 @@ pub fn equivalent_law(s: &Scenario) -> Result<ContactLaw> {
         .map(|m| PairCoefficients::mix(m, m, &PairOverride::default()).e_star)
         .fold(0.0, f64::max);
     let mu = all.iter().map(|m| m.friction).fold(0.0, f64::max);
-    let r_min = 0.5 * s.particles.d0 * (1.0 - 0.5 * s.particles.width);
+    // A size law's bounds are filled in when the scenario is read.
+    let r_min = match s.particles.size.as_ref().and_then(|z| z.min) {
+        Some(d) => 0.5 * d,
+        None => 0.5 * s.particles.d0 * (1.0 - 0.5 * s.particles.width),
+    };
     Ok(ContactLaw {
         kn: 4.0 / 3.0 * e_star * (0.5 * r_min).sqrt(),
         beta: 1.5,

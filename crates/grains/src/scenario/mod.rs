@@ -15,6 +15,7 @@ pub mod placement;
 pub mod resolve;
 pub mod restart;
 pub mod schema;
+pub mod sizes;
 pub mod sweep;
 
 pub use build::{build_md, build_md_reporting};
@@ -72,6 +73,7 @@ pub fn load_str(text: &str, origin: &str, base_dir: PathBuf, sets: &[String]) ->
         let (k, v) = overrides::parse_assignment(s)?;
         overrides::apply(&mut tree, &k, v)?;
     }
+    let d0_given = tree.get("particles").and_then(|p| p.get("d0")).is_some();
     // Without overrides, read the text itself so schema errors keep their
     // line and column; overrides are applied to the parsed tree.
     let from_tree = |tree: toml::Value| -> std::result::Result<Scenario, String> {
@@ -88,9 +90,11 @@ pub fn load_str(text: &str, origin: &str, base_dir: PathBuf, sets: &[String]) ->
         from_tree(tree)
             .map_err(|e| Error::input(format!("{origin} (after --set overrides): {e}")))?
     };
+    let mut scenario = scenario;
     scenario
         .parallel
         .validate(origin, scenario.dimension.axes())?;
+    sizes::complete(&mut scenario, d0_given, &base_dir).map_err(|e| in_scenario(e, origin))?;
     Ok(Loaded {
         scenario,
         origin: origin.to_string(),

@@ -8,6 +8,7 @@ mod contact;
 mod flow;
 mod measure;
 mod run;
+mod size;
 mod walls;
 
 pub use contact::{ContactModelKind, ContactPreset, ContactSpec, MaterialPairSpec, MaterialSpec};
@@ -17,6 +18,7 @@ pub use measure::{
     SurfaceSpec, TracerSpec, TrajectoriesSpec,
 };
 pub use run::{Device, FramesLayout, OutputSpec, RunSpec, TimeStep};
+pub use size::{SizeDistribution, SizeSpec, SizeWeight};
 pub use walls::{MotionSpec, ShapeSpec, WallSpec};
 
 use crate::particles::MassModel;
@@ -116,6 +118,10 @@ pub struct ParticlesSpec {
     /// Width w of the diameter band, in units of d0: d ∈ d0 [1 − w/2, 1 + w/2].
     #[serde(default)]
     pub width: f64,
+    /// A size distribution in place of the band (lattice and random
+    /// placement); d0, when not given, is then its number-mean diameter.
+    #[serde(default)]
+    pub size: Option<SizeSpec>,
     /// Material density (kg/m³; with mass_model = "disk" in 2D, kg/m²).
     #[serde(default = "default_density")]
     pub density: f64,

@@ -12,3 +12,4 @@ mod hopper;
 mod mesh_discharge;
 mod repose;
 mod shipped_check;
+mod size_distributions;

@@ -6,7 +6,7 @@ use grains::runner::check;
 use grains::scenario::load_file;
 use std::path::PathBuf;
 
-const SCENARIOS: [&str; 11] = [
+const SCENARIOS: [&str; 12] = [
     "repose-2d",
     "repose-3d",
     "repose-3d-sand",
@@ -18,6 +18,7 @@ const SCENARIOS: [&str; 11] = [
     "pipe-2d",
     "drum-2d",
     "segregation-3d",
+    "pour-3d-psd",
 ];
 
 fn path(name: &str) -> PathBuf {
