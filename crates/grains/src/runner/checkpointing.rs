@@ -6,13 +6,13 @@
 //! files into a folder of its own instead.
 
 use super::choose::{choose, Runs};
-use super::md_run::{run_loop, Start};
+use super::md_run::{MdPhases, Start};
 use super::options::{prepare, prepare_fresh, Progress, RunOptions};
+use super::phases::run_phases;
 use crate::checkpoint;
 use crate::dim::{Dim, D3};
 use crate::dsmc::collide::GasDim;
 use crate::error::{Error, Result};
-use crate::md::Md;
 use crate::output::Outputs;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -94,7 +94,7 @@ fn resume_on_pool(
         fn md<D: Dim>(self) -> Result<Value> {
             let Resume(found, steps, opts, progress) = self;
             let start = restart::<D>(found, steps, opts)?;
-            run_loop(&found.loaded, opts, start, progress)
+            run_phases(&found.loaded, opts, start, progress)
         }
         fn gas<D: GasDim>(self) -> Result<Value> {
             super::dsmc::resume_dim::<D>(self.0, self.1, self.2, self.3)
@@ -117,20 +117,15 @@ fn resume_on_pool(
 
 /// The engine and flow run restored from the checkpoint, the outputs cut
 /// back to it.
-fn restart<D: Dim>(
-    found: &Found,
+fn restart<'a, D: Dim>(
+    found: &'a Found,
     steps: Option<u64>,
-    opts: &RunOptions,
-) -> Result<Start<D, Md<D>>> {
+    opts: &'a RunOptions,
+) -> Result<Start<'a, D>> {
     let mut r = found.restore::<D>(steps)?;
     r.md.timing.reset();
     let outputs = resumed_outputs(found, opts)?;
-    Ok(Start {
-        flow: Some(r.flow),
-        engine: r.md,
-        resolved: r.resolved,
-        outputs: Some(outputs),
-        plan: r.plan,
-        restored: r.measurements,
-    })
+    let run = (&found.loaded, opts);
+    let parts = MdPhases::new(run, r.resolved, Some(r.flow), r.measurements);
+    Ok(Start::new(r.md, Some(outputs), r.plan, parts))
 }

@@ -5,8 +5,9 @@
 //! pipeline behind the engine contract, here seen by the MD hooks).
 
 use super::engine::MdView;
-use super::md_run::{run_loop, Start};
+use super::md_run::Start;
 use super::options::{prepare_fresh, Progress, RunOptions};
+use super::phases::run_phases;
 use crate::dim::D3;
 #[cfg(not(feature = "cuda"))]
 use crate::error::Error;
@@ -65,18 +66,18 @@ pub(super) fn run_fresh(
 pub(super) fn run(
     loaded: &Loaded,
     opts: &RunOptions,
-    start: Start<D3, Md<D3>>,
+    start: Start<'_, D3>,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
     fn on<P: Pipeline>(
         loaded: &Loaded,
         opts: &RunOptions,
-        start: Start<D3, Md<D3>>,
+        start: Start<'_, D3>,
         progress: &mut dyn Progress,
     ) -> Result<Value> {
         let fma = loaded.scenario.run.gpu_fma;
         let start = start.with_engine(|md| DeviceMd::<P>::new(md, fma))?;
-        run_loop(loaded, opts, start, progress)
+        run_phases(loaded, opts, start, progress)
     }
     match loaded.scenario.run.device {
         Device::Mirror => on::<Mirror>(loaded, opts, start, progress),
@@ -84,6 +85,6 @@ pub(super) fn run(
         Device::Gpu => on::<crate::gpu::cuda::Cuda>(loaded, opts, start, progress),
         #[cfg(not(feature = "cuda"))]
         Device::Gpu => Err(Error::input(crate::gpu::NO_FEATURE)),
-        Device::Cpu => run_loop(loaded, opts, start, progress),
+        Device::Cpu => run_phases(loaded, opts, start, progress),
     }
 }

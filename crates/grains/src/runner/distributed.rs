@@ -22,9 +22,10 @@
 
 use super::checkpointing::{self, Found};
 use super::choose::{choose, Runs};
-use super::dsmc::{build, gas_outputs, head, run_loop, GasStart};
+use super::dsmc::{build, gas_outputs, head, GasPhases};
 use super::engine::GasView;
 use super::options::{prepare_fresh, Progress, RunOptions};
+use super::phases::{run_phases, Start};
 use crate::comm::Comm;
 use crate::dim::Dim;
 use crate::dsmc::collide::GasDim;
@@ -158,18 +159,10 @@ fn run_dim<D: GasDim>(
         fresh: None,
         pieces: Pieces::new(&loaded.scenario.output, &opts.out_dir, comm),
     };
-    let start = GasStart {
-        engine,
-        every: plan.output_every,
-        plan: match opts.steps {
-            Some(n) => (0, n),
-            None => (plan.relax_steps, plan.measure_steps),
-        },
-        outputs,
-        restored: None,
-        summary,
-    };
-    run_loop(loaded, opts, start, progress)
+    let steps = opts.plan((plan.relax_steps, plan.measure_steps));
+    let parts = GasPhases::new((loaded, opts), plan.output_every, None, summary);
+    let start = Start::new(engine, outputs, steps, parts);
+    run_phases(loaded, opts, start, progress)
 }
 
 /// The decomposed DSMC engine of one rank: its slab of the gas, and on

@@ -4,7 +4,7 @@
 //! [`MdView`]: every rank builds the whole engine from the scenario and
 //! keeps its box; rank 0 keeps a second whole engine (the "mirror") into
 //! which the ranks gather positions, velocities and spins at the steps
-//! where a hook reads them. The run is the serial one ([`run_loop`]), so
+//! where a hook reads them. The run is the serial one ([`run_phases`]), so
 //! rank 0 measures and writes with the serial code (thermo.csv, frames,
 //! dump, measurement files, summary.json) and the files have the serial
 //! run's layout; the numbers agree with a serial run
@@ -31,8 +31,9 @@
 
 use super::checkpointing;
 use super::engine::MdView;
-use super::md_run::{run_loop, Start};
+use super::md_run::{MdPhases, Start};
 use super::options::{prepare_fresh, Progress, RunOptions};
+use super::phases::run_phases;
 use crate::checkpoint::run::Found;
 use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
@@ -71,10 +72,7 @@ pub fn run<D: Dim>(
         true => Some(Outputs::create(&opts.out_dir, &loaded.scenario.output)?),
         false => None,
     };
-    let plan = match opts.steps {
-        Some(n) => (0, n),
-        None => (resolved.relax_steps, resolved.measure_steps),
-    };
+    let plan = opts.plan((resolved.relax_steps, resolved.measure_steps));
     // Every rank makes the flow run, so a scenario it refuses stops all.
     let flow = FlowRun::begin(loaded, &full)?;
     let restored = (None, flow);
@@ -156,15 +154,9 @@ fn start<D: Dim>(
         sink: flow::sink_height(loaded),
         events: loaded.scenario.run.events.is_some(),
     };
-    let start = Start {
-        engine,
-        resolved,
-        outputs,
-        flow,
-        plan,
-        restored,
-    };
-    run_loop(loaded, opts, start, progress)
+    let parts = MdPhases::new((loaded, opts), resolved, flow, restored);
+    let start = Start::new(engine, outputs, plan, parts);
+    run_phases(loaded, opts, start, progress)
 }
 
 /// The decomposed MD engine of one rank: its part of the run, and on rank

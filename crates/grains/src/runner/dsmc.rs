@@ -2,12 +2,10 @@
 //! over ranks: build, relax, measure, write thermo.csv, frames,
 //! profiles.csv and summary.json.
 
-use super::checkpointer::Checkpointer;
 use super::engine::GasView;
 use super::options::{prepare_fresh, Progress, RunOptions};
-use super::run_loop::{
-    run_to, Control, Every, Hook, Interval, Record, Recorder, Report, Saved, StopFlag,
-};
+use super::phases::{run_phases, Hooks, Out, Phases, Ran, Start};
+use super::run_loop::{Control, Every, Hook, Record, Recorder, Saved};
 use crate::checkpoint::run::Found;
 use crate::codec::Dec;
 use crate::dsmc::collide::GasDim;
@@ -19,9 +17,9 @@ use crate::measure::gas::{GasMeasurement, Origin};
 use crate::output::Outputs;
 use crate::scenario::schema::OutputSpec;
 use crate::scenario::Loaded;
+use crate::settings::DsmcSpec;
 use serde_json::{json, Map, Value};
 use std::path::Path;
-use std::time::Instant;
 
 pub use crate::measure::gas::{gas_summary, THERMO_COLUMNS};
 pub use crate::scenario::dsmc::{build_dsmc as build, describe, spec, Plan};
@@ -36,19 +34,10 @@ pub(super) fn run_dim<D: GasDim>(
     let (sim, plan) = build::<D>(loaded)?;
     let summary = head(loaded, &sim, &plan);
     let outputs = gas_outputs(&opts.out_dir, &loaded.scenario.output)?;
-    let steps = match opts.steps {
-        Some(n) => (0, n),
-        None => (plan.relax_steps, plan.measure_steps),
-    };
-    let start = GasStart {
-        engine: sim,
-        every: plan.output_every,
-        plan: steps,
-        outputs: Some(outputs),
-        restored: None,
-        summary,
-    };
-    run_loop(loaded, opts, start, progress)
+    let steps = opts.plan((plan.relax_steps, plan.measure_steps));
+    let parts = GasPhases::new((loaded, opts), plan.output_every, None, summary);
+    let start = Start::new(sim, Some(outputs), steps, parts);
+    run_phases(loaded, opts, start, progress)
 }
 
 /// The description of a run as it was built, summary.json's head.
@@ -124,15 +113,9 @@ pub(super) fn resume_dim<D: GasDim>(
     } = restore::<D>(found)?;
     let (relax, measure) = found.resume_plan(sim.step, steps)?;
     let outputs = Outputs::resume(&opts.out_dir, &loaded.scenario.output, &found.outputs)?;
-    let start = GasStart {
-        engine: sim,
-        every: plan.output_every,
-        plan: (relax, measure),
-        outputs: Some(outputs),
-        restored: m,
-        summary,
-    };
-    run_loop(loaded, opts, start, progress)
+    let parts = GasPhases::new((loaded, opts), plan.output_every, m, summary);
+    let start = Start::new(sim, Some(outputs), (relax, measure), parts);
+    run_phases(loaded, opts, start, progress)
 }
 
 /// A DSMC run's output: a thermo row (counted from the start of the
@@ -189,140 +172,94 @@ impl<E: GasView> Hook<E> for GasMeasureHook<'_> {
     }
 }
 
-/// Where a DSMC run starts: the engine (serial, or decomposed over ranks)
-/// at step 0 or restored from a checkpoint with its measurement state; the
-/// outputs and the measurement are rank 0's.
-pub(crate) struct GasStart<E> {
-    pub engine: E,
-    pub every: u64,
-    /// (relaxation, measured) steps.
-    pub plan: (u64, u64),
-    pub outputs: Option<Outputs>,
-    pub restored: Option<GasMeasurement>,
-    /// summary.json's head: the run as it was built.
-    pub summary: Map<String, Value>,
+/// A DSMC run's parts of the phases: the measurement (rank 0's) and
+/// summary.json's head, the run as it was built.
+pub(crate) struct GasPhases<'a> {
+    loaded: &'a Loaded,
+    dir: &'a Path,
+    ds: DsmcSpec,
+    every: u64,
+    m: Option<GasMeasurement>,
+    summary: Map<String, Value>,
 }
 
-/// The run from wherever the engine stands to `relax + measure` steps, then
-/// the final files; on every rank of a decomposed engine alike (the
-/// summary on rank 0, `Value::Null` elsewhere).
-pub(crate) fn run_loop<D: GasDim, E: GasView<D = D>>(
-    loaded: &Loaded,
-    opts: &RunOptions,
-    start: GasStart<E>,
-    progress: &mut dyn Progress,
-) -> Result<Value> {
-    let GasStart {
-        mut engine,
-        every,
-        plan: (relax, measure),
-        mut outputs,
-        restored,
-        mut summary,
-    } = start;
-    let ds = spec(loaded);
-    let dir = &opts.out_dir;
-    let started = Instant::now();
-    let first_step = engine.step_count();
-    let ck = Checkpointer::new(loaded, opts, engine.time_step(), (relax, measure))?;
-    if ck.interval().is_some() && first_step == 0 {
-        let saved = Saved {
-            outputs: outputs.as_ref().map(Outputs::state).transpose()?,
-            ..Saved::default()
-        };
-        ck.write(&engine, &saved)?;
-    }
-    let mut interval = Interval(ck.interval());
-    let mut stop = StopFlag(opts.stop.clone());
-    if relax > engine.step_count().min(relax) {
-        progress.phase("relax", relax);
-        let stopped = {
-            let mut record = Record {
-                outputs: outputs.as_mut(),
-                at: None,
-                how: GasRows(Origin::default()),
-            };
-            let mut report = Report::new(progress, 0, relax);
-            let mut hooks: [&mut dyn Hook<E>; 4] =
-                [&mut record, &mut report, &mut interval, &mut stop];
-            run_to(&mut engine, relax, &mut hooks, &ck)?
-        };
-        if let Some(summary) = stopped {
-            progress.finish();
-            return Ok(summary);
+impl<'a> GasPhases<'a> {
+    /// The parts of a run of `loaded` writing every `every` steps, with
+    /// the measurement `restored` from a checkpoint inside it.
+    pub fn new(
+        (loaded, opts): (&'a Loaded, &'a RunOptions),
+        every: u64,
+        restored: Option<GasMeasurement>,
+        summary: Map<String, Value>,
+    ) -> Self {
+        let (dir, ds, m) = (opts.out_dir.as_path(), spec(loaded), restored);
+        Self {
+            loaded,
+            dir,
+            ds,
+            every,
+            m,
+            summary,
         }
     }
-    progress.phase("run", measure);
-    let mut m = match restored {
-        Some(m) => Some(m),
-        None => {
-            let mut m = engine.whole().map(|sim| {
-                let mut m = GasMeasurement::new(sim, &ds);
-                // Discard the relaxation's collisions from the validity window.
-                m.validity.sample(sim);
-                m
-            });
-            engine.tallies_read();
-            let mut record = Record {
-                outputs: outputs.as_mut(),
-                at: None,
-                how: GasRows(m.as_mut().map_or_else(Origin::default, |m| m.origin)),
-            };
-            record.now(&mut engine)?;
-            m
-        }
-    };
-    // Measured step k is engine step `relax + k`.
-    let base = relax;
-    let end = base + measure;
-    let stopped = {
-        let output = Every::new(base, every, Some(end));
-        let profile = (ds.profile_bins > 0).then(|| Every::new(base, (every / 10).max(1), None));
-        let mut record = Record {
-            outputs: outputs.as_mut(),
-            at: Some(output),
-            how: GasRows(m.as_ref().map_or_else(Origin::default, |m| m.origin)),
+}
+
+impl<D: GasDim, E: GasView<D = D>> Phases<E> for GasPhases<'_> {
+    fn hooks<'a>(&'a mut self, _: &E, out: Out<'a>, measured: Option<(u64, u64)>) -> Hooks<'a, E> {
+        let every = self.every;
+        let output = measured.map(|(base, end)| Every::new(base, every, Some(end)));
+        let record = Record {
+            outputs: out,
+            at: output,
+            how: GasRows(self.m.as_ref().map_or_else(Origin::default, |m| m.origin)),
         };
-        let mut gas = GasMeasureHook {
-            m: m.as_mut(),
+        let Some((output, (base, _))) = output.zip(measured) else {
+            return vec![Box::new(record)];
+        };
+        let profile =
+            (self.ds.profile_bins > 0).then(|| Every::new(base, (every / 10).max(1), None));
+        let gas = GasMeasureHook {
+            m: self.m.as_mut(),
             profile,
             output,
         };
-        let mut report = Report::new(progress, base, end);
-        let mut hooks: [&mut dyn Hook<E>; 5] =
-            [&mut record, &mut gas, &mut report, &mut interval, &mut stop];
-        run_to(&mut engine, end, &mut hooks, &ck)?
-    };
-    if let Some(summary) = stopped {
-        progress.finish();
-        return Ok(summary);
+        vec![Box::new(record), Box::new(gas)]
     }
-    progress.finish();
-    let wall = started.elapsed().as_secs_f64();
-    let stepped = engine.step_count() - first_step;
-    let mut extra = Map::new();
-    engine.summarize(&mut extra);
-    let (Some(sim), Some(m)) = (engine.whole(), m) else {
-        return Ok(Value::Null);
-    };
-    crate::output::finish_gas(dir, &loaded.scenario.output, &gas_frame(sim))?;
-    if let Some(p) = &m.profiles {
-        crate::io::write_atomic(&dir.join("profiles.csv"), p.csv(sim).as_bytes())?;
+    fn begin_measure(&mut self, engine: &mut E, out: Out, _: (u64, u64)) -> Result<()> {
+        if self.m.is_some() {
+            return Ok(());
+        }
+        self.m = engine.whole().map(|sim| {
+            let mut m = GasMeasurement::new(sim, &self.ds);
+            // Discard the relaxation's collisions from the validity window.
+            m.validity.sample(sim);
+            m
+        });
+        engine.tallies_read();
+        let origin = self.m.as_ref().map_or_else(Origin::default, |m| m.origin);
+        GasRows(origin).record(out, engine)
     }
-    let n = sim.store.len() as f64;
-    let steps = relax + measure;
-    summary.remove("source");
-    summary.insert("steps".into(), json!(steps));
-    summary.insert("time".into(), json!(sim.time));
-    summary.insert("wall_seconds".into(), json!(wall));
-    summary.insert(
-        "ns_per_particle_step".into(),
-        json!(1e9 * wall / (stepped.max(1) as f64 * n)),
-    );
-    gas_summary(&mut summary, sim, &m);
-    summary.extend(extra);
-    let summary = Value::Object(summary);
-    let text = serde_json::to_string_pretty(&summary).expect("JSON values always serialize");
-    crate::io::write_atomic(&dir.join("summary.json"), text.as_bytes())?;
-    Ok(summary)
+    fn finish(mut self, e: &mut E, _: Out, ran: Ran) -> Result<Option<Map<String, Value>>> {
+        let mut extra = Map::new();
+        e.summarize(&mut extra);
+        let (Some(sim), Some(m)) = (e.whole(), self.m) else {
+            return Ok(None);
+        };
+        let dir = self.dir;
+        crate::output::finish_gas(dir, &self.loaded.scenario.output, &gas_frame(sim))?;
+        if let Some(p) = &m.profiles {
+            crate::io::write_atomic(&dir.join("profiles.csv"), p.csv(sim).as_bytes())?;
+        }
+        let ((steps, stepped, wall), n) = (ran, sim.store.len() as f64);
+        let ns = 1e9 * wall / (stepped.max(1) as f64 * n);
+        let summary = &mut self.summary;
+        summary.remove("source");
+        summary.insert("steps".into(), json!(steps));
+        summary.insert("time".into(), json!(sim.time));
+        summary.insert("wall_seconds".into(), json!(wall));
+        summary.insert("ns_per_particle_step".into(), json!(ns));
+        gas_summary(summary, sim, &m);
+        summary.extend(extra);
+        Ok(Some(self.summary))
+    }
 }

@@ -2,12 +2,10 @@
 //! (flow events, progress, checkpoints), then the measurement (also the
 //! measurements and the outputs), then the final files and summary.json.
 
-use super::checkpointer::Checkpointer;
 use super::engine::MdView;
 use super::options::{prepare_fresh, Progress, RunOptions};
-use super::run_loop::{
-    run_to, Control, Every, Hook, Interval, Record, Recorder, Report, Saved, StopFlag,
-};
+use super::phases::{self, run_phases, Hooks, Out, Phases, Ran};
+use super::run_loop::{Control, Every, Hook, Record, Recorder, Saved};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::md::Md;
@@ -17,7 +15,6 @@ use crate::output::{md_summary, Outputs};
 use crate::scenario::flow::FlowRun;
 use crate::scenario::{build_md, Loaded, Resolved};
 use serde_json::{Map, Value};
-use std::time::Instant;
 
 /// Runs an MD scenario from step 0.
 pub(super) fn run_dim<D: Dim>(
@@ -28,56 +25,25 @@ pub(super) fn run_dim<D: Dim>(
     prepare_fresh(opts)?;
     let loaded = &*crate::scenario::hopper::expand(loaded)?;
     let start = begin::<D>(loaded, opts)?;
-    run_loop(loaded, opts, start, progress)
+    run_phases(loaded, opts, start, progress)
 }
 
 /// The engine built from the scenario at step 0, the outputs created, the
 /// plan of steps.
-pub(super) fn begin<D: Dim>(loaded: &Loaded, opts: &RunOptions) -> Result<Start<D, Md<D>>> {
+pub(super) fn begin<'a, D: Dim>(loaded: &'a Loaded, opts: &'a RunOptions) -> Result<Start<'a, D>> {
     let (mut md, resolved) = build_md::<D>(loaded)?;
     md.timing.reset();
     let outputs = Outputs::create(&opts.out_dir, &loaded.scenario.output)?;
-    let plan = match opts.steps {
-        Some(n) => (0, n),
-        None => (resolved.relax_steps, resolved.measure_steps),
-    };
-    Ok(Start {
-        flow: Some(FlowRun::begin(loaded, &md)?),
-        engine: md,
-        resolved,
-        outputs: Some(outputs),
-        plan,
-        restored: None,
-    })
+    let plan = opts.plan((resolved.relax_steps, resolved.measure_steps));
+    let flow = Some(FlowRun::begin(loaded, &md)?);
+    let parts = MdPhases::new((loaded, opts), resolved, flow, None);
+    Ok(Start::new(md, Some(outputs), plan, parts))
 }
 
 /// Where an MD run starts: step 0, or a restored checkpoint with its
 /// measurement accumulators when it lies inside the measurement. `E` is
-/// the serial engine or a decomposed one; the outputs and the flow run are
-/// rank 0's.
-pub(super) struct Start<D: Dim, E> {
-    pub engine: E,
-    pub resolved: Resolved,
-    pub outputs: Option<Outputs>,
-    pub flow: Option<FlowRun<D>>,
-    /// (relaxation, measured) steps.
-    pub plan: (u64, u64),
-    pub restored: Option<Measurements>,
-}
-
-impl<D: Dim, E> Start<D, E> {
-    /// The same start with the engine `wrap` makes of this one.
-    pub fn with_engine<F>(self, wrap: impl FnOnce(E) -> Result<F>) -> Result<Start<D, F>> {
-        Ok(Start {
-            engine: wrap(self.engine)?,
-            resolved: self.resolved,
-            outputs: self.outputs,
-            flow: self.flow,
-            plan: self.plan,
-            restored: self.restored,
-        })
-    }
-}
+/// the serial engine or a decomposed one.
+pub(super) type Start<'a, D, E = Md<D>> = phases::Start<E, MdPhases<'a, D>>;
 
 /// An MD run's output: thermo.csv, frames, dump and walls.csv.
 struct MdRecord<'a> {
@@ -97,153 +63,122 @@ impl<E: MdView> Recorder<E> for MdRecord<'_> {
     }
 }
 
-/// The run from wherever `start.engine` stands to `relax + measure` steps,
-/// then the final files; on every rank of a decomposed engine alike (the
-/// summary on rank 0, `Value::Null` elsewhere).
-pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
-    loaded: &Loaded,
-    opts: &RunOptions,
-    start: Start<D, E>,
-    progress: &mut dyn Progress,
-) -> Result<Value> {
-    let Start {
-        mut engine,
-        resolved,
-        mut outputs,
-        mut flow,
-        plan: (relax, measure),
-        restored,
-    } = start;
-    let started = Instant::now();
-    let first_step = engine.step_count();
-    let ck = Checkpointer::new(loaded, opts, engine.time_step(), (relax, measure))?;
-    if ck.interval().is_some() && first_step == 0 {
-        let saved = Saved {
-            outputs: outputs.as_ref().map(Outputs::state).transpose()?,
-            measurements: None,
-            flow: flow.as_ref().map(FlowRun::save),
-        };
-        ck.write(&engine, &saved)?;
-    }
-    let mut walls_csv = match engine.whole()? {
-        Some(md) => WallTable::create(&opts.out_dir, &md.view())?,
-        None => None,
-    };
-    let mut interval = Interval(ck.interval());
-    let mut stop = StopFlag(opts.stop.clone());
-    // A decomposed engine's flow events and per-step measurements act at
-    // every step: rank 0 alone knows when they read the grains.
-    let lockstep = engine.lockstep();
-    let flow_lockstep = lockstep
-        && (crate::scenario::flow::sink_height(loaded).is_some()
-            || loaded.scenario.run.events.is_some());
-    let m = &loaded.scenario.measure;
-    let per_step = m.phases.is_some() || m.trajectories.is_some() || m.impact;
+/// An MD run's parts of the phases: the flow run, the measurements and
+/// walls.csv (rank 0's).
+pub(super) struct MdPhases<'a, D: Dim> {
+    loaded: &'a Loaded,
+    opts: &'a RunOptions,
+    resolved: Resolved,
+    flow: Option<FlowRun<D>>,
+    measurements: Option<Measurements>,
+    walls_csv: Option<WallTable>,
+}
 
-    if relax > engine.step_count().min(relax) {
-        progress.phase("relax", relax);
-        let stopped = {
-            let mut events = FlowHook::new(flow.as_mut(), None, flow_lockstep);
-            let mut record = Record {
-                outputs: outputs.as_mut(),
-                at: None,
-                how: MdRecord { walls: None },
-            };
-            let mut report = Report::new(progress, 0, relax);
-            let mut hooks: [&mut dyn Hook<E>; 5] = [
-                &mut events,
-                &mut record,
-                &mut report,
-                &mut interval,
-                &mut stop,
-            ];
-            run_to(&mut engine, relax, &mut hooks, &ck)?
-        };
-        if let Some(summary) = stopped {
-            progress.finish();
-            return Ok(summary);
+impl<'a, D: Dim> MdPhases<'a, D> {
+    /// The parts of a run of `loaded`, with the measurements `restored`
+    /// from a checkpoint inside the measurement.
+    pub fn new(
+        (loaded, opts): (&'a Loaded, &'a RunOptions),
+        resolved: Resolved,
+        flow: Option<FlowRun<D>>,
+        restored: Option<Measurements>,
+    ) -> Self {
+        let (measurements, walls_csv) = (restored, None);
+        Self {
+            loaded,
+            opts,
+            resolved,
+            flow,
+            measurements,
+            walls_csv,
         }
     }
-    progress.phase("run", measure);
-    // Measured steps already done: none in a straight run after relaxing,
-    // some when resumed inside the measurement. A checkpoint taken during
-    // the measurement carries its accumulators; one taken before it does
-    // not, and they begin here as in a straight run.
-    let measure_done = engine.step_count() - engine.step_count().min(relax);
-    let mut measurements = match (restored, engine.whole()?) {
-        (Some(m), Some(_)) => Some(m),
-        (None, Some(md)) => Some(Measurements::begin(
-            loaded,
-            &md.view(),
-            measure - measure_done,
-            resolved.dt,
-        )?),
-        (_, None) => None,
-    };
-    let mut record = Record {
-        outputs: outputs.as_mut(),
-        at: None,
-        how: MdRecord {
-            walls: walls_csv.as_mut(),
-        },
-    };
-    if measure_done == 0 {
-        record.now(&mut engine)?;
+}
+
+impl<D: Dim, E: MdView<D = D>> Phases<E> for MdPhases<'_, D> {
+    fn begin(&mut self, engine: &mut E) -> Result<()> {
+        if let Some(md) = engine.whole()? {
+            self.walls_csv = WallTable::create(&self.opts.out_dir, &md.view())?;
+        }
+        Ok(())
     }
-    // Measured step k is engine step `base + k`. Sampling more often than
-    // the output keeps the displacement unwrapping safe and the convection
-    // average smooth.
-    let base = engine.step_count() - measure_done;
-    let end = base + measure;
-    let every = resolved.output_every;
-    let sample = Every::new(base, (every / 10).max(1), None);
-    record.at = Some(Every::new(base, every, Some(end)));
-    let stopped = {
-        let mut events = FlowHook::new(flow.as_mut(), Some(sample), flow_lockstep);
-        let mut meas = MeasureHook {
-            m: measurements.as_mut(),
+    // Sampling more often than the output keeps the displacement
+    // unwrapping safe and the convection average smooth. A decomposed
+    // engine's flow events and per-step measurements act at every step:
+    // rank 0 alone knows when they read the grains.
+    fn hooks<'a>(&'a mut self, e: &E, out: Out<'a>, measured: Option<(u64, u64)>) -> Hooks<'a, E> {
+        let (loaded, every) = (self.loaded, self.resolved.output_every);
+        let flow_lockstep = e.lockstep()
+            && (crate::scenario::flow::sink_height(loaded).is_some()
+                || loaded.scenario.run.events.is_some());
+        let sample = measured.map(|(base, _)| Every::new(base, (every / 10).max(1), None));
+        let events = FlowHook {
+            flow: self.flow.as_mut(),
             sample,
-            dt: engine.time_step(),
-            per_step,
-            lockstep,
+            lockstep: flow_lockstep,
         };
-        let mut report = Report::new(progress, base, end);
-        let mut hooks: [&mut dyn Hook<E>; 6] = [
-            &mut events,
-            &mut meas,
-            &mut record,
-            &mut report,
-            &mut interval,
-            &mut stop,
-        ];
-        run_to(&mut engine, end, &mut hooks, &ck)?
-    };
-    if let Some(summary) = stopped {
-        progress.finish();
-        return Ok(summary);
+        let walls = self.walls_csv.as_mut();
+        let record = Record {
+            outputs: out,
+            at: measured.map(|(base, end)| Every::new(base, every, Some(end))),
+            how: MdRecord { walls },
+        };
+        let Some(sample) = sample else {
+            return vec![Box::new(events), Box::new(record)];
+        };
+        let m = &loaded.scenario.measure;
+        let meas = MeasureHook {
+            m: self.measurements.as_mut(),
+            sample,
+            dt: e.time_step(),
+            per_step: m.phases.is_some() || m.trajectories.is_some() || m.impact,
+            lockstep: e.lockstep(),
+        };
+        vec![Box::new(events), Box::new(meas), Box::new(record)]
     }
-    progress.finish();
-    let wall_seconds = started.elapsed().as_secs_f64();
-    let mut extra = Map::new();
-    engine.summarize(&mut extra, wall_seconds);
-    let stepped = engine.step_count() - first_step;
-    let (Some(md), Some(mut measurements), Some(flow), Some(mut outputs)) =
-        (engine.whole()?, measurements, flow, outputs)
-    else {
-        return Ok(Value::Null);
-    };
-    measurements.sample(&md.view());
-    let last = md.frame();
-    outputs.finish(&last, &md.walls, measurements.displacement.as_ref())?;
-    measurements.write(&opts.out_dir, &md.view(), &last)?;
-    let steps = relax + measure;
-    let mut summary = md_summary(loaded, md, &resolved, steps, stepped, wall_seconds);
-    summary.extend(extra);
-    measurements.scalars(&mut summary);
-    flow.finish(&opts.out_dir, md, &mut summary)?;
-    let summary = Value::Object(summary);
-    outputs.write_summary(&summary)?;
-    Ok(summary)
+    // A checkpoint taken during the measurement carries its accumulators;
+    // one taken before it does not, and they begin here as in a straight
+    // run.
+    fn begin_measure(&mut self, e: &mut E, out: Out, (done, measure): (u64, u64)) -> Result<()> {
+        self.measurements = match (self.measurements.take(), e.whole()?) {
+            (Some(m), Some(_)) => Some(m),
+            (None, Some(md)) => {
+                let left = measure - done;
+                Some(Measurements::begin(
+                    self.loaded,
+                    &md.view(),
+                    left,
+                    self.resolved.dt,
+                )?)
+            }
+            (_, None) => None,
+        };
+        if done == 0 {
+            let walls = self.walls_csv.as_mut();
+            MdRecord { walls }.record(out, e)?;
+        }
+        Ok(())
+    }
+    fn finish(self, e: &mut E, out: Out, ran: Ran) -> Result<Option<Map<String, Value>>> {
+        let (steps, stepped, wall) = ran;
+        let mut extra = Map::new();
+        e.summarize(&mut extra, wall);
+        let (Some(md), Some(mut measurements), Some(flow), Some(outputs)) =
+            (e.whole()?, self.measurements, self.flow, out)
+        else {
+            return Ok(None);
+        };
+        measurements.sample(&md.view());
+        let last = md.frame();
+        outputs.finish(&last, &md.walls, measurements.displacement.as_ref())?;
+        let dir = &self.opts.out_dir;
+        measurements.write(dir, &md.view(), &last)?;
+        let mut summary = md_summary(self.loaded, md, &self.resolved, steps, stepped, wall);
+        summary.extend(extra);
+        measurements.scalars(&mut summary);
+        flow.finish(dir, md, &mut summary)?;
+        Ok(Some(summary))
+    }
 }
 
 /// The flow events as a hook of the run loop: after the stretches that end
@@ -254,16 +189,6 @@ struct FlowHook<'a, D: Dim> {
     flow: Option<&'a mut FlowRun<D>>,
     sample: Option<Every>,
     lockstep: bool,
-}
-
-impl<'a, D: Dim> FlowHook<'a, D> {
-    fn new(flow: Option<&'a mut FlowRun<D>>, sample: Option<Every>, lockstep: bool) -> Self {
-        Self {
-            flow,
-            sample,
-            lockstep,
-        }
-    }
 }
 
 impl<D: Dim, E: MdView<D = D>> Hook<E> for FlowHook<'_, D> {

@@ -16,6 +16,7 @@ pub mod engine;
 pub(crate) mod found;
 pub(crate) mod md_run;
 mod options;
+mod phases;
 mod run_loop;
 pub mod saved;
 

@@ -22,6 +22,14 @@ pub struct RunOptions {
     pub overwrite: bool,
 }
 
+impl RunOptions {
+    /// The (relaxation, measured) steps of a fresh run whose scenario plans
+    /// `planned`: `steps` measured steps and no relaxation when given.
+    pub(crate) fn plan(&self, planned: (u64, u64)) -> (u64, u64) {
+        self.steps.map_or(planned, |n| (0, n))
+    }
+}
+
 /// Receives progress reports; the command line draws a bar or log lines.
 pub trait Progress: Send {
     /// A phase begins with `total` steps.
