@@ -1,6 +1,6 @@
-//! Runs a `method = "dsmc"` scenario on the run loop, serial or decomposed
-//! over ranks: build, relax, measure, write thermo.csv, frames,
-//! profiles.csv and summary.json.
+//! Runs a `method = "dsmc"` scenario on the phase script (`phases.rs`),
+//! serial or decomposed over ranks: build, relax, measure, write
+//! thermo.csv, frames, profiles.csv and summary.json.
 
 use super::engine::GasView;
 use super::options::{prepare_fresh, Progress, RunOptions};

@@ -1,6 +1,6 @@
-//! An MD run on the run loop, serial or decomposed over ranks: relaxation
-//! (flow events, progress, checkpoints), then the measurement (also the
-//! measurements and the outputs), then the final files and summary.json.
+//! An MD run's parts of the phase script ([`super::phases`]), serial or
+//! decomposed over ranks: the flow events while relaxing, then also the
+//! measurements and the outputs, then the final files and summary.json.
 
 use super::engine::MdView;
 use super::options::{prepare_fresh, Progress, RunOptions};

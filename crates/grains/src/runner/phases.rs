@@ -53,6 +53,7 @@ pub(crate) struct Start<E, P> {
 }
 
 impl<E, P> Start<E, P> {
+    /// A start from its parts.
     pub fn new(engine: E, outputs: Option<Outputs>, plan: (u64, u64), parts: P) -> Self {
         Self {
             engine,
