@@ -142,6 +142,7 @@ pub struct Outputs {
     picture: bool,
     movie: bool,
     last_step: Option<u64>,
+    contacts: Option<crate::io::contacts_out::ContactSeries>,
 }
 
 impl Outputs {
@@ -169,6 +170,7 @@ impl Outputs {
             picture: spec.picture,
             movie: spec.movie,
             last_step: None,
+            contacts: contact_series(dir, spec)?,
         })
     }
 
@@ -245,6 +247,7 @@ impl Outputs {
             picture: spec.picture,
             movie: spec.movie,
             last_step: state.last_step,
+            contacts: contact_series(dir, spec)?,
         })
     }
 
@@ -261,6 +264,9 @@ impl Outputs {
             md.stats.contacts as f64,
             md.stats.max_overlap,
         ];
+        if let Some(c) = self.contacts.as_mut().filter(|_| self.last_step != Some(md.step)) {
+            c.write(&crate::measure::fields::snapshot(md))?;
+        }
         // What a later `grains movie` or `grains view` needs besides the
         // frames (written again at the end, with any walls removed).
         self.record(&row, &frame, |f| Some(Scene::new(&md.walls, f)))
@@ -335,4 +341,11 @@ impl Outputs {
         let text = serde_json::to_string_pretty(summary).expect("JSON values always serialize");
         write_atomic(&self.dir.join("summary.json"), text.as_bytes())
     }
+}
+
+/// The contact series when `output.contacts` asks for it.
+fn contact_series(dir: &Path, spec: &OutputSpec) -> Result<Option<crate::io::contacts_out::ContactSeries>> {
+    spec.contacts
+        .then(|| crate::io::contacts_out::ContactSeries::new(dir))
+        .transpose()
 }

@@ -4,6 +4,8 @@
 //! snapshot, and readers return plain records.
 
 pub mod atomic;
+pub mod contact_records;
+pub mod contacts_out;
 pub mod csv_particles;
 pub mod frame;
 pub mod lammps_data;
@@ -14,6 +16,7 @@ pub mod stl;
 pub mod thermo;
 pub mod vtk;
 pub mod vtk_read;
+pub mod vti;
 
 pub use atomic::{write_atomic, write_durable, AtomicWriter};
 pub use csv_particles::{parse_particles_csv, read_particles_csv, CsvParticle};

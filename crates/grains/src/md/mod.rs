@@ -17,6 +17,7 @@
 
 mod carry;
 pub mod contact_list;
+pub mod wall_contact_list;
 pub mod decomp;
 pub mod edit;
 mod field_forces;
