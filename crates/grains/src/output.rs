@@ -6,6 +6,7 @@ use crate::comm::Comm;
 use crate::dim::Dim;
 use crate::error::Error;
 use crate::error::Result;
+use crate::io::contacts_out::ContactSeries;
 use crate::io::{write_atomic, DumpWriter, Frame, Num, ThermoWriter, VtkSeries};
 use crate::md::Md;
 use crate::measure::draw::in_box;
@@ -142,7 +143,7 @@ pub struct Outputs {
     picture: bool,
     movie: bool,
     last_step: Option<u64>,
-    contacts: Option<crate::io::contacts_out::ContactSeries>,
+    contacts: Option<ContactSeries>,
 }
 
 impl Outputs {
@@ -247,7 +248,13 @@ impl Outputs {
             picture: spec.picture,
             movie: spec.movie,
             last_step: state.last_step,
-            contacts: contact_series(dir, spec)?,
+            contacts: match spec.contacts {
+                true => Some(ContactSeries::resume(
+                    dir,
+                    state.frames.last().map(|e| e.0),
+                )?),
+                false => None,
+            },
         })
     }
 
@@ -264,7 +271,11 @@ impl Outputs {
             md.stats.contacts as f64,
             md.stats.max_overlap,
         ];
-        if let Some(c) = self.contacts.as_mut().filter(|_| self.last_step != Some(md.step)) {
+        if let Some(c) = self
+            .contacts
+            .as_mut()
+            .filter(|_| self.last_step != Some(md.step))
+        {
             c.write(&crate::measure::fields::snapshot(md))?;
         }
         // What a later `grains movie` or `grains view` needs besides the
@@ -344,8 +355,6 @@ impl Outputs {
 }
 
 /// The contact series when `output.contacts` asks for it.
-fn contact_series(dir: &Path, spec: &OutputSpec) -> Result<Option<crate::io::contacts_out::ContactSeries>> {
-    spec.contacts
-        .then(|| crate::io::contacts_out::ContactSeries::new(dir))
-        .transpose()
+fn contact_series(dir: &Path, spec: &OutputSpec) -> Result<Option<ContactSeries>> {
+    spec.contacts.then(|| ContactSeries::new(dir)).transpose()
 }

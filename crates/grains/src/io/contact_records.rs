@@ -83,10 +83,10 @@ impl Snapshot {
 
     /// `d` reduced to its minimum image along the periodic axes.
     pub fn minimum_image(&self, mut d: [f64; 3]) -> [f64; 3] {
-        for a in 0..self.dim {
+        for (a, x) in d.iter_mut().enumerate().take(self.dim) {
             if self.periodic[a] {
                 let l = self.hi[a] - self.lo[a];
-                d[a] -= l * (d[a] / l).round();
+                *x -= l * (*x / l).round();
             }
         }
         d

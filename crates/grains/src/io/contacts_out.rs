@@ -80,7 +80,12 @@ pub fn contacts_vtp_string(s: &Snapshot) -> String {
     x.push_str("      </Lines>\n      <CellData Scalars=\"force\">\n");
     float_array(&mut x, "force", 1, force.into_iter());
     float_array(&mut x, "normal_force", 1, normal.into_iter());
-    float_array(&mut x, "tangential_force", 3, tangential.iter().flatten().copied());
+    float_array(
+        &mut x,
+        "tangential_force",
+        3,
+        tangential.iter().flatten().copied(),
+    );
     float_array(&mut x, "overlap", 1, overlap.into_iter());
     int_array(&mut x, "id1", id1.into_iter());
     int_array(&mut x, "id2", id2.into_iter());
@@ -150,8 +155,7 @@ pub struct ContactSeries {
 }
 
 impl ContactSeries {
-    /// Creates `out_dir/contacts/`; a resumed run continues after the
-    /// frames already listed in `contacts.pvd`.
+    /// Creates `out_dir/contacts/` and a fresh series.
     pub fn new(out_dir: &Path) -> Result<Self> {
         let dir = out_dir.join("contacts");
         std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
@@ -159,6 +163,33 @@ impl ContactSeries {
             dir: out_dir.to_path_buf(),
             collection: PvdCollection::new(out_dir.join("contacts.pvd")),
         })
+    }
+
+    /// The series of a resumed run: the entries of `contacts.pvd` at times
+    /// up to `upto` (the last frame the checkpoint saw; all without one)
+    /// are kept, and the next frame follows them.
+    pub fn resume(out_dir: &Path, upto: Option<f64>) -> Result<Self> {
+        let mut series = Self::new(out_dir)?;
+        let path = out_dir.join("contacts.pvd");
+        let text = std::fs::read_to_string(&path).unwrap_or_default();
+        for line in text.lines() {
+            let attr = |name: &str| {
+                let key = format!("{name}=\"");
+                let at = line.find(&key)? + key.len();
+                line[at..].split('"').next().map(str::to_string)
+            };
+            let (Some(t), Some(file)) = (attr("timestep"), attr("file")) else {
+                continue;
+            };
+            let Ok(t) = t.parse::<f64>() else {
+                continue;
+            };
+            if upto.is_none_or(|u| t <= u) {
+                series.collection.entries.push((t, file));
+            }
+        }
+        series.collection.write()?;
+        Ok(series)
     }
 
     /// Writes one frame's contacts and the updated `contacts.pvd`.

@@ -14,9 +14,9 @@ pub mod picture;
 pub mod polyline;
 pub mod stl;
 pub mod thermo;
+pub mod vti;
 pub mod vtk;
 pub mod vtk_read;
-pub mod vti;
 
 pub use atomic::{write_atomic, write_durable, AtomicWriter};
 pub use csv_particles::{parse_particles_csv, read_particles_csv, CsvParticle};

@@ -74,5 +74,8 @@ pub fn write_vti(
     time: f64,
     arrays: &[PointArray],
 ) -> Result<()> {
-    write_atomic(path, vti_string(points, origin, spacing, time, arrays).as_bytes())
+    write_atomic(
+        path,
+        vti_string(points, origin, spacing, time, arrays).as_bytes(),
+    )
 }

@@ -17,7 +17,6 @@
 
 mod carry;
 pub mod contact_list;
-pub mod wall_contact_list;
 pub mod decomp;
 pub mod edit;
 mod field_forces;
@@ -26,6 +25,7 @@ mod pair_forces;
 mod pair_hash;
 pub mod phase_times;
 pub mod state;
+pub mod wall_contact_list;
 
 pub use state::MdState;
 mod wall_loads;

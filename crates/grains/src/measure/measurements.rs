@@ -74,7 +74,11 @@ impl Measurements {
             true => Some(Impacts::begin(md)?),
             false => None,
         };
-        let fields = m.fields.as_ref().map(|f| fields_begin(f, d0, md)).transpose()?;
+        let fields = m
+            .fields
+            .as_ref()
+            .map(|f| fields_begin(f, d0, md))
+            .transpose()?;
         Ok(Self {
             fields,
             impact,
@@ -183,7 +187,10 @@ impl Measurements {
             flow_field: None,
             impact: None,
             // Not in the checkpoint: a resumed run opens a fresh window.
-            fields: m.fields.as_ref().map(|f| fields_begin(f, loaded.scenario.particles.d0, md))
+            fields: m
+                .fields
+                .as_ref()
+                .map(|f| fields_begin(f, loaded.scenario.particles.d0, md))
                 .transpose()
                 .map_err(|e| e.to_string())?,
         };

@@ -140,7 +140,9 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
         && (crate::scenario::flow::sink_height(loaded).is_some()
             || loaded.scenario.run.events.is_some());
     let m = &loaded.scenario.measure;
-    let per_step = m.phases.is_some() || m.trajectories.is_some() || m.impact;
+    // The fields sample in `Measurements::step` at their own `every`, not
+    // at the sampled steps; the hook stops only at their due steps.
+    let per_step = m.phases.is_some() || m.trajectories.is_some() || m.impact || m.fields.is_some();
 
     if relax > engine.step_count().min(relax) {
         progress.phase("relax", relax);

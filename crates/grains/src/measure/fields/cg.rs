@@ -121,7 +121,16 @@ fn visit_product(
     }
     for &(i, x) in &lists[g] {
         p[axes[g]] = x;
-        visit_product(lists, axes, cells, g + 1, index + i * stride, stride * cells[g], p, f);
+        visit_product(
+            lists,
+            axes,
+            cells,
+            g + 1,
+            index + i * stride,
+            stride * cells[g],
+            p,
+            f,
+        );
     }
 }
 
@@ -264,12 +273,9 @@ impl CoarseGrainer {
                     });
                 }
                 for (a, b, f) in segments {
-                    let mut lo = [0.0; 3];
-                    let mut hi = [0.0; 3];
-                    for c in 0..3 {
-                        lo[c] = a[c].min(a[c] + b[c]) - reach;
-                        hi[c] = a[c].max(a[c] + b[c]) + reach;
-                    }
+                    let end = crate::io::contact_records::add(a, b);
+                    let lo = [0, 1, 2].map(|c| a[c].min(end[c]) - reach);
+                    let hi = [0, 1, 2].map(|c| a[c].max(end[c]) + reach);
                     let bp = on_grid(b);
                     grid.visit(lo, hi, |at, p| {
                         let q = on_grid(crate::io::contact_records::sub(p, a));
@@ -333,9 +339,9 @@ impl CoarseGrainer {
             add_outer(&mut kin, u, u, -rho);
             let con = tensor(CONTACT);
             let mut total = kin;
-            for a in 0..3 {
-                for b in 0..3 {
-                    total[a][b] += con[a][b];
+            for (row, crow) in total.iter_mut().zip(&con) {
+                for (e, c) in row.iter_mut().zip(crow) {
+                    *e += c;
                 }
             }
             let num = s[NUM] * inv;

@@ -56,7 +56,10 @@ impl Kernel {
                     .iter()
                     .map(|&(x, wt)| {
                         let r = 0.5 * cutoff * (x + 1.0);
-                        0.5 * cutoff * wt * r.powi(k as i32 - 1) * (-r * r / (2.0 * width * width)).exp()
+                        0.5 * cutoff
+                            * wt
+                            * r.powi(k as i32 - 1)
+                            * (-r * r / (2.0 * width * width)).exp()
                     })
                     .sum();
                 1.0 / (surface * s)

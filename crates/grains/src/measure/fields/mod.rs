@@ -121,7 +121,8 @@ impl FieldsMeasure {
         self.current.add(s);
         if self.average > 0 && self.current.samples() >= self.average {
             self.done.push(self.current.fields());
-            self.current = CoarseGrainer::new(self.current.grid.clone(), self.current.smoothing.clone());
+            self.current =
+                CoarseGrainer::new(self.current.grid.clone(), self.current.smoothing.clone());
         }
     }
 
@@ -158,7 +159,9 @@ impl FieldsMeasure {
         );
         summary.insert(
             "fields_pressure_mean".into(),
-            json!(mean(&|i| (0..d).map(|a| f.stress[i][a][a]).sum::<f64>() / d as f64)),
+            json!(mean(
+                &|i| (0..d).map(|a| f.stress[i][a][a]).sum::<f64>() / d as f64
+            )),
         );
         summary.insert(
             "fields_shear_stress_mean".into(),

@@ -45,7 +45,14 @@ pub fn write_windows(dir: &Path, windows: &[Fields]) -> Result<()> {
             array("coordination", 1, scalar(&f.coordination)),
             array("fabric", 9, tensor(&f.fabric)),
         ];
-        write_vti(&dir.join(&name), points, origin, spacing, f.times.1, &arrays)?;
+        write_vti(
+            &dir.join(&name),
+            points,
+            origin,
+            spacing,
+            f.times.1,
+            &arrays,
+        )?;
         pvd.add(f.times.1, name)?;
         if g.axes.len() <= 1 {
             let csv = dir.join(format!("fields/fields_{k:05}.csv"));
