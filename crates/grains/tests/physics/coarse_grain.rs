@@ -66,9 +66,9 @@ fn line_integral_is_accurate() {
             for _ in 0..200 {
                 let mut q = [0.0; 3];
                 let mut b = [0.0; 3];
-                for a in 0..k {
-                    q[a] = rng.gen_range(-3.0..3.0);
-                    b[a] = rng.gen_range(-2.0..2.0);
+                for (qa, ba) in q.iter_mut().zip(b.iter_mut()).take(k) {
+                    *qa = rng.gen_range(-3.0..3.0);
+                    *ba = rng.gen_range(-2.0..2.0);
                 }
                 let got = kernel.along(q, b);
                 let bb: f64 = b.iter().map(|x| x * x).sum();
@@ -119,8 +119,10 @@ fn random_snapshot(seed: u64) -> Snapshot {
     };
     for i in 0..n {
         s.id.push(i as u64 + 1);
-        s.pos.push([rng.gen_range(0.0..lx), rng.gen_range(0.0..ly), 0.0]);
-        s.vel.push([rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), 0.0]);
+        s.pos
+            .push([rng.gen_range(0.0..lx), rng.gen_range(0.0..ly), 0.0]);
+        s.vel
+            .push([rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), 0.0]);
         s.mass.push(rng.gen_range(0.5..1.5));
         s.radius.push(rng.gen_range(0.4..0.6));
     }
@@ -159,13 +161,11 @@ fn grid2(s: &Snapshot, axes: Vec<usize>, cells: Vec<usize>) -> Grid {
 
 /// The largest difference between two tensors, relative to `scale`.
 fn tensor_gap(a: [[f64; 3]; 3], b: [[f64; 3]; 3], scale: f64) -> f64 {
-    let mut worst: f64 = 0.0;
-    for r in 0..3 {
-        for c in 0..3 {
-            worst = worst.max((a[r][c] - b[r][c]).abs() / scale);
-        }
-    }
-    worst
+    a.iter()
+        .flatten()
+        .zip(b.iter().flatten())
+        .map(|(x, y)| (x - y).abs() / scale)
+        .fold(0.0, f64::max)
 }
 
 /// The contact virial: the volume integral of the contact stress is
@@ -186,7 +186,10 @@ fn contact_stress_integrates_to_the_virial() {
     b.add(&s);
     let f = b.fields();
     let mean = f.contact_stress[0].map(|row| row.map(|x| x * volume));
-    assert!(tensor_gap(mean, virial, scale) < 1e-13, "{mean:?} vs {virial:?}");
+    assert!(
+        tensor_gap(mean, virial, scale) < 1e-13,
+        "{mean:?} vs {virial:?}"
+    );
     // 2D grids and 1D profiles along each axis, both kernels.
     for shape in SHAPES {
         for (axes, cells) in [
@@ -202,9 +205,9 @@ fn contact_stress_integrates_to_the_virial() {
             let f = cg.fields();
             let mut sum = [[0.0; 3]; 3];
             for t in &f.contact_stress {
-                for r in 0..3 {
-                    for c in 0..3 {
-                        sum[r][c] += t[r][c] * cell;
+                for (srow, trow) in sum.iter_mut().zip(t) {
+                    for (e, x) in srow.iter_mut().zip(trow) {
+                        *e += x * cell;
                     }
                 }
             }
@@ -259,7 +262,11 @@ fn settled_bed() -> (Md<D2>, f64) {
         Motion::Fixed,
     )
     .unwrap();
-    let domain = grains::Domain::new(DVec2::new(0.0, 0.0), DVec2::new(lx, 40.0), [true, false, false]);
+    let domain = grains::Domain::new(
+        DVec2::new(0.0, 0.0),
+        DVec2::new(lx, 40.0),
+        [true, false, false],
+    );
     let mut md = Md::new(p, domain, vec![floor], st).unwrap();
     let rest = 1e-9 * 300.0 * 0.5 * g;
     for _ in 0..200 {
