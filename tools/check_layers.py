@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Checks the house rules of crates/grains/src against ARCHITECTURE.md.
 
-- No source file over 800 lines; runner/ under 2,800 lines in all.
+- No source file over 800 lines; runner/ at most 2,500 lines in all.
 - No module imports one in a layer above its own, the layers being those
   of the numbered block under "## The layers" in ARCHITECTURE.md (each line:
   number, name, then the top-level modules of that layer).
@@ -26,7 +26,7 @@ import sys
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SRC = os.path.join(ROOT, "crates", "grains", "src")
 MAX_FILE = 800
-MAX_RUNNER = 2800
+MAX_RUNNER = 2500
 
 
 def layers():
@@ -132,8 +132,8 @@ def main():
             bad.append(f"{rel}: {n} lines (at most {MAX_FILE})")
         if rel.startswith("runner" + os.sep):
             runner += n
-    if runner >= MAX_RUNNER:
-        bad.append(f"runner/: {runner} lines in all (under {MAX_RUNNER})")
+    if runner > MAX_RUNNER:
+        bad.append(f"runner/: {runner} lines in all (at most {MAX_RUNNER})")
     graph = {}
     for f in files:
         mod = module_of(f)

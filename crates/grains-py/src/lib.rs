@@ -24,6 +24,21 @@ pub(crate) fn json_to_py<'py>(
     py.import("json")?.call_method1("loads", (text,))
 }
 
+/// Panics inside [`errors::guard`] with `message`, for python/tests only
+/// (not documented, not in the stubs): a bug on demand, to show that it
+/// reaches Python as a `RuntimeError`. With `on_pool` the panic happens as
+/// in `Simulation.run`: on a worker of a thread pool, the GIL released.
+#[pyfunction]
+#[pyo3(name = "_panic_for_tests", signature = (message, on_pool=false))]
+fn panic_for_tests(py: Python<'_>, message: String, on_pool: bool) -> PyResult<()> {
+    let fail = move || -> grains::Result<()> { panic!("{message}") };
+    if !on_pool {
+        return errors::guard(fail);
+    }
+    let pool = simulation::pool(Some(2))?;
+    py.detach(|| errors::guard(|| pool.install(fail)))
+}
+
 /// Granular dynamics (soft-sphere DEM and DSMC) in 2D and 3D, driven from
 /// Python: `Scenario`, `Simulation`, `run`, `sweep`.
 #[pymodule(name = "_native")]
@@ -36,5 +51,6 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("InputError", py.get_type::<errors::InputError>())?;
     m.add("UnstableError", py.get_type::<errors::UnstableError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(panic_for_tests, m)?)?;
     Ok(())
 }

@@ -12,6 +12,7 @@ pub mod contact;
 pub mod dim;
 pub mod domain;
 pub mod dsmc;
+pub mod engine;
 pub mod error;
 pub mod gpu;
 pub mod integrate;
@@ -29,6 +30,7 @@ pub mod scenario;
 pub mod session;
 pub mod settings;
 pub mod simd;
+pub mod view;
 
 pub use dim::{Dim, D2, D3};
 pub use domain::Domain;

@@ -13,7 +13,8 @@ use crate::measure::draw::in_box;
 use crate::measure::{granular_temperature, DisplacementField};
 use crate::render::{Painter, Scene, StillOptions};
 use crate::scenario::schema::{FramesLayout, OutputSpec};
-use serde_json::Value;
+use crate::scenario::{Loaded, Resolved};
+use serde_json::{json, Map, Value};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -276,7 +277,7 @@ impl Outputs {
             .as_mut()
             .filter(|_| self.last_step != Some(md.step))
         {
-            c.write(&crate::measure::fields::snapshot(md))?;
+            c.write(&crate::measure::fields::snapshot(&md.view()))?;
         }
         // What a later `grains movie` or `grains view` needs besides the
         // frames (written again at the end, with any walls removed).
@@ -357,4 +358,43 @@ impl Outputs {
 /// The contact series when `output.contacts` asks for it.
 fn contact_series(dir: &Path, spec: &OutputSpec) -> Result<Option<ContactSeries>> {
     spec.contacts.then(|| ContactSeries::new(dir)).transpose()
+}
+
+/// The summary scalars every MD run reports: what ran, how long it took
+/// (`stepped` steps of this process's timing) and the final energies.
+pub fn md_summary<D: Dim>(
+    loaded: &Loaded,
+    md: &Md<D>,
+    resolved: &Resolved,
+    steps: u64,
+    stepped: u64,
+    wall_seconds: f64,
+) -> Map<String, Value> {
+    let updates = (stepped.max(1) as f64) * md.particles.n_mobile().max(1) as f64;
+    let mut summary = Map::new();
+    summary.insert("scenario".into(), json!(loaded.scenario.name));
+    summary.insert("dimension".into(), json!(D::NAME));
+    summary.insert("particles".into(), json!(md.particles.n_owned()));
+    summary.insert("steps".into(), json!(steps));
+    summary.insert("time".into(), json!(md.time));
+    summary.insert("dt".into(), json!(resolved.dt));
+    summary.insert("contact_time".into(), json!(resolved.contact_time));
+    summary.insert("wall_seconds".into(), json!(wall_seconds));
+    summary.insert(
+        "ns_per_particle_step".into(),
+        json!(1e9 * wall_seconds / updates),
+    );
+    summary.insert(
+        "kinetic_energy".into(),
+        json!(md.particles.kinetic_energy()),
+    );
+    summary.insert(
+        "rotational_energy".into(),
+        json!(md.particles.rotational_energy()),
+    );
+    summary.insert(
+        "granular_temperature".into(),
+        json!(granular_temperature(&md.particles)),
+    );
+    summary
 }

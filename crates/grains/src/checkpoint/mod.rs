@@ -9,21 +9,15 @@
 //! | 4 | format version (little endian), [`VERSION`] |
 //! | 8 | payload length |
 //! | 4 | CRC-32 of the payload |
-//! | … | payload (see the runner's `checkpointing`) |
+//! | … | payload ([`run`]: the run's header and sections around the engine's bytes) |
 //!
 //! Files are written atomically (temporary file, fsync, rename) under names
 //! `checkpoint-<step>.grck` that sort by step; the newest [`KEEP`] are kept.
 //! See `docs/checkpoints.md`.
 
-pub mod dsmc;
-pub mod engine;
 pub mod inputs;
+pub mod interval;
 pub mod run;
-pub mod state;
-
-/// The byte codec, at its old path (it lives at [`crate::codec`]).
-pub use crate::codec;
-pub use state::{ListState, MdState};
 
 /// CRC-32 (IEEE 802.3, reflected, polynomial 0xEDB88320, as zip and PNG
 /// use): the seal of a checkpoint file.
@@ -138,6 +132,12 @@ pub fn write(dir: &Path, step: u64, payload: &[u8]) -> Result<PathBuf> {
         std::fs::remove_file(&old).map_err(|e| Error::io(&old, e))?;
     }
     Ok(path)
+}
+
+/// Writes a sealed checkpoint to `path` atomically: a file of its own,
+/// outside the rotation of a run directory's checkpoints.
+pub fn write_to(path: &Path, payload: &[u8]) -> Result<()> {
+    crate::io::write_atomic(path, &seal(payload))
 }
 
 /// Removes temporary files of checkpoint writes that were interrupted (a

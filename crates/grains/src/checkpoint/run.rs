@@ -10,7 +10,7 @@
 use super::inputs::{self, InputFile};
 use crate::codec::{Dec, Enc};
 use crate::error::{Error, Result};
-use crate::scenario::schema::{Dimension, Scenario};
+use crate::scenario::schema::Scenario;
 use crate::scenario::Loaded;
 use std::path::{Path, PathBuf};
 
@@ -53,10 +53,7 @@ impl RunHeader {
                 .to_string_lossy()
                 .into_owned(),
             inputs: inputs::of_scenario(loaded)?,
-            dim: match loaded.scenario.dimension {
-                Dimension::Two => 2,
-                Dimension::Three => 3,
-            },
+            dim: loaded.scenario.dimension.axes(),
             plan,
             interval,
         })
@@ -162,7 +159,6 @@ pub struct Found {
     pub(crate) loaded: Loaded,
     /// The files the scenario read when the run started.
     pub inputs: Vec<InputFile>,
-    pub(crate) dim: usize,
     pub(crate) plan: (u64, u64),
     pub(crate) interval: u64,
     pub(crate) outputs: OutputState,
@@ -251,10 +247,7 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
             path.display()
         ))
     })?;
-    let want = match scenario.dimension {
-        Dimension::Two => 2,
-        Dimension::Three => 3,
-    };
+    let want = scenario.dimension.axes();
     if dim != want {
         return Err(Error::input(format!(
             "checkpoint {}: state of dimension {dim} for a {want}d scenario",
@@ -276,7 +269,6 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
             base_dir: PathBuf::from(base_dir),
         },
         inputs,
-        dim,
         plan,
         interval,
         outputs,
@@ -319,6 +311,30 @@ pub fn find(path: &Path) -> Result<(Found, Vec<String>)> {
 }
 
 impl Found {
+    /// The (relax, measured) step plan of the run resumed from here at
+    /// engine step `step`: the checkpoint's own, or, with `--steps n`, one
+    /// that ends n steps after `step`.
+    pub(crate) fn resume_plan(&self, step: u64, steps: Option<u64>) -> Result<(u64, u64)> {
+        let (relax, measure) = self.plan;
+        match steps {
+            Some(n) => {
+                let end = step
+                    .checked_add(n)
+                    .ok_or_else(|| Error::input("--steps too large"))?;
+                Ok(if end <= relax {
+                    (end, 0)
+                } else {
+                    (relax, end - relax)
+                })
+            }
+            None if step > relax + measure => Err(Error::input(format!(
+                "checkpoint {}: step {step} lies beyond the run's end",
+                self.path.display()
+            ))),
+            None => Ok((relax, measure)),
+        }
+    }
+
     /// The checkpoint's scenario.
     pub fn loaded(&self) -> &Loaded {
         &self.loaded

@@ -114,6 +114,17 @@ pub trait ContactModel: Sync {
         r
     }
 
+    /// The law an elastic wall (`contact.elastic_walls`) meets grains
+    /// with: this one less its normal damping; `None` for this law itself
+    /// (a material law's walls take their restitution from their material).
+    #[inline(always)]
+    fn elastic_wall(&self) -> Option<Self>
+    where
+        Self: Sized,
+    {
+        None
+    }
+
     /// Evaluates one contact; `spring` is its tangential history (the
     /// displacement of i relative to the partner), advanced when
     /// `step.update`.

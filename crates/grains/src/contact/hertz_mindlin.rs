@@ -21,11 +21,14 @@ use super::contract::{Contact, ContactModel, ContactOutcome, Step};
 use super::cundall_strack::Tangential;
 use super::jkr;
 use super::lammps_granular::{GranularTable, LammpsGranular};
+use super::law::ContactLaw;
 use super::mass_scaling::MassScaling;
 use super::material::{pair_table, r_star, Material, PairCoefficients, PairOverride};
+use super::registered::{Registered, RunLaw};
 use super::rolling::{epsd_damping, rolling_torque, RollingContact, RollingModel};
 use super::tsuji_damping::alpha_for_restitution;
 use crate::dim::Dim;
+use crate::error::{Error, Result};
 
 /// The coefficients one pair of materials gives the law.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -183,7 +186,7 @@ impl HertzMindlin {
             (RollingModel::None, true) => run.run(&Rolled::<0, true>(self)),
             (RollingModel::Constant, true) => run.run(&Rolled::<1, true>(self)),
             // A JKR contact keeps its mark where epsd keeps its rolling
-            // spring: `Md::new` and the scenario refuse the pair.
+            // spring: `MaterialLaw::check` and the scenario refuse the pair.
             (RollingModel::Epsd, true) => unreachable!("jkr with epsd rolling is refused"),
         }
     }
@@ -219,6 +222,16 @@ impl HertzMindlin {
     /// friction, surface energy) that materials `a` and `b` gave the law.
     pub fn coefficients(&self, a: usize, b: usize) -> &PairCoefficients {
         &self.coefficients[a * self.materials + b]
+    }
+
+    /// The sliding and rolling friction (μ, μ_r) of materials `a` and `b`,
+    /// from the table the kernel runs (LAMMPS's mixing under that preset).
+    pub fn friction(&self, a: usize, b: usize) -> (f64, f64) {
+        let k = a * self.materials + b;
+        match &self.granular {
+            Some(t) => (t.pairs[k].friction(), t.pairs[k].rolling_friction()),
+            None => (self.pairs[k].mu, self.pairs[k].mu_r),
+        }
     }
 
     /// The material of each grain kind (the kinds no grain has: 0).
@@ -335,10 +348,61 @@ impl HertzMindlin {
     }
 }
 
-/// Something to run with a contact law of any compiled type (a closure
-/// cannot be generic over it).
-pub trait RunLaw<R> {
-    fn run<L: ContactModel>(self, law: &L) -> R;
+/// A material law as a run holds it: the law, and the spring–dashpot
+/// stand-in of its stiffness that the time step was estimated from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaterialLaw {
+    pub hertz: HertzMindlin,
+    pub estimate: ContactLaw,
+}
+
+impl Registered for MaterialLaw {
+    #[inline(always)]
+    fn with_kernel<R>(&self, run: impl RunLaw<R>) -> R {
+        self.hertz.with_rolling(run)
+    }
+    fn rotation(&self) -> bool {
+        self.hertz.rotation
+    }
+    fn estimate(&self) -> &ContactLaw {
+        &self.estimate
+    }
+    fn rolling(&self) -> RollingModel {
+        self.hertz.rolling
+    }
+    fn cohesion(&self) -> CohesionModel {
+        self.hertz.cohesion
+    }
+    fn keeps_second_history(&self) -> bool {
+        self.hertz.keeps_second_history()
+    }
+
+    /// JKR contacts are kept up to δ_c beyond touching, in the rolling
+    /// slots: the Verlet skin must list every pair that close (a pair
+    /// farther than the skin at a rebuild is not listed), and no epsd
+    /// spring may need the slots.
+    fn check(&self, max_radius: f64, skin: f64) -> Result<()> {
+        let law = &self.hertz;
+        if law.cohesion != CohesionModel::Jkr {
+            return Ok(());
+        }
+        if law.rolling == RollingModel::Epsd {
+            return Err(Error::input(
+                "contact.cohesion = \"jkr\" with contact.rolling = \"epsd\": not supported yet (both \
+                 keep a history per contact in the same place); use contact.rolling = \"constant\" or \
+                 \"none\"",
+            ));
+        }
+        let reach = law.max_reach(max_radius);
+        if reach >= skin {
+            return Err(Error::input(format!(
+                "contact.cohesion = \"jkr\": the pull-off separation δ_c = {reach:e} m of the largest \
+                 grains is not below the Verlet skin {skin:e} m, so a stretched contact could leave the \
+                 neighbour list; raise run.skin"
+            )));
+        }
+        Ok(())
+    }
 }
 
 /// The Hertz–Mindlin law with rolling resistance `MODEL` (0 none, 1

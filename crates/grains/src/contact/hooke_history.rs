@@ -10,16 +10,20 @@
 use super::contract::{Contact, ContactModel, ContactOutcome, Step};
 use super::law::{spring_dashpot, ContactLaw, SpringDashpot};
 use super::mass_scaling::MassScaling;
+use super::registered::{Registered, RunLaw};
 use crate::dim::Dim;
 
 /// Coefficients of a contact law that has the Hooke-with-history shape.
+/// Laid out as the GPU kernels' `Hooke` (`gpu/kernels/common.cuh`), which
+/// the GPU engine hands them as they are.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub struct HookeHistory {
-    kn: f64,
-    gamma_n: f64,
-    gamma_t: f64,
-    kt: f64,
-    mu: f64,
+    pub kn: f64,
+    pub gamma_n: f64,
+    pub gamma_t: f64,
+    pub kt: f64,
+    pub mu: f64,
 }
 
 impl HookeHistory {
@@ -81,8 +85,34 @@ impl ContactModel for HookeHistory {
         1.0
     }
     #[inline(always)]
+    fn elastic_wall(&self) -> Option<Self> {
+        Some(Self {
+            gamma_n: 0.0,
+            ..*self
+        })
+    }
+    #[inline(always)]
     fn evaluate<D: Dim>(&self, c: &Contact<D>, spring: &mut D::V, step: Step) -> ContactOutcome<D> {
         spring_dashpot(self, c, spring, step)
+    }
+}
+
+/// The spring–dashpot law as a run holds it: its Hooke-with-history kernel
+/// when the coefficients have that shape (the same bits, fewer tests per
+/// contact), else the general one.
+impl Registered for ContactLaw {
+    #[inline(always)]
+    fn with_kernel<R>(&self, run: impl RunLaw<R>) -> R {
+        match HookeHistory::of(self) {
+            Some(hooke) => run.run(&hooke),
+            None => run.run(self),
+        }
+    }
+    fn rotation(&self) -> bool {
+        self.rotation
+    }
+    fn estimate(&self) -> &ContactLaw {
+        self
     }
 }
 

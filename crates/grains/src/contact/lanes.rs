@@ -414,7 +414,7 @@ mod tests {
     /// The third field is [`batch`]'s stretch.
     struct SameBits<'a, D: Dim>(&'a mut Xoshiro256PlusPlus, u32, f64, PhantomData<D>);
 
-    impl<D: Dim> crate::contact::hertz_mindlin::RunLaw<()> for SameBits<'_, D> {
+    impl<D: Dim> crate::contact::RunLaw<()> for SameBits<'_, D> {
         fn run<L: ContactModel>(self, law: &L) {
             for update in [true, false] {
                 for _ in 0..40 {

@@ -152,6 +152,12 @@ impl ContactModel for ContactLaw {
     fn force_factor(&self, m: f64) -> f64 {
         self.scaling.force_factor(m)
     }
+    fn elastic_wall(&self) -> Option<Self> {
+        Some(ContactLaw {
+            gamma_n: 0.0,
+            ..self.clone()
+        })
+    }
     #[inline(always)]
     fn evaluate<D: Dim>(&self, c: &Contact<D>, spring: &mut D::V, step: Step) -> ContactOutcome<D> {
         spring_dashpot(self, c, spring, step)

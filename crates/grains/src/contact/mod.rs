@@ -25,8 +25,13 @@
 //! contacts in component rows, which the compiler vectorizes. [`binary`]
 //! has the closed forms of a two-grain collision that the tests and the
 //! automatic time step use.
+//!
+//! A run holds one [`Law`] ([`choice`]), a registered law ([`registered`]:
+//! the spring–dashpot coefficients or a material law), and every loop gets
+//! its compiled kernel from [`Law::with_kernel`].
 
 pub mod binary;
+pub mod choice;
 pub mod cohesion;
 pub mod contract;
 pub mod cundall_strack;
@@ -40,9 +45,12 @@ pub mod law;
 pub mod mass_scaling;
 pub mod material;
 pub mod normal_power_law;
+pub mod registered;
 pub mod rolling;
 pub mod tsuji_damping;
 
+pub use choice::Law;
 pub use contract::{Contact, ContactModel, ContactOutcome, Step};
 pub use law::ContactLaw;
 pub use mass_scaling::MassScaling;
+pub use registered::{Registered, RunLaw};

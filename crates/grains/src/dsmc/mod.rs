@@ -4,6 +4,7 @@
 //! See `docs/dsmc.md`.
 
 pub mod collide;
+pub mod contract;
 pub mod decomp;
 pub mod dense;
 pub mod diagnostics;

@@ -281,15 +281,8 @@ impl Cuda {
                 gamma_n,
             };
         }
-        let l = p.law;
         let args = ForceArgsP {
-            law: HookeP {
-                kn: l.kn,
-                gamma_n: l.gamma_n,
-                gamma_t: l.gamma_t,
-                kt: l.kt,
-                mu: l.mu,
-            },
+            law: p.law,
             shifts: self.host.shifts,
             walls,
             n_walls: p.walls.len() as u32,

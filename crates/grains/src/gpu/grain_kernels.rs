@@ -113,15 +113,11 @@ pub fn is_zero(a: V3) -> bool {
     a[0] == 0.0 && a[1] == 0.0 && a[2] == 0.0
 }
 
-/// Coefficients of the Hooke law with history (LAMMPS `gran/hooke/history`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Hooke {
-    pub kn: f64,
-    pub gamma_n: f64,
-    pub gamma_t: f64,
-    pub kt: f64,
-    pub mu: f64,
-}
+/// Coefficients of the Hooke law with history (LAMMPS
+/// `gran/hooke/history`): the CPU engine's own kernel, as the run's law
+/// resolved it ([`crate::contact::Law::hooke_history`]), laid out as
+/// `Hooke` in `kernels/common.cuh`.
+pub use crate::contact::hooke_history::HookeHistory as Hooke;
 
 /// A contact's result: the force on the first body and the vector whose
 /// multiples by each radius are the torques to subtract.

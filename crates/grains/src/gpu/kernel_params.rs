@@ -123,15 +123,6 @@ pub(super) struct ExtraP {
     pub(super) wall_springs: Soa3P,
 }
 #[repr(C)]
-#[derive(Clone, Copy)]
-pub(super) struct HookeP {
-    pub(super) kn: f64,
-    pub(super) gamma_n: f64,
-    pub(super) gamma_t: f64,
-    pub(super) kt: f64,
-    pub(super) mu: f64,
-}
-#[repr(C)]
 #[derive(Clone, Copy, Default)]
 pub(super) struct PlaneP {
     pub(super) point: [f64; 3],
@@ -141,7 +132,8 @@ pub(super) struct PlaneP {
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub(super) struct ForceArgsP {
-    pub(super) law: HookeP,
+    /// The run's law as the CPU engine's kernel holds it (`#[repr(C)]`).
+    pub(super) law: super::grain_kernels::Hooke,
     pub(super) shifts: [[f64; 3]; 27],
     pub(super) walls: [PlaneP; MAX_WALLS],
     pub(super) n_walls: u32,

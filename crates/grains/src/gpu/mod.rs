@@ -12,6 +12,7 @@
 
 #[cfg(feature = "cuda")]
 pub mod cuda;
+pub mod engine;
 pub mod grain_kernels;
 #[cfg(feature = "cuda")]
 mod kernel_params;
@@ -20,7 +21,6 @@ pub mod mirror;
 pub mod pipeline;
 
 use crate::boundary::{Motion, Shape};
-use crate::contact::hooke_history::HookeHistory;
 use crate::dim::D3;
 use crate::error::{Error, Result};
 use crate::integrate::Integrator;
@@ -47,16 +47,17 @@ pub fn check_supported(md: &Md<D3>) -> Result<Hooke> {
     if s.integrator != Integrator::Verlet {
         return refuse(format!("run.integrator = \"{}\"", s.integrator.name()));
     }
-    if s.materials.is_some() {
+    if s.law.materials().is_some() {
         return refuse("contact.model = \"hertz-mindlin\"".into());
     }
-    if HookeHistory::of(&s.contact).is_none() {
+    // The table the CPU engine's kernel runs, as it is.
+    let Some(law) = s.law.hooke_history() else {
         return refuse(format!(
             "the contact law {:?} (not the Hooke-with-history shape: beta = 1, reduced \
              scaling, rotation, kt > 0, finite mu)",
-            s.contact
+            s.law.estimate()
         ));
-    }
+    };
     for w in &md.walls {
         let plane = matches!(w.shape, Shape::Plane { .. });
         if !plane || w.motion != Motion::Fixed || w.remove_at.is_some() {
@@ -73,12 +74,5 @@ pub fn check_supported(md: &Md<D3>) -> Result<Hooke> {
     if md.particles.n_owned() != md.particles.len() {
         return refuse("a decomposed run (ghost grains)".into());
     }
-    let c = &s.contact;
-    Ok(Hooke {
-        kn: c.kn,
-        gamma_n: c.gamma_n,
-        gamma_t: c.gamma_t,
-        kt: c.kt,
-        mu: c.mu,
-    })
+    Ok(law)
 }

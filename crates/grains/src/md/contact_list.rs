@@ -2,24 +2,10 @@
 //! normal, force), for analysis from outside the engine.
 
 use super::Md;
-use crate::contact::hertz_mindlin::RunLaw;
-use crate::contact::{Contact, ContactModel, Step};
+use crate::contact::{Contact, ContactModel, RunLaw, Step};
 use crate::dim::Dim;
 
-/// The touching pairs of the neighbour list, in list order.
-#[derive(Clone, Debug, Default)]
-pub struct ContactList<D: Dim> {
-    /// Ids of the two grains of each contact.
-    pub ids: Vec<[u64; 2]>,
-    /// Overlap r_i + r_j − |x_i − x_j| (m), positive (down to −δ_c for a
-    /// JKR contact kept beyond touching).
-    pub overlap: Vec<f64>,
-    /// Unit normal from the second grain to the first.
-    pub normal: Vec<D::V>,
-    /// Force on the first grain (the second gets its negative times its own
-    /// mass factor under the seeds' mass-normalized law).
-    pub force: Vec<D::V>,
-}
+pub use crate::view::ContactList;
 
 impl<D: Dim> Md<D> {
     /// Every grain–grain contact now. The force is the contact law
@@ -28,12 +14,9 @@ impl<D: Dim> Md<D> {
     /// force evaluation made in this state. Grain–wall contacts are not
     /// listed.
     pub fn contact_list(&self) -> ContactList<D> {
-        match &self.settings.materials {
-            // The material law as compiled for the run (LAMMPS's forces
-            // under the `lammps-granular` preset).
-            Some(law) => law.with_rolling(ListRun(self)),
-            None => self.contacts_under(&self.settings.contact),
-        }
+        // The law as compiled for the run (LAMMPS's forces under the
+        // `lammps-granular` preset).
+        self.settings.law.with_kernel(ListRun(self))
     }
 
     fn contacts_under<L: ContactModel>(&self, law: &L) -> ContactList<D> {
@@ -90,7 +73,7 @@ impl<D: Dim> Md<D> {
     }
 }
 
-/// [`Md::contacts_under`] for a material law as compiled.
+/// [`Md::contacts_under`] for the run's law as compiled.
 struct ListRun<'a, D: Dim>(&'a Md<D>);
 
 impl<D: Dim> RunLaw<ContactList<D>> for ListRun<'_, D> {

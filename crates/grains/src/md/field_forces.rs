@@ -8,14 +8,11 @@ use super::wall_loads::WallLoad;
 use super::wall_springs::{ChunkSprings, MeshKey, WallSprings};
 use super::MdStats;
 use crate::boundary::{MeshCandidates, MeshScratch, PlacedWall, WallContact};
-use crate::contact::hertz_mindlin::{HertzMindlin, RunLaw};
-use crate::contact::{Contact, ContactLaw, ContactModel, Step};
+use crate::contact::{Contact, ContactModel, Law, RunLaw, Step};
 use crate::dim::Dim;
 
 pub struct FieldInput<'a, D: Dim> {
-    pub law: &'a ContactLaw,
-    /// The material law, when the scenario has one (it replaces `law`).
-    pub hertz: Option<&'a HertzMindlin>,
+    pub law: &'a Law,
     /// The walls placed at the evaluation's time, once for all blocks.
     pub walls: &'a [PlacedWall<'a, D>],
     pub gravity: D::V,
@@ -101,28 +98,13 @@ pub fn field_part<D: Dim>(
     let part = if input.walls.is_empty() {
         empty()
     } else {
-        match input.hertz {
-            // Elastic walls are the spring-dashpot laws' option; a material
-            // law gets them from a wall material of restitution 1 (the
-            // scenario refuses the key with it).
-            Some(h) => h.with_rolling(WallRun {
-                input,
-                g,
-                springs_in,
-                first,
-                sums: (force, torque),
-            }),
-            None => {
-                // An elastic wall (`Wall::with_elastic`) meets grains with
-                // their law less its normal damping.
-                let elastic = ContactLaw {
-                    gamma_n: 0.0,
-                    ..input.law.clone()
-                };
-                let laws = (input.law, &elastic);
-                wall_contacts(laws, input, g, springs_in, first, (force, torque))
-            }
-        }
+        input.law.with_kernel(WallRun {
+            input,
+            g,
+            springs_in,
+            first,
+            sums: (force, torque),
+        })
     };
     // Gravity after the walls, as each grain's sum has always been formed:
     // a loop of its own, without the walls' machinery around it.
@@ -281,8 +263,7 @@ fn wall_contacts<D: Dim, L: ContactModel>(
     }
 }
 
-/// [`wall_contacts`] for a material law with its rolling resistance
-/// compiled in.
+/// [`wall_contacts`] for the run's law, as [`Law::with_kernel`] compiles it.
 struct WallRun<'a, 'b, D: Dim> {
     input: &'a FieldInput<'a, D>,
     g: &'a GrainView<'a, D>,
@@ -293,7 +274,12 @@ struct WallRun<'a, 'b, D: Dim> {
 
 impl<D: Dim> RunLaw<FieldPart<D>> for WallRun<'_, '_, D> {
     fn run<L: ContactModel>(self, law: &L) -> FieldPart<D> {
-        let laws = (law, law);
+        // An elastic wall (`Wall::with_elastic`) meets grains with the
+        // law's elastic form; a material law has none (the scenario
+        // refuses the key with it: its walls take restitution 1 from a
+        // material instead).
+        let elastic = law.elastic_wall();
+        let laws = (law, elastic.as_ref().unwrap_or(law));
         wall_contacts(
             laws,
             self.input,

@@ -16,7 +16,9 @@
 //! between steps (see the scenario runner).
 
 mod carry;
+pub mod codec;
 pub mod contact_list;
+pub mod contract;
 pub mod decomp;
 pub mod edit;
 mod field_forces;
@@ -25,6 +27,7 @@ mod pair_forces;
 mod pair_hash;
 pub mod phase_times;
 pub mod state;
+mod view;
 pub mod wall_contact_list;
 
 pub use state::MdState;
@@ -33,8 +36,9 @@ mod wall_springs;
 
 use crate::boundary::Wall;
 use crate::contact::binary::BinaryContact;
+use crate::contact::hertz_mindlin::MaterialLaw;
 use crate::contact::rolling::RollingModel;
-use crate::contact::ContactLaw;
+use crate::contact::{ContactLaw, Law};
 use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
@@ -43,13 +47,13 @@ use crate::io::Frame;
 use crate::neighbors::{spatial_sort_order, NeighborList};
 use crate::parallel::Governor;
 use crate::particles::Particles;
+pub use crate::view::MeshLoad;
 use field_forces::{finish_fields, FieldInput};
 use mesh_lists::MeshLists;
 use pair_forces::{pair_forces, Deferred, PairBlocks, PairInput};
 use phase_times::{add_since, PhaseTimes};
 use rayon::prelude::*;
 use std::time::Instant;
-pub use wall_loads::MeshLoad;
 use wall_loads::WallLoad;
 use wall_springs::{MeshKey, WallSprings};
 
@@ -58,7 +62,8 @@ use wall_springs::{MeshKey, WallSprings};
 pub struct MdSettings<D: Dim> {
     pub dt: f64,
     pub integrator: Integrator,
-    pub contact: ContactLaw,
+    /// The contact law, one value for every contact of the run.
+    pub law: Law,
     pub gravity: D::V,
     /// Verlet-list skin (m).
     pub skin: f64,
@@ -68,29 +73,25 @@ pub struct MdSettings<D: Dim> {
     pub max_overlap_fraction: f64,
     /// Check positions for NaN/inf every this many steps.
     pub nan_check_every: u64,
-    /// The material contact law (`contact.model = "hertz-mindlin"`); it
-    /// replaces `contact`'s coefficients, `contact` keeps the rotation
-    /// switch and the time-step estimate.
-    pub materials: Option<crate::contact::hertz_mindlin::HertzMindlin>,
 }
 
 impl<D: Dim> MdSettings<D> {
+    /// Settings for a run under the spring–dashpot law `contact` (Gear-5).
     pub fn new(dt: f64, contact: ContactLaw, skin: f64) -> Self {
         Self {
             dt,
             integrator: Integrator::Gear5,
-            contact,
+            law: Law::SpringDashpot(contact),
             gravity: D::zero(),
             skin,
             sort_every: 20,
             max_overlap_fraction: 0.5,
             nan_check_every: 10,
-            materials: None,
         }
     }
 
-    /// Settings for a run under the material law `law` (velocity Verlet);
-    /// the coefficient law beside it only carries the rotation switch.
+    /// Settings for a run under the material law `law` (velocity Verlet),
+    /// with a unit Hertz stand-in as its time-step estimate.
     pub fn with_materials(
         dt: f64,
         law: crate::contact::hertz_mindlin::HertzMindlin,
@@ -106,9 +107,13 @@ impl<D: Dim> MdSettings<D> {
             scaling: crate::contact::mass_scaling::MassScaling::Reduced,
             rotation: law.rotation,
         };
+        let law = Law::Materials(MaterialLaw {
+            hertz: law,
+            estimate: stand_in.clone(),
+        });
         Self {
             integrator: Integrator::Verlet,
-            materials: Some(law),
+            law,
             ..Self::new(dt, stand_in, skin)
         }
     }
@@ -175,7 +180,7 @@ impl<D: Dim> Md<D> {
         walls: Vec<Wall<D>>,
         settings: MdSettings<D>,
     ) -> Result<Self> {
-        settings.contact.validate("contact")?;
+        settings.law.estimate().validate("contact")?;
         if !(settings.dt.is_finite() && settings.dt > 0.0) {
             return Err(Error::input(format!(
                 "dt = {}: must be a positive number of seconds",
@@ -188,9 +193,7 @@ impl<D: Dim> Md<D> {
                 settings.skin
             )));
         }
-        if let Some(law) = &settings.materials {
-            check_jkr(law, &particles, settings.skin)?;
-        }
+        settings.law.check(particles.max_radius(), settings.skin)?;
         let mut md = Self {
             particles,
             domain,
@@ -295,7 +298,7 @@ impl<D: Dim> Md<D> {
     /// The integrator's part before the forces.
     pub fn predict(&mut self) {
         let start = Instant::now();
-        let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
+        let (dt, rot) = (self.settings.dt, self.settings.law.rotation());
         self.settings
             .integrator
             .predict(&mut self.particles, dt, rot, None);
@@ -313,7 +316,7 @@ impl<D: Dim> Md<D> {
     /// tests its ghosts ([`Md::ghosts_beyond_skin`]) after their owners
     /// sent their new positions.
     pub(crate) fn predict_owned_checked(&mut self) -> bool {
-        let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
+        let (dt, rot) = (self.settings.dt, self.settings.law.rotation());
         let integrator = self.settings.integrator;
         let pass = |p: &mut Particles<D>, skin: Option<SkinCheck<D::V>>| {
             integrator.predict(p, dt, rot, skin)
@@ -333,7 +336,7 @@ impl<D: Dim> Md<D> {
     /// step's [`Md::predict`] in one pass, with the displacement test of
     /// the owned grains only (as [`Md::predict_owned_checked`]).
     pub(crate) fn correct_predict_owned_checked(&mut self) -> Result<bool> {
-        let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
+        let (dt, rot) = (self.settings.dt, self.settings.law.rotation());
         let finite = self.finite_check_due();
         let integrator = self.settings.integrator;
         let mut non_finite = None;
@@ -399,7 +402,7 @@ impl<D: Dim> Md<D> {
     /// The integrator's part after the forces.
     pub fn correct(&mut self) {
         let start = Instant::now();
-        let (dt, rot) = (self.settings.dt, self.settings.contact.rotation);
+        let (dt, rot) = (self.settings.dt, self.settings.law.rotation());
         self.settings
             .integrator
             .correct(&mut self.particles, dt, rot);
@@ -448,19 +451,13 @@ impl<D: Dim> Md<D> {
 
     /// The rolling resistance of the contact law.
     fn rolling_model(&self) -> RollingModel {
-        self.settings
-            .materials
-            .as_ref()
-            .map_or(RollingModel::None, |h| h.rolling)
+        self.settings.law.rolling()
     }
 
     /// Whether contacts keep something in their rolling slots: epsd's
     /// rolling spring, or JKR's mark of a formed contact.
     pub(crate) fn rolling_history(&self) -> bool {
-        self.settings
-            .materials
-            .as_ref()
-            .is_some_and(|h| h.keeps_second_history())
+        self.settings.law.keeps_second_history()
     }
 
     /// Recomputes every force and torque (the pair loop starts the sums). `update_history` is
@@ -472,8 +469,7 @@ impl<D: Dim> Md<D> {
         self.stats.max_overlap_fraction = 0.0;
         let s = &self.settings;
         let pairs = PairInput {
-            law: &s.contact,
-            hertz: s.materials.as_ref(),
+            law: &s.law,
             dt: s.dt,
             update: update_history,
             neighbors: &self.neighbors,
@@ -487,8 +483,7 @@ impl<D: Dim> Md<D> {
             .refresh(&walls, &self.particles, build, s.skin);
         add_since(&mut self.timing.fields, lists_start);
         let fields = FieldInput {
-            law: &s.contact,
-            hertz: s.materials.as_ref(),
+            law: &s.law,
             walls: &walls,
             gravity: s.gravity,
             dt: s.dt,
@@ -602,29 +597,7 @@ impl<D: Dim> Md<D> {
     /// A neutral snapshot of the grains for the writers (2D boxes get a unit
     /// z extent, as LAMMPS writes them).
     pub fn frame(&self) -> Frame {
-        let p = &self.particles;
-        let n = p.n_owned();
-        let mut periodic = [false; 3];
-        periodic[..D::D].copy_from_slice(&self.domain.periodic[..D::D]);
-        let (mut lo, mut hi) = (D::to_xyz(self.domain.lo), D::to_xyz(self.domain.hi));
-        if D::D == 2 {
-            lo[2] = -0.5;
-            hi[2] = 0.5;
-        }
-        Frame {
-            step: self.step,
-            time: self.time,
-            dim: D::D,
-            box_lo: lo,
-            box_hi: hi,
-            periodic,
-            id: p.id[..n].to_vec(),
-            kind: p.kind[..n].to_vec(),
-            pos: p.pos[..n].iter().map(|&x| D::to_xyz(x)).collect(),
-            vel: p.vel[..n].iter().map(|&x| D::to_xyz(x)).collect(),
-            omega: p.omega[..n].iter().map(|&x| D::ang_to_xyz(x)).collect(),
-            radius: p.radius[..n].to_vec(),
-        }
+        self.view().frame()
     }
 
     /// Contact time of two typical grains, for advice on dt.
@@ -639,7 +612,7 @@ impl<D: Dim> Md<D> {
             .map(|i| D::norm(p.vel[i]))
             .fold(0.0, f64::max);
         let v = if vmax > 0.0 { vmax } else { 1.0 };
-        BinaryContact::new(&self.settings.contact, m, m).contact_time(v)
+        BinaryContact::new(self.settings.law.estimate(), m, m).contact_time(v)
     }
 
     fn dt_advice(&self) -> String {
@@ -649,34 +622,4 @@ impl<D: Dim> Md<D> {
             tc / 50.0
         )
     }
-}
-
-/// JKR contacts are kept up to δ_c beyond touching, in the rolling slots:
-/// the Verlet skin must list every pair that close (a pair farther than the
-/// skin at a rebuild is not listed), and no epsd spring may need the slots.
-fn check_jkr<D: Dim>(
-    law: &crate::contact::hertz_mindlin::HertzMindlin,
-    particles: &Particles<D>,
-    skin: f64,
-) -> Result<()> {
-    use crate::contact::cohesion::CohesionModel;
-    if law.cohesion() != CohesionModel::Jkr {
-        return Ok(());
-    }
-    if law.rolling == RollingModel::Epsd {
-        return Err(Error::input(
-            "contact.cohesion = \"jkr\" with contact.rolling = \"epsd\": not supported yet (both \
-             keep a history per contact in the same place); use contact.rolling = \"constant\" or \
-             \"none\"",
-        ));
-    }
-    let reach = law.max_reach(particles.max_radius());
-    if reach >= skin {
-        return Err(Error::input(format!(
-            "contact.cohesion = \"jkr\": the pull-off separation δ_c = {reach:e} m of the largest \
-             grains is not below the Verlet skin {skin:e} m, so a stretched contact could leave the \
-             neighbour list; raise run.skin"
-        )));
-    }
-    Ok(())
 }

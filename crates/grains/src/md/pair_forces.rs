@@ -22,9 +22,7 @@ use super::field_forces::{field_part, FieldInput, FieldPart, GrainView};
 use super::phase_times::add_since;
 use super::wall_springs::WallSprings;
 use super::MdStats;
-use crate::contact::hertz_mindlin::HertzMindlin;
-use crate::contact::hooke_history::HookeHistory;
-use crate::contact::ContactLaw;
+use crate::contact::Law;
 use crate::dim::Dim;
 use crate::neighbors::NeighborList;
 use crate::particles::Particles;
@@ -120,9 +118,7 @@ struct BlockContacts {
 
 /// Inputs every block reads.
 pub struct PairInput<'a, D: Dim> {
-    pub law: &'a ContactLaw,
-    /// The material law, when the scenario has one (it replaces `law`).
-    pub hertz: Option<&'a HertzMindlin>,
+    pub law: &'a Law,
     pub dt: f64,
     pub update: bool,
     pub neighbors: &'a NeighborList<D>,
@@ -248,23 +244,18 @@ pub fn pair_forces<D: Dim>(
         kind: &p.kind,
         owned,
     };
-    let hooke = HookeHistory::of(input.law);
     // One block per job, so that the threads end the pass together.
     let min_len = if nb >= MIN_BLOCKS_TO_SHARE { 1 } else { nb };
     let block_stats: Vec<BlockStats> = tasks
         .par_iter_mut()
         .with_min_len(crate::parallel::min_len(min_len))
         .map(|t| {
-            // The LAMMPS-shaped law gets its own compiled loop.
-            let mut s = match (input.hertz, hooke) {
-                (Some(law), _) => law.with_rolling(kernels::BlockRun {
-                    input,
-                    grains: &grains,
-                    block: t,
-                }),
-                (None, Some(h)) => kernels::run_block(&h, input, &grains, t),
-                (None, None) => kernels::run_block(input.law, input, &grains, t),
-            };
+            // Each law's kernel gets its own compiled loop.
+            let mut s = input.law.with_kernel(kernels::BlockRun {
+                input,
+                grains: &grains,
+                block: t,
+            });
             if s.contacts > 0 {
                 s.worst = (grains.id[s.worst.0 as usize], grains.id[s.worst.1 as usize]);
             }
@@ -278,7 +269,7 @@ pub fn pair_forces<D: Dim>(
     // its grains' wall contacts and gravity, while the sums are in cache.
     let block = blocks.block;
     let outbox = &deferred.outbox;
-    let rotation = input.law.rotation;
+    let rotation = input.law.rotation();
     let (field_input, wall_springs) = fields;
     // One block per job too: this pass is short, and a thread that wakes
     // late still finds blocks left instead of the others waiting for a
@@ -318,6 +309,7 @@ pub fn pair_forces<D: Dim>(
 mod tests {
     use super::*;
     use crate::contact::hooke_history::lammps_law;
+    use crate::contact::ContactLaw;
     use crate::dim::D3;
     use crate::domain::Domain;
     use crate::integrate::Integrator;

@@ -1,6 +1,6 @@
 //! The complete dynamic state of an MD engine, as a checkpoint carries it
 //! ([`super::Md::export_state`], [`super::Md::import_state`]; encoded by
-//! `checkpoint::state`).
+//! [`super::codec`]).
 
 use super::pair_forces::{Deferred, PairBlocks};
 use super::wall_loads::WallLoad;
@@ -170,10 +170,7 @@ impl<D: Dim> Md<D> {
                 s.rolling.len(),
                 s.wall_rolling.len(),
                 self.rolling_model().name(),
-                self.settings
-                    .materials
-                    .as_ref()
-                    .map_or("none", |h| h.cohesion().name()),
+                self.settings.law.cohesion().name(),
                 want(s.list.pairs.len()),
                 want(n * nw)
             ));

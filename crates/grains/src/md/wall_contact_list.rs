@@ -4,26 +4,10 @@
 
 use super::Md;
 use crate::boundary::MeshScratch;
-use crate::contact::hertz_mindlin::RunLaw;
-use crate::contact::{Contact, ContactLaw, ContactModel, Step};
+use crate::contact::{Contact, ContactModel, RunLaw, Step};
 use crate::dim::Dim;
 
-/// The touching grain–wall pairs, in grain order and then wall order.
-#[derive(Clone, Debug, Default)]
-pub struct WallContactList<D: Dim> {
-    /// Id of the grain of each contact.
-    pub ids: Vec<u64>,
-    /// Index of the wall among the engine's walls.
-    pub wall: Vec<usize>,
-    /// Contact point on the wall surface.
-    pub point: Vec<D::V>,
-    /// Unit normal from the wall towards the grain.
-    pub normal: Vec<D::V>,
-    /// Overlap (radius minus the distance to the wall).
-    pub overlap: Vec<f64>,
-    /// Force on the grain.
-    pub force: Vec<D::V>,
-}
+pub use crate::view::WallContactList;
 
 impl<D: Dim> Md<D> {
     /// Every grain–wall contact now, with the force the contact law gives on
@@ -31,16 +15,8 @@ impl<D: Dim> Md<D> {
     /// [`Md::contact_list`] does for pairs. A JKR contact held beyond
     /// touching is not listed.
     pub fn wall_contact_list(&self) -> WallContactList<D> {
-        match &self.settings.materials {
-            Some(law) => law.with_rolling(WallListRun(self)),
-            None => {
-                let elastic = ContactLaw {
-                    gamma_n: 0.0,
-                    ..self.settings.contact.clone()
-                };
-                self.wall_contacts_under((&self.settings.contact, &elastic))
-            }
-        }
+        // The law as compiled for the run, as the wall loop runs it.
+        self.settings.law.with_kernel(WallListRun(self))
     }
 
     fn wall_contacts_under<L: ContactModel>(&self, (law, elastic): (&L, &L)) -> WallContactList<D> {
@@ -102,11 +78,15 @@ impl<D: Dim> Md<D> {
     }
 }
 
-/// [`Md::wall_contacts_under`] for a material law as compiled.
+/// [`Md::wall_contacts_under`] for the run's law as compiled.
 struct WallListRun<'a, D: Dim>(&'a Md<D>);
 
 impl<D: Dim> RunLaw<WallContactList<D>> for WallListRun<'_, D> {
     fn run<L: ContactModel>(self, law: &L) -> WallContactList<D> {
-        self.0.wall_contacts_under((law, law))
+        // An elastic wall meets grains with the law's elastic form, as in
+        // the wall loop (`md/field_forces.rs`).
+        let elastic = law.elastic_wall();
+        self.0
+            .wall_contacts_under((law, elastic.as_ref().unwrap_or(law)))
     }
 }

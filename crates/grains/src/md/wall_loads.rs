@@ -28,19 +28,6 @@ impl WallLoad {
     }
 }
 
-/// One mesh wall's load at the time of the last force evaluation.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MeshLoad {
-    /// The wall's index among the engine's walls.
-    pub wall: usize,
-    /// The force the grains exert on it (N, or the scenario's units).
-    pub force: DVec3,
-    /// The torque about its load point, where that point is now.
-    pub torque: DVec3,
-    /// The load point at that time.
-    pub point: DVec3,
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -17,7 +17,7 @@ use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::error::Result;
 use crate::io::write_atomic;
-use crate::md::Md;
+use crate::view::GrainView;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -54,12 +54,12 @@ impl Convection {
     }
 
     /// Adds the vertical velocities of the grains in the bands now.
-    pub fn sample<D: Dim>(&mut self, md: &Md<D>) {
-        let p = &md.particles;
-        let lo = D::get(md.domain.lo, 0);
-        let l = md.domain.length(0);
+    pub fn sample<D: Dim>(&mut self, view: &GrainView<D>) {
+        let p = &view.grains;
+        let lo = D::get(view.domain.lo, 0);
+        let l = view.domain.length(0);
         let up = D::vertical();
-        for i in 0..p.n_owned() {
+        for i in 0..p.len() {
             if p.frozen[i] {
                 continue;
             }
@@ -219,7 +219,7 @@ mod tests {
     use super::*;
     use crate::contact::ContactLaw;
     use crate::dim::D2;
-    use crate::md::MdSettings;
+    use crate::md::{Md, MdSettings};
     use crate::particles::{ParticleRecord, Particles};
     use glam::DVec2;
 
@@ -257,8 +257,8 @@ mod tests {
         };
         let md = Md::new(p, domain, Vec::new(), MdSettings::new(1e-6, law, 1e-4)).unwrap();
         let mut c = Convection::new(0.2);
-        c.sample(&md);
-        c.sample(&md);
+        c.sample(&md.view());
+        c.sample(&md.view());
         assert!(
             (c.heap_height() - 2.0 * r).abs() < 1e-15,
             "{}",

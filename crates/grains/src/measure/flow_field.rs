@@ -22,11 +22,11 @@ use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::io::{draw_arrows, viridis, write_atomic, Frame, Num};
-use crate::md::Md;
 use crate::measure::draw::draw_walls;
 use crate::render::legend::{draw_band, Legend};
 use crate::render::text::{draw_text, fill_rect, sig3};
 use crate::render::{Painter, StillOptions};
+use crate::view::GrainView;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -186,19 +186,19 @@ impl FlowField {
         })
     }
 
-    /// The field for `md`'s box: x across it, the vertical axis from its
+    /// The field for `view`'s box: x across it, the vertical axis from its
     /// floor to `top` (default its top).
     pub fn for_md<D: Dim>(
-        md: &Md<D>,
+        view: &GrainView<D>,
         cells: &[usize],
         from: f64,
         top: Option<f64>,
     ) -> Result<Self> {
-        let (lo, hi) = (D::to_xyz(md.domain.lo), D::to_xyz(md.domain.hi));
+        let (lo, hi) = (D::to_xyz(view.domain.lo), D::to_xyz(view.domain.hi));
         let v = D::vertical();
         let rect = [lo[0], hi[0], lo[v], top.unwrap_or(hi[v])];
         let depth = if D::D == 3 { hi[1] - lo[1] } else { 1.0 };
-        FlowField::new(cells, rect, D::D, depth, md.domain.periodic[0], from)
+        FlowField::new(cells, rect, D::D, depth, view.domain.periodic[0], from)
     }
 
     fn cell_size(&self) -> [f64; 2] {
@@ -226,16 +226,16 @@ impl FlowField {
             .then(|| k as usize * self.cells[0] + i as usize)
     }
 
-    /// Samples the mobile grains of `md` (from time `from` on).
-    pub fn sample<D: Dim>(&mut self, md: &Md<D>) {
-        let p = &md.particles;
-        let n = p.n_owned();
+    /// Samples the mobile grains of `view` (from time `from` on).
+    pub fn sample<D: Dim>(&mut self, view: &GrainView<D>) {
+        let p = &view.grains;
+        let n = p.len();
         let keep = (0..n).filter(|&i| !p.frozen[i]);
         let pos: Vec<[f64; 3]> = keep.clone().map(|i| D::to_xyz(p.pos[i])).collect();
         let vel: Vec<[f64; 3]> = keep.clone().map(|i| D::to_xyz(p.vel[i])).collect();
         let radius: Vec<f64> = keep.clone().map(|i| p.radius[i]).collect();
         let mass: Vec<f64> = keep.map(|i| p.mass[i]).collect();
-        self.sample_grains(md.time, &pos, &vel, &radius, &mass);
+        self.sample_grains(view.time, &pos, &vel, &radius, &mass);
     }
 
     /// Samples grains given as arrays (xyz; z = 0 in 2D).

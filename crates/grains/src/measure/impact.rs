@@ -26,7 +26,7 @@ use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::io::write_atomic;
-use crate::md::Md;
+use crate::view::GrainView;
 use serde_json::{json, Map, Value};
 use std::fmt::Write;
 use std::path::Path;
@@ -124,17 +124,17 @@ pub struct Impacts {
 }
 
 impl Impacts {
-    /// Checks that `md` has two bodies: two grains and no wall, or one
+    /// Checks that `view` has two bodies: two grains and no wall, or one
     /// grain and one wall.
-    pub fn begin<D: Dim>(md: &Md<D>) -> Result<Self> {
-        let (n, w) = (md.particles.n_owned(), md.walls.len());
+    pub fn begin<D: Dim>(view: &GrainView<D>) -> Result<Self> {
+        let (n, w) = (view.grains.len(), view.walls.len());
         if !matches!((n, w), (2, 0) | (1, 1)) {
             return Err(Error::input(format!(
                 "measure.impact measures two bodies (two grains and no wall, or one grain and one \
                  wall); this scenario has {n} grains and {w} walls"
             )));
         }
-        if md.particles.frozen.iter().all(|&f| f) {
+        if view.grains.frozen.iter().all(|&f| f) {
             return Err(Error::input(
                 "measure.impact: every grain is frozen; nothing can collide",
             ));
@@ -143,9 +143,9 @@ impl Impacts {
     }
 
     /// The first grain (a moving one; the lower id of two) and its partner.
-    fn order<D: Dim>(md: &Md<D>) -> (usize, Option<usize>) {
-        let p = &md.particles;
-        if p.n_owned() == 1 {
+    fn order<D: Dim>(view: &GrainView<D>) -> (usize, Option<usize>) {
+        let p = &view.grains;
+        if p.len() == 1 {
             return (0, None);
         }
         let first = if p.frozen[0] != p.frozen[1] {
@@ -156,17 +156,17 @@ impl Impacts {
         (first, Some(1 - first))
     }
 
-    fn relative<D: Dim>(md: &Md<D>) -> Relative<D> {
-        let p = &md.particles;
-        let (a, partner) = Self::order(md);
+    fn relative<D: Dim>(view: &GrainView<D>) -> Relative<D> {
+        let p = &view.grains;
+        let (a, partner) = Self::order(view);
         let ra = p.radius[a];
         let gravity = if p.frozen[a] {
             D::zero()
         } else {
-            md.settings.gravity * p.mass[a]
+            view.gravity * p.mass[a]
         };
         let force = p.force[a] - gravity;
-        let touching = md.stats.contacts > 0;
+        let touching = view.contacts > 0;
         let (overlap, normal, v_partner, partner_point) = match partner {
             Some(b) => {
                 let del = p.pos[a] - p.pos[b];
@@ -181,7 +181,7 @@ impl Impacts {
             None => {
                 // Asked as for a grain twice as large, so that a contact
                 // kept beyond touching (JKR) has its normal too.
-                match md.walls[0].contact(p.pos[a], 2.0 * ra, md.time) {
+                match view.walls[0].contact(p.pos[a], 2.0 * ra, view.time) {
                     Some(c) => (c.overlap - ra, Some(c.normal), c.velocity, c.velocity),
                     None => (f64::NEG_INFINITY, None, D::zero(), D::zero()),
                 }
@@ -204,8 +204,8 @@ impl Impacts {
     }
 
     /// After every step.
-    pub fn step<D: Dim>(&mut self, md: &Md<D>) {
-        let now = Self::relative(md);
+    pub fn step<D: Dim>(&mut self, view: &GrainView<D>) {
+        let now = Self::relative(view);
         let xyz = |v: D::V| D::to_xyz(v);
         let free = self
             .last_free
@@ -218,7 +218,7 @@ impl Impacts {
                 let vt = v_in - n * vn;
                 let ut = u_in - n * D::dot(u_in, n);
                 let c = Collision {
-                    start: md.time,
+                    start: view.time,
                     max_overlap: now.overlap,
                     peak_force: D::dot(now.force, n).abs(),
                     vn_in: vn,
@@ -237,7 +237,7 @@ impl Impacts {
             (Some((c, n)), false) => {
                 let n = D::from_xyz(*n);
                 let mut c = *c;
-                c.duration = md.time - c.start;
+                c.duration = view.time - c.start;
                 let vn = D::dot(now.v, n);
                 let vt = now.v - n * vn;
                 c.vn_out = vn;
@@ -369,7 +369,7 @@ mod tests {
     use crate::contact::hooke_history::lammps_law;
     use crate::dim::D3;
     use crate::domain::Domain;
-    use crate::md::MdSettings;
+    use crate::md::{Md, MdSettings};
     use crate::particles::{ParticleRecord, Particles};
     use glam::DVec3;
 
@@ -392,9 +392,9 @@ mod tests {
     /// Two grains are two bodies; three, or one without a wall, are not.
     #[test]
     fn impact_needs_two_bodies() {
-        assert!(Impacts::begin(&grains(2)).is_ok());
+        assert!(Impacts::begin(&grains(2).view()).is_ok());
         for n in [1, 3] {
-            let e = Impacts::begin(&grains(n)).unwrap_err().to_string();
+            let e = Impacts::begin(&grains(n).view()).unwrap_err().to_string();
             assert!(
                 e.contains("measure.impact") && e.contains(&format!("{n} grains")),
                 "{e}"

@@ -6,13 +6,13 @@ use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::io::Frame;
-use crate::md::Md;
 use crate::measure::impact::Impacts;
 use crate::measure::phase::drive;
 use crate::measure::{
     Convection, DisplacementField, FlowField, PhaseSnapshots, Profiles, Tracer, Trajectories,
 };
 use crate::scenario::Loaded;
+use crate::view::GrainView;
 use serde_json::{json, Map, Value};
 use std::path::Path;
 
@@ -33,7 +33,7 @@ impl Measurements {
     /// `remaining`: steps of the measurement; `dt` the time step.
     pub(crate) fn begin<D: Dim>(
         loaded: &Loaded,
-        md: &Md<D>,
+        view: &GrainView<D>,
         remaining: u64,
         dt: f64,
     ) -> Result<Self> {
@@ -41,7 +41,7 @@ impl Measurements {
         let d0 = loaded.scenario.particles.d0;
         let phases = match &m.phases {
             Some(p) => Some(
-                PhaseSnapshots::begin(md, &p.phases, p.segment_time, p.displacement_after)
+                PhaseSnapshots::begin(view, &p.phases, p.segment_time, p.displacement_after)
                     .ok_or_else(|| {
                         Error::input("measure.phases needs a vibrating or oscillating wall")
                     })?,
@@ -50,11 +50,11 @@ impl Measurements {
         };
         let trajectories = match &m.trajectories {
             Some(t) => {
-                let f = drive(&md.walls).map(|d| d.0).ok_or_else(|| {
+                let f = drive(view.walls).map(|d| d.0).ok_or_else(|| {
                     Error::input("measure.trajectories needs a vibrating or oscillating wall")
                 })?;
                 let window = (t.cycles / (f * dt)).round() as u64;
-                Some(Trajectories::new(md, t.every, remaining, window))
+                Some(Trajectories::new(view, t.every, remaining, window))
             }
             None => None,
         };
@@ -67,27 +67,27 @@ impl Measurements {
             }
         }
         let flow_field = match &m.flow_field {
-            Some(f) => Some(FlowField::for_md(md, &f.cells, f.from, f.top)?),
+            Some(f) => Some(FlowField::for_md(view, &f.cells, f.from, f.top)?),
             None => None,
         };
         let impact = match m.impact {
-            true => Some(Impacts::begin(md)?),
+            true => Some(Impacts::begin(view)?),
             false => None,
         };
         let fields = m
             .fields
             .as_ref()
-            .map(|f| fields_begin(f, d0, md))
+            .map(|f| fields_begin(f, d0, view))
             .transpose()?;
         Ok(Self {
             fields,
             impact,
             flow_field,
-            displacement: m.displacement.then(|| DisplacementField::begin(md)),
+            displacement: m.displacement.then(|| DisplacementField::begin(view)),
             convection: m.convection.as_ref().map(|c| Convection::new(c.band)),
             phases,
             tracer: m.tracer.as_ref().map(|t| Tracer::new(t.id)),
-            profiles: m.profiles.as_ref().map(|p| Profiles::new(md, p.bin * d0)),
+            profiles: m.profiles.as_ref().map(|p| Profiles::new(view, p.bin * d0)),
             trajectories,
         })
     }
@@ -141,7 +141,7 @@ impl Measurements {
     /// exactly when the scenario asks for it.
     pub(crate) fn load<D: Dim>(
         loaded: &Loaded,
-        md: &Md<D>,
+        view: &GrainView<D>,
         bytes: &[u8],
     ) -> std::result::Result<Self, String> {
         let m = &loaded.scenario.measure;
@@ -190,7 +190,7 @@ impl Measurements {
             fields: m
                 .fields
                 .as_ref()
-                .map(|f| fields_begin(f, loaded.scenario.particles.d0, md))
+                .map(|f| fields_begin(f, loaded.scenario.particles.d0, view))
                 .transpose()
                 .map_err(|e| e.to_string())?,
         };
@@ -200,7 +200,7 @@ impl Measurements {
         match (&m.flow_field, has_flow) {
             (Some(f), true) => {
                 let fresh =
-                    FlowField::for_md(md, &f.cells, f.from, f.top).map_err(|e| e.to_string())?;
+                    FlowField::for_md(view, &f.cells, f.from, f.top).map_err(|e| e.to_string())?;
                 out.flow_field = Some(fresh.load(&mut d)?);
             }
             (None, false) => {}
@@ -258,45 +258,54 @@ impl Measurements {
     }
 
     /// After every step (phase- and step-exact measurements).
-    pub(crate) fn step<D: Dim>(&mut self, md: &Md<D>) {
+    pub(crate) fn step<D: Dim>(&mut self, view: &GrainView<D>) {
         if let Some(p) = &mut self.phases {
-            p.step(md);
+            p.step(view);
         }
         if let Some(t) = &mut self.trajectories {
-            t.step(md);
+            t.step(view);
         }
         if let Some(i) = &mut self.impact {
-            i.step(md);
+            i.step(view);
         }
-        if let Some(f) = self.fields.as_mut().filter(|f| f.wants(md.step, md.time)) {
-            f.sample(&crate::measure::fields::snapshot(md));
+        if let Some(f) = self
+            .fields
+            .as_mut()
+            .filter(|f| f.wants(view.step, view.time))
+        {
+            f.sample(&crate::measure::fields::snapshot(view));
         }
     }
 
-    pub(crate) fn sample<D: Dim>(&mut self, md: &Md<D>) {
+    pub(crate) fn sample<D: Dim>(&mut self, view: &GrainView<D>) {
         if let Some(d) = &mut self.displacement {
-            d.sample(md);
+            d.sample(view);
         }
         if let Some(c) = &mut self.convection {
-            c.sample(md);
+            c.sample(view);
         }
         if let Some(t) = &mut self.tracer {
-            t.sample(md);
+            t.sample(view);
         }
         if let Some(p) = &mut self.profiles {
-            p.sample(md);
+            p.sample(view);
         }
         if let Some(f) = &mut self.flow_field {
-            f.sample(md);
+            f.sample(view);
         }
     }
 
-    pub(crate) fn write<D: Dim>(&self, dir: &Path, md: &Md<D>, last: &Frame) -> Result<()> {
+    pub(crate) fn write<D: Dim>(
+        &self,
+        dir: &Path,
+        view: &GrainView<D>,
+        last: &Frame,
+    ) -> Result<()> {
         if let Some(c) = &self.convection {
-            c.write(dir, &md.domain)?;
+            c.write(dir, view.domain)?;
         }
         if let Some(p) = &self.phases {
-            p.write(dir, &md.walls)?;
+            p.write(dir, view.walls)?;
         }
         if let Some(t) = &self.tracer {
             t.write(dir, last)?;
@@ -305,10 +314,10 @@ impl Measurements {
             p.write(dir)?;
         }
         if let Some(t) = &self.trajectories {
-            t.write(dir, last, &md.walls)?;
+            t.write(dir, last, view.walls)?;
         }
         if let Some(f) = &self.flow_field {
-            f.write(dir, last, &md.walls)?;
+            f.write(dir, last, view.walls)?;
         }
         if let Some(i) = &self.impact {
             i.write(dir)?;
@@ -344,13 +353,13 @@ impl Measurements {
     }
 }
 
-/// `[measure.fields]` over `md`'s box, `d0` the mean grain diameter.
+/// `[measure.fields]` over the view's box, `d0` the mean grain diameter.
 fn fields_begin<D: Dim>(
     f: &crate::scenario::schema::FieldsSpec,
     d0: f64,
-    md: &Md<D>,
+    view: &GrainView<D>,
 ) -> Result<crate::measure::fields::FieldsMeasure> {
-    let b = &md.domain;
+    let b = view.domain;
     let bx = (D::to_xyz(b.lo), D::to_xyz(b.hi), b.periodic);
     crate::measure::fields::FieldsMeasure::begin(f, d0, D::D, bx)
 }

@@ -1,4 +1,6 @@
-//! Measurements: quantities computed from the engine's state between steps.
+//! Measurements: quantities computed between steps from a read-only view
+//! of an engine's grains ([`crate::view::GrainView`]) or a frame, never from
+//! the engine itself.
 //! Each keeps its own running state, keyed by grain id (grains are re-sorted
 //! in memory), and reports scalars for summary.json plus its own files.
 

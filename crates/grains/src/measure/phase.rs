@@ -12,7 +12,7 @@ use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::picture::draw_arrows;
 use crate::io::{render_particles, write_atomic, Frame, PictureOptions};
-use crate::md::Md;
+use crate::view::GrainView;
 use std::collections::HashMap;
 use std::f64::consts::TAU;
 use std::fmt::Write as _;
@@ -62,12 +62,12 @@ pub struct PhaseSnapshots {
 impl PhaseSnapshots {
     /// `None` when the scenario has no vibrating wall.
     pub fn begin<D: Dim>(
-        md: &Md<D>,
+        view: &GrainView<D>,
         phases: &[f64],
         segment_time: Option<f64>,
         after: Option<f64>,
     ) -> Option<Self> {
-        let (freq, phase0) = drive(&md.walls)?;
+        let (freq, phase0) = drive(view.walls)?;
         Some(Self {
             freq,
             phase0,
@@ -77,8 +77,8 @@ impl PhaseSnapshots {
             after,
             disp_from: None,
             disp: None,
-            t_start: md.time,
-            prev: cycles(freq, phase0, md.time),
+            t_start: view.time,
+            prev: cycles(freq, phase0, view.time),
         })
     }
 
@@ -102,21 +102,21 @@ impl PhaseSnapshots {
     }
 
     /// Called after every step.
-    pub fn step<D: Dim>(&mut self, md: &Md<D>) {
-        let c = cycles(self.freq, self.phase0, md.time);
+    pub fn step<D: Dim>(&mut self, view: &GrainView<D>) {
+        let c = cycles(self.freq, self.phase0, view.time);
         for k in 0..self.targets.len() {
             if self.reached(k, c) {
-                self.taken[k] = Some(md.frame());
+                self.taken[k] = Some(view.frame());
             }
         }
         if let Some(after) = self.after {
             if self.disp_from.is_none() && c.floor() > self.prev.floor() {
-                let f = md.frame();
+                let f = view.frame();
                 let map = f.id.iter().copied().zip(f.pos.iter().copied()).collect();
-                self.disp_from = Some((md.time, map));
+                self.disp_from = Some((view.time, map));
             } else if let Some((t0, from)) = &self.disp_from {
-                if self.disp.is_none() && md.time >= t0 + after {
-                    let f = md.frame();
+                if self.disp.is_none() && view.time >= t0 + after {
+                    let f = view.frame();
                     let rows =
                         f.id.iter()
                             .zip(&f.pos)

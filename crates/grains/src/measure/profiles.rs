@@ -9,7 +9,7 @@ use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::write_atomic;
-use crate::md::Md;
+use crate::view::GrainView;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -32,15 +32,15 @@ pub struct Profiles {
 }
 
 impl Profiles {
-    pub fn new<D: Dim>(md: &Md<D>, bin: f64) -> Self {
+    pub fn new<D: Dim>(view: &GrainView<D>, bin: f64) -> Self {
         let up = D::vertical();
         let across: f64 = (0..D::D)
             .filter(|&a| a != up)
-            .map(|a| md.domain.length(a))
+            .map(|a| view.domain.length(a))
             .product();
         Self {
             bin,
-            base: D::get(md.domain.lo, up),
+            base: D::get(view.domain.lo, up),
             across,
             dim: D::D,
             count: Vec::new(),
@@ -51,11 +51,11 @@ impl Profiles {
         }
     }
 
-    pub fn sample<D: Dim>(&mut self, md: &Md<D>) {
-        let p = &md.particles;
+    pub fn sample<D: Dim>(&mut self, view: &GrainView<D>) {
+        let p = &view.grains;
         let up = D::vertical();
         let (mut sum, mut n) = (0.0, 0usize);
-        for i in 0..p.n_owned() {
+        for i in 0..p.len() {
             if p.frozen[i] {
                 continue;
             }

@@ -7,7 +7,7 @@ use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::{write_atomic, Image, View};
-use crate::md::Md;
+use crate::view::GrainView;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -21,10 +21,10 @@ pub struct Spacetime {
 
 impl Spacetime {
     /// Bins of length `bin` (m) over the domain's vertical extent.
-    pub fn new<D: Dim>(md: &Md<D>, bin: f64) -> Self {
+    pub fn new<D: Dim>(view: &GrainView<D>, bin: f64) -> Self {
         let v = D::vertical();
-        let lo = D::get(md.domain.lo, v);
-        let hi = D::get(md.domain.hi, v);
+        let lo = D::get(view.domain.lo, v);
+        let hi = D::get(view.domain.hi, v);
         let bins = ((hi - lo) / bin).ceil().max(1.0) as usize;
         Self {
             lo,
@@ -34,14 +34,14 @@ impl Spacetime {
         }
     }
 
-    pub fn sample<D: Dim>(&mut self, md: &Md<D>) {
-        if self.rows.last().map(|r| r.0) == Some(md.time) {
+    pub fn sample<D: Dim>(&mut self, view: &GrainView<D>) {
+        if self.rows.last().map(|r| r.0) == Some(view.time) {
             return;
         }
-        let p = &md.particles;
+        let p = &view.grains;
         let v = D::vertical();
         let mut n = vec![0.0; self.bins];
-        for i in 0..p.n_owned() {
+        for i in 0..p.len() {
             if p.frozen[i] {
                 continue;
             }
@@ -50,7 +50,7 @@ impl Spacetime {
                 n[k as usize] += 1.0 / self.bin;
             }
         }
-        self.rows.push((md.time, n));
+        self.rows.push((view.time, n));
     }
 
     /// The samples so far (a checkpoint's part), every number as its bits.

@@ -5,7 +5,7 @@
 //! rotating drum.
 
 use crate::dim::Dim;
-use crate::md::Md;
+use crate::view::GrainView;
 use std::collections::BTreeMap;
 
 /// One fit: the surface points (x, top height) and the line through them.
@@ -42,11 +42,17 @@ pub fn fit_line(pts: &[[f64; 2]]) -> Option<(f64, f64)> {
 
 /// The surface of the mobile grains with x in `[x0, x1]`, in columns of
 /// width `column` (m); columns whose top lies below `min_height` are left out.
-pub fn surface<D: Dim>(md: &Md<D>, x0: f64, x1: f64, column: f64, min_height: f64) -> SurfaceFit {
-    let p = &md.particles;
+pub fn surface<D: Dim>(
+    view: &GrainView<D>,
+    x0: f64,
+    x1: f64,
+    column: f64,
+    min_height: f64,
+) -> SurfaceFit {
+    let p = &view.grains;
     let v = D::vertical();
     let mut top: BTreeMap<(i64, i64), (f64, f64)> = BTreeMap::new();
-    for i in 0..p.n_owned() {
+    for i in 0..p.len() {
         if p.frozen[i] {
             continue;
         }

@@ -7,7 +7,7 @@ use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::{write_atomic, Frame};
-use crate::md::Md;
+use crate::view::GrainView;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -28,22 +28,22 @@ impl Tracer {
         }
     }
 
-    pub fn sample<D: Dim>(&mut self, md: &Md<D>) {
-        let p = &md.particles;
-        let Some(i) = (0..p.n_owned()).find(|&i| p.id[i] == self.id) else {
+    pub fn sample<D: Dim>(&mut self, view: &GrainView<D>) {
+        let p = &view.grains;
+        let Some(i) = (0..p.len()).find(|&i| p.id[i] == self.id) else {
             return;
         };
         let now = p.pos[i];
         let x = match (self.last, self.rows.last()) {
             (Some(last), Some((_, prev))) => {
-                let step = D::to_xyz(md.domain.minimum_image(now - D::from_xyz(last)));
+                let step = D::to_xyz(view.domain.minimum_image(now - D::from_xyz(last)));
                 [prev[0] + step[0], prev[1] + step[1], prev[2] + step[2]]
             }
             _ => D::to_xyz(now),
         };
         self.last = Some(D::to_xyz(now));
-        if self.rows.last().map(|r| r.0) != Some(md.time) {
-            self.rows.push((md.time, x));
+        if self.rows.last().map(|r| r.0) != Some(view.time) {
+            self.rows.push((view.time, x));
         }
     }
 

@@ -8,8 +8,8 @@ use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::{write_atomic, Frame};
-use crate::md::Md;
 use crate::render::legend::id_colour;
+use crate::view::GrainView;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -26,11 +26,11 @@ pub struct Trajectories {
 impl Trajectories {
     /// Records during the last `window` steps of a run that ends `remaining`
     /// steps from now.
-    pub fn new<D: Dim>(md: &Md<D>, every: u64, remaining: u64, window: u64) -> Self {
-        let end = md.step + remaining;
+    pub fn new<D: Dim>(view: &GrainView<D>, every: u64, remaining: u64, window: u64) -> Self {
+        let end = view.step + remaining;
         Self {
             every: every.max(1),
-            start: end.saturating_sub(window).max(md.step),
+            start: end.saturating_sub(window).max(view.step),
             end,
             rows: Vec::new(),
         }
@@ -42,15 +42,15 @@ impl Trajectories {
     }
 
     /// Called after every step.
-    pub fn step<D: Dim>(&mut self, md: &Md<D>) {
-        if !self.due(md.step) {
+    pub fn step<D: Dim>(&mut self, view: &GrainView<D>) {
+        if !self.due(view.step) {
             return;
         }
-        let p = &md.particles;
-        for i in 0..p.n_owned() {
+        let p = &view.grains;
+        for i in 0..p.len() {
             if !p.frozen[i] {
                 self.rows
-                    .push((p.id[i], md.step, md.time, D::to_xyz(p.pos[i])));
+                    .push((p.id[i], view.step, view.time, D::to_xyz(p.pos[i])));
             }
         }
     }

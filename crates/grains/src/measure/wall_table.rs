@@ -4,7 +4,7 @@
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::io::ThermoWriter;
-use crate::md::Md;
+use crate::view::GrainView;
 use std::path::Path;
 
 /// The open walls.csv of a run.
@@ -18,14 +18,14 @@ impl WallTable {
     /// mesh wall `NAME_fx, NAME_fy, NAME_fz` (the force on it) and
     /// `NAME_tx, NAME_ty, NAME_tz` (the torque about its load point); `None`
     /// when no wall is a mesh.
-    pub(crate) fn create<D: Dim>(dir: &Path, md: &Md<D>) -> Result<Option<Self>> {
-        let loads = md.mesh_loads();
+    pub(crate) fn create<D: Dim>(dir: &Path, view: &GrainView<D>) -> Result<Option<Self>> {
+        let loads = view.mesh_loads();
         if loads.is_empty() {
             return Ok(None);
         }
         let mut columns = vec!["step".to_string(), "time".to_string()];
         for l in &loads {
-            let name = &md.walls[l.wall].name;
+            let name = &view.walls[l.wall].name;
             for c in ["fx", "fy", "fz", "tx", "ty", "tz"] {
                 columns.push(format!("{name}_{c}"));
             }
@@ -36,12 +36,12 @@ impl WallTable {
         // step (numbers in shortest round-trip form: read and written
         // again, the same text) and drops any an interrupted run wrote
         // after it.
-        let earlier: Vec<Vec<f64>> = match (md.step, std::fs::read_to_string(&path)) {
+        let earlier: Vec<Vec<f64>> = match (view.step, std::fs::read_to_string(&path)) {
             (1.., Ok(text)) => text
                 .lines()
                 .skip(1)
                 .filter_map(|l| l.split(',').map(|x| x.parse().ok()).collect())
-                .filter(|row: &Vec<f64>| row.len() == columns.len() && row[0] <= md.step as f64)
+                .filter(|row: &Vec<f64>| row.len() == columns.len() && row[0] <= view.step as f64)
                 .collect(),
             _ => Vec::new(),
         };
@@ -56,13 +56,13 @@ impl WallTable {
     }
 
     /// A row for the engine's step (once per step).
-    pub(crate) fn record<D: Dim>(&mut self, md: &Md<D>) -> Result<()> {
-        if self.last_step == Some(md.step) {
+    pub(crate) fn record<D: Dim>(&mut self, view: &GrainView<D>) -> Result<()> {
+        if self.last_step == Some(view.step) {
             return Ok(());
         }
-        self.last_step = Some(md.step);
-        let mut row = vec![md.step as f64, md.time];
-        for l in md.mesh_loads() {
+        self.last_step = Some(view.step);
+        let mut row = vec![view.step as f64, view.time];
+        for l in view.mesh_loads() {
             row.extend(l.force.to_array());
             row.extend(l.torque.to_array());
         }

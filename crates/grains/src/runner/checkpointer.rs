@@ -6,10 +6,10 @@
 //! each a flag, and when set the state's length-prefixed bytes) inside the
 //! sealed file of [`crate::checkpoint`].
 
-use super::engine::Engine;
 use super::options::RunOptions;
 use crate::checkpoint;
 use crate::checkpoint::run::{write_payload, OutputState, RunHeader};
+use crate::engine::Engine;
 use crate::error::Result;
 use crate::scenario::Loaded;
 use serde_json::{json, Value};

@@ -5,17 +5,19 @@
 //! under a changed scenario, [`Found::restart_with`]) writes a new run's
 //! files into a folder of its own instead.
 
+use super::choose::{choose, Runs};
 use super::md_run::{run_loop, Start};
 use super::options::{prepare, prepare_fresh, Progress, RunOptions};
 use crate::checkpoint;
-use crate::dim::{Dim, D2, D3};
+use crate::dim::{Dim, D3};
+use crate::dsmc::collide::GasDim;
 use crate::error::{Error, Result};
 use crate::md::Md;
 use crate::output::Outputs;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
-pub use super::options::Every;
+pub use crate::checkpoint::interval::Every;
 pub use crate::checkpoint::run::{decode, find, Found};
 
 /// Continues a run from a checkpoint: to the end of its scenario, or for
@@ -86,29 +88,31 @@ fn resume_on_pool(
 ) -> Result<Value> {
     let opts = resume_options(&found, opts)?;
     prepare_resume(&found, &opts)?;
-    if found.loaded.scenario.method == crate::dsmc::Method::Dsmc {
-        return super::dsmc::resume(&found, steps, &opts, progress);
+    struct Resume<'a>(&'a Found, Option<u64>, &'a RunOptions, &'a mut dyn Progress);
+    impl Runs for Resume<'_> {
+        type Out = Result<Value>;
+        fn md<D: Dim>(self) -> Result<Value> {
+            let Resume(found, steps, opts, progress) = self;
+            let start = restart::<D>(found, steps, opts)?;
+            run_loop(&found.loaded, opts, start, progress)
+        }
+        fn gas<D: GasDim>(self) -> Result<Value> {
+            super::dsmc::resume_dim::<D>(self.0, self.1, self.2, self.3)
+        }
+        fn device(self) -> std::result::Result<Result<Value>, Self> {
+            let Resume(found, steps, opts, progress) = self;
+            let mut go = || {
+                crate::scenario::device::check_device(&found.loaded)?;
+                let start = restart::<D3>(found, steps, opts)?;
+                super::device_md::run(&found.loaded, opts, start, progress)
+            };
+            Ok(go())
+        }
     }
-    let loaded = &found.loaded;
-    if !loaded.scenario.run.device.is_cpu() {
-        crate::scenario::device::check_device(loaded)?;
-        let start = restart::<D3>(&found, steps, &opts)?;
-        return super::device_md::run(loaded, &opts, start, progress);
-    }
-    match found.dim {
-        2 => run_loop(
-            loaded,
-            &opts,
-            restart::<D2>(&found, steps, &opts)?,
-            progress,
-        ),
-        _ => run_loop(
-            loaded,
-            &opts,
-            restart::<D3>(&found, steps, &opts)?,
-            progress,
-        ),
-    }
+    choose(
+        &found.loaded.scenario,
+        Resume(&found, steps, &opts, progress),
+    )
 }
 
 /// The engine and flow run restored from the checkpoint, the outputs cut

@@ -1,93 +1,24 @@
 //! An MD run whose steps run on the GPU pipeline (`run.device = "gpu"`, or
 //! `"mirror"`: the same pipeline as loops on the CPU, the same bits): the
 //! host keeps the engine built from the scenario and copies the pipeline's
-//! state into it only at the steps a hook reads it.
+//! state into it only at the steps a hook reads it ([`DeviceMd`], the
+//! pipeline behind the engine contract, here seen by the MD hooks).
 
-use super::engine::{Engine, MdView};
+use super::engine::MdView;
 use super::md_run::{run_loop, Start};
 use super::options::{prepare_fresh, Progress, RunOptions};
-use crate::checkpoint;
 use crate::dim::D3;
 #[cfg(not(feature = "cuda"))]
 use crate::error::Error;
 use crate::error::Result;
+use crate::gpu::engine::DeviceMd;
 use crate::gpu::mirror::Mirror;
 use crate::gpu::pipeline::Pipeline;
-use crate::io::Frame;
 use crate::md::Md;
 use crate::scenario::flow::FlowRun;
 use crate::scenario::schema::Device;
 use crate::scenario::Loaded;
 use serde_json::{json, Map, Value};
-
-/// The GPU pipeline behind the engine contract.
-pub(super) struct DeviceMd<P> {
-    /// Built from the scenario: settings, walls, domain; its grains are the
-    /// pipeline's as they stood at step `fresh`.
-    md: Md<D3>,
-    pipe: P,
-    fresh: Option<u64>,
-    /// `run.gpu_fma`, for a pipeline started again from a checkpoint.
-    fma: bool,
-}
-
-impl<P: Pipeline> DeviceMd<P> {
-    fn new(md: Md<D3>, fma: bool) -> Result<Self> {
-        Ok(Self {
-            pipe: P::start(&md, fma)?,
-            fma,
-            fresh: Some(md.step),
-            md,
-        })
-    }
-
-    /// The host engine with the pipeline's state now (copied at most once
-    /// a step).
-    fn copied(&mut self) -> Result<&Md<D3>> {
-        let step = self.pipe.step();
-        if self.fresh != Some(step) {
-            self.md.import_state(self.pipe.state()?)?;
-            self.fresh = Some(step);
-        }
-        Ok(&self.md)
-    }
-}
-
-impl<P: Pipeline> Engine for DeviceMd<P> {
-    fn dim(&self) -> usize {
-        3
-    }
-    fn step_count(&self) -> u64 {
-        self.pipe.step()
-    }
-    fn sim_time(&self) -> f64 {
-        self.pipe.time()
-    }
-    fn time_step(&self) -> f64 {
-        self.md.settings.dt
-    }
-    fn advance(&mut self, n: u64) -> Result<()> {
-        self.pipe.advance(n)
-    }
-    fn frame(&self) -> Result<Frame> {
-        if self.fresh == Some(self.pipe.step()) {
-            return Ok(self.md.frame());
-        }
-        self.pipe.frame(&self.md.domain)
-    }
-    fn export(&self) -> Result<Vec<u8>> {
-        Ok(checkpoint::engine::encode_state(
-            &self.md,
-            &self.pipe.state()?,
-        ))
-    }
-    fn import(&mut self, bytes: &[u8], origin: &str) -> Result<()> {
-        Engine::import(&mut self.md, bytes, origin)?;
-        self.pipe = P::start(&self.md, self.fma)?;
-        self.fresh = Some(self.md.step);
-        Ok(())
-    }
-}
 
 impl<P: Pipeline> MdView for DeviceMd<P> {
     type D = D3;

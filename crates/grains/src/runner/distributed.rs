@@ -21,19 +21,21 @@
 //! without a checkpoint.
 
 use super::checkpointing::{self, Found};
+use super::choose::{choose, Runs};
 use super::dsmc::{build, gas_outputs, head, run_loop, GasStart};
-use super::engine::{gas_frame as frame, Engine, GasView};
+use super::engine::GasView;
 use super::options::{prepare_fresh, Progress, RunOptions};
 use crate::comm::Comm;
-use crate::dim::{D2, D3};
+use crate::dim::Dim;
 use crate::dsmc::collide::GasDim;
+use crate::dsmc::contract::gas_frame as frame;
 use crate::dsmc::decomp::Decomposed;
 use crate::dsmc::engine::Dsmc;
 use crate::dsmc::Method;
+use crate::engine::Engine;
 use crate::error::{Error, Result};
 use crate::io::Frame;
 use crate::output::Pieces;
-use crate::scenario::schema::Dimension;
 use crate::scenario::Loaded;
 use serde_json::{json, Map, Value};
 
@@ -56,12 +58,22 @@ pub fn run(
     // Not on rayon's pool here (unlike `super::run`): ranks that are
     // threads of one process would each hold a pool worker while waiting
     // for the others. The command line puts its single rank on the pool.
-    match loaded.scenario.dimension {
-        Dimension::Two if md => super::distributed_md::run::<D2>(loaded, opts, progress, comm),
-        Dimension::Three if md => super::distributed_md::run::<D3>(loaded, opts, progress, comm),
-        Dimension::Two => run_dim::<D2>(loaded, opts, progress, comm),
-        Dimension::Three => run_dim::<D3>(loaded, opts, progress, comm),
+    struct Ranks<'a>(
+        &'a Loaded,
+        &'a RunOptions,
+        &'a mut dyn Progress,
+        &'a dyn Comm,
+    );
+    impl Runs for Ranks<'_> {
+        type Out = Result<Value>;
+        fn md<D: Dim>(self) -> Result<Value> {
+            super::distributed_md::run::<D>(self.0, self.1, self.2, self.3)
+        }
+        fn gas<D: GasDim>(self) -> Result<Value> {
+            run_dim::<D>(self.0, self.1, self.2, self.3)
+        }
     }
+    choose(&loaded.scenario, Ranks(loaded, opts, progress, comm))
 }
 
 /// The GPU pipeline runs on one process, never decomposed over ranks.
@@ -84,19 +96,33 @@ pub fn resume(
     progress: &mut dyn Progress,
     comm: &dyn Comm,
 ) -> Result<Value> {
-    if found.loaded().scenario.method == Method::Dsmc {
-        return Err(Error::input(format!(
-            "checkpoint {}: resuming a DSMC run on several ranks is not supported yet; \
-             resume it without mpirun",
-            found.path.display()
-        )));
-    }
     refuse_device(found.loaded())?;
     let opts = checkpointing::resume_options(&found, opts)?;
-    match found.dim {
-        2 => super::distributed_md::resume::<D2>(&found, steps, &opts, progress, comm),
-        _ => super::distributed_md::resume::<D3>(&found, steps, &opts, progress, comm),
+    struct Ranks<'a>(
+        &'a Found,
+        Option<u64>,
+        &'a RunOptions,
+        &'a mut dyn Progress,
+        &'a dyn Comm,
+    );
+    impl Runs for Ranks<'_> {
+        type Out = Result<Value>;
+        fn md<D: Dim>(self) -> Result<Value> {
+            let Ranks(found, steps, opts, progress, comm) = self;
+            super::distributed_md::resume::<D>(found, steps, opts, progress, comm)
+        }
+        fn gas<D: GasDim>(self) -> Result<Value> {
+            Err(Error::input(format!(
+                "checkpoint {}: resuming a DSMC run on several ranks is not supported yet; \
+                 resume it without mpirun",
+                self.0.path.display()
+            )))
+        }
     }
+    choose(
+        &found.loaded().scenario,
+        Ranks(&found, steps, &opts, progress, comm),
+    )
 }
 
 fn run_dim<D: GasDim>(

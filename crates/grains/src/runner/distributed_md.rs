@@ -30,12 +30,13 @@
 //! which (one summed flag per step).
 
 use super::checkpointing;
-use super::engine::{Engine, MdView};
+use super::engine::MdView;
 use super::md_run::{run_loop, Start};
 use super::options::{prepare_fresh, Progress, RunOptions};
 use crate::checkpoint::run::Found;
 use crate::comm::{Comm, Reader, Writer};
 use crate::dim::Dim;
+use crate::engine::Engine;
 use crate::error::{Error, Result};
 use crate::io::Frame;
 use crate::md::decomp::{get_vec, index_by_id, put_vec, DecomposedMd};
@@ -131,7 +132,7 @@ fn start<D: Dim>(
     // (phases without a vibrating wall) must stop every rank now.
     let m = &loaded.scenario.measure;
     if m.phases.is_some() || m.trajectories.is_some() || m.impact {
-        Measurements::begin(loaded, &full, 0, resolved.dt)?;
+        Measurements::begin(loaded, &full.view(), 0, resolved.dt)?;
     }
     let flow = mirror.is_some().then_some(flow);
     if let Some(out) = outputs.as_mut() {

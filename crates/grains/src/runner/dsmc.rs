@@ -3,39 +3,31 @@
 //! profiles.csv and summary.json.
 
 use super::checkpointer::Checkpointer;
-use super::engine::{gas_frame, Engine, GasView};
-use super::found::resume_plan;
+use super::engine::GasView;
 use super::options::{prepare_fresh, Progress, RunOptions};
 use super::run_loop::{
     run_to, Control, Every, Hook, Interval, Record, Recorder, Report, Saved, StopFlag,
 };
 use crate::checkpoint::run::Found;
 use crate::codec::Dec;
-use crate::dim::{D2, D3};
 use crate::dsmc::collide::GasDim;
+use crate::dsmc::contract::gas_frame;
 use crate::dsmc::engine::Dsmc;
+use crate::engine::Engine;
 use crate::error::{Error, Result};
 use crate::measure::gas::{GasMeasurement, Origin};
 use crate::output::Outputs;
-use crate::scenario::schema::{Dimension, OutputSpec};
+use crate::scenario::schema::OutputSpec;
 use crate::scenario::Loaded;
 use serde_json::{json, Map, Value};
 use std::path::Path;
 use std::time::Instant;
 
 pub use crate::measure::gas::{gas_summary, THERMO_COLUMNS};
-pub use crate::scenario::dsmc::{build_dsmc as build, check, describe, spec, Plan};
-
-/// Runs a DSMC scenario; returns the summary written to summary.json.
-pub fn run(loaded: &Loaded, opts: &RunOptions, progress: &mut dyn Progress) -> Result<Value> {
-    match loaded.scenario.dimension {
-        Dimension::Two => run_dim::<D2>(loaded, opts, progress),
-        Dimension::Three => run_dim::<D3>(loaded, opts, progress),
-    }
-}
+pub use crate::scenario::dsmc::{build_dsmc as build, describe, spec, Plan};
 
 /// Runs a DSMC scenario from step 0.
-fn run_dim<D: GasDim>(
+pub(super) fn run_dim<D: GasDim>(
     loaded: &Loaded,
     opts: &RunOptions,
     progress: &mut dyn Progress,
@@ -70,20 +62,6 @@ pub(crate) fn head<D: GasDim>(loaded: &Loaded, sim: &Dsmc<D>, plan: &Plan) -> Ma
 /// The output files of a DSMC run (thermo columns of a gas, no dump).
 pub(crate) fn gas_outputs(dir: &Path, spec: &OutputSpec) -> Result<Outputs> {
     Outputs::with_columns(dir, spec, &THERMO_COLUMNS, false)
-}
-
-/// Continues a DSMC run from a checkpoint read by
-/// [`super::checkpointing::find`].
-pub(crate) fn resume(
-    found: &Found,
-    steps: Option<u64>,
-    opts: &RunOptions,
-    progress: &mut dyn Progress,
-) -> Result<Value> {
-    match found.dim {
-        2 => resume_dim::<D2>(found, steps, opts, progress),
-        _ => resume_dim::<D3>(found, steps, opts, progress),
-    }
 }
 
 /// A DSMC engine restored from a checkpoint.
@@ -129,21 +107,22 @@ pub(crate) fn restore<D: GasDim>(found: &Found) -> Result<Restored<D>> {
     })
 }
 
-fn resume_dim<D: GasDim>(
+/// Continues a DSMC run from a checkpoint read by
+/// [`super::checkpointing::find`].
+pub(super) fn resume_dim<D: GasDim>(
     found: &Found,
     steps: Option<u64>,
     opts: &RunOptions,
     progress: &mut dyn Progress,
 ) -> Result<Value> {
     let loaded = found.loaded();
-    let origin = found.path.display().to_string();
     let Restored {
         sim,
         plan,
         measure: m,
         head: summary,
     } = restore::<D>(found)?;
-    let (relax, measure) = resume_plan(found.plan, sim.step, steps, &origin)?;
+    let (relax, measure) = found.resume_plan(sim.step, steps)?;
     let outputs = Outputs::resume(&opts.out_dir, &loaded.scenario.output, &found.outputs)?;
     let start = GasStart {
         engine: sim,

@@ -1,42 +1,14 @@
 //! What a checkpoint read back ([`crate::checkpoint::run::find`]) restores:
-//! the engine and the measurements, and the step plan of the resumed run.
+//! the engine and the measurements of a resumed MD run.
 
-use super::engine::Engine;
-use crate::checkpoint::run::{scenario_text, Found};
+use crate::checkpoint::run::Found;
 use crate::dim::Dim;
-use crate::dsmc::Method;
+use crate::engine::Engine;
 use crate::error::{Error, Result};
 use crate::md::Md;
 use crate::measure::measurements::Measurements;
 use crate::scenario::flow::FlowRun;
-use crate::scenario::{build_md, restart, Loaded, Resolved};
-
-/// The (relax, measured) step plan of a resumed run: the checkpoint's own,
-/// or, with `--steps n`, one that ends n steps after `step`. `origin` names
-/// the checkpoint in messages.
-pub(crate) fn resume_plan(
-    (relax, measure): (u64, u64),
-    step: u64,
-    steps: Option<u64>,
-    origin: &str,
-) -> Result<(u64, u64)> {
-    match steps {
-        Some(n) => {
-            let end = step
-                .checked_add(n)
-                .ok_or_else(|| Error::input("--steps too large"))?;
-            Ok(if end <= relax {
-                (end, 0)
-            } else {
-                (relax, end - relax)
-            })
-        }
-        None if step > relax + measure => Err(Error::input(format!(
-            "checkpoint {origin}: step {step} lies beyond the run's end"
-        ))),
-        None => Ok((relax, measure)),
-    }
-}
+use crate::scenario::{build_md, Resolved};
 
 /// What a resumed MD run starts from, every rank alike: the engine
 /// restored from the checkpoint, the scenario's resolved settings, the step
@@ -64,7 +36,7 @@ impl Found {
     pub(crate) fn restore_built<D: Dim>(&self) -> Result<(Md<D>, Resolved, Option<FlowRun<D>>)> {
         // Refused by name before the scenario is built as MD (a DSMC
         // scenario has no contact law to build).
-        if crate::checkpoint::dsmc::is_dsmc(&self.engine) {
+        if crate::dsmc::contract::is_dsmc(&self.engine) {
             return Err(Error::input(format!(
                 "checkpoint {}: holds a DSMC engine state; it cannot be restored as MD",
                 self.path.display()
@@ -79,7 +51,7 @@ impl Found {
                 Some(flow)
             }
             Some(_) => {
-                crate::checkpoint::engine::restore_changed(&mut md, &self.engine)
+                crate::md::contract::restore_changed(&mut md, &self.engine)
                     .map_err(|e| Error::input(format!("{origin}: {e}")))?;
                 None
             }
@@ -93,41 +65,6 @@ impl Found {
             )));
         }
         Ok((md, resolved, flow))
-    }
-
-    /// This checkpoint's state continued under `new`, a changed scenario
-    /// (a restart): refused, naming the key, when a change would not leave
-    /// the state meaningful ([`restart::check_changes`]); `what` names the
-    /// change in messages.
-    pub fn restart_with(mut self, new: Loaded, what: &str) -> Result<Self> {
-        if self.loaded.scenario.method == Method::Dsmc || new.scenario.method == Method::Dsmc {
-            return Err(Error::input(format!(
-                "{what}: a DSMC checkpoint resumes as it was; a restart with changes is for MD runs"
-            )));
-        }
-        let changed = restart::check_changes(&self.loaded.scenario, &new.scenario, what)?;
-        self.loaded = new;
-        self.restart = Some(changed);
-        Ok(self)
-    }
-
-    /// [`Found::restart_with`] the checkpoint's own scenario with `sets`
-    /// (`KEY=VALUE`) applied.
-    pub fn restart_with_sets(self, sets: &[String]) -> Result<Self> {
-        let text = scenario_text(&self.loaded.scenario)?;
-        let base = self.loaded.base_dir.clone();
-        let origin = format!(
-            "{} (checkpoint {})",
-            self.loaded.origin,
-            self.path.display()
-        );
-        let new = crate::scenario::load_str(&text, &origin, base, sets)?;
-        self.restart_with(new, "--set")
-    }
-
-    /// The scenario keys a restart changed; `None` for a plain resume.
-    pub fn changed_keys(&self) -> Option<&[String]> {
-        self.restart.as_deref()
     }
 
     /// Everything a resumed MD run needs, checked; `steps`: `--steps`. A
@@ -159,10 +96,10 @@ impl Found {
             });
         }
         let path = self.path.display();
-        let (relax, measure) = resume_plan(self.plan, md.step, steps, &path.to_string())?;
+        let (relax, measure) = self.resume_plan(md.step, steps)?;
         let measurements = match &self.measurements {
             Some(bytes) if md.step > relax => Some(
-                Measurements::load(loaded, &md, bytes)
+                Measurements::load(loaded, &md.view(), bytes)
                     .map_err(|e| Error::input(format!("checkpoint {path}: {e}")))?,
             ),
             Some(_) => {

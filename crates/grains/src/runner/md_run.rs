@@ -11,14 +11,12 @@ use super::run_loop::{
 use crate::dim::Dim;
 use crate::error::Result;
 use crate::md::Md;
-use crate::measure::granular_temperature;
 use crate::measure::measurements::Measurements;
 use crate::measure::wall_table::WallTable;
-use crate::output::Outputs;
+use crate::output::{md_summary, Outputs};
 use crate::scenario::flow::FlowRun;
 use crate::scenario::{build_md, Loaded, Resolved};
-use serde_json::Map;
-use serde_json::{json, Value};
+use serde_json::{Map, Value};
 use std::time::Instant;
 
 /// Runs an MD scenario from step 0.
@@ -92,7 +90,7 @@ impl<E: MdView> Recorder<E> for MdRecord<'_> {
         if let (Some(md), Some(out)) = (engine.whole()?, outputs) {
             out.record_md(md)?;
             if let Some(w) = self.walls.as_deref_mut() {
-                w.record(md)?;
+                w.record(&md.view())?;
             }
         }
         Ok(())
@@ -128,7 +126,7 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
         ck.write(&engine, &saved)?;
     }
     let mut walls_csv = match engine.whole()? {
-        Some(md) => WallTable::create(&opts.out_dir, md)?,
+        Some(md) => WallTable::create(&opts.out_dir, &md.view())?,
         None => None,
     };
     let mut interval = Interval(ck.interval());
@@ -178,7 +176,7 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
         (Some(m), Some(_)) => Some(m),
         (None, Some(md)) => Some(Measurements::begin(
             loaded,
-            md,
+            &md.view(),
             measure - measure_done,
             resolved.dt,
         )?),
@@ -236,10 +234,10 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
     else {
         return Ok(Value::Null);
     };
-    measurements.sample(md);
+    measurements.sample(&md.view());
     let last = md.frame();
     outputs.finish(&last, &md.walls, measurements.displacement.as_ref())?;
-    measurements.write(&opts.out_dir, md, &last)?;
+    measurements.write(&opts.out_dir, &md.view(), &last)?;
     let steps = relax + measure;
     let mut summary = md_summary(loaded, md, &resolved, steps, stepped, wall_seconds);
     summary.extend(extra);
@@ -248,45 +246,6 @@ pub(super) fn run_loop<D: Dim, E: MdView<D = D>>(
     let summary = Value::Object(summary);
     outputs.write_summary(&summary)?;
     Ok(summary)
-}
-
-/// The summary scalars every MD run reports: what ran, how long it took
-/// (`stepped` steps of this process's timing) and the final energies.
-pub(crate) fn md_summary<D: Dim>(
-    loaded: &Loaded,
-    md: &Md<D>,
-    resolved: &Resolved,
-    steps: u64,
-    stepped: u64,
-    wall_seconds: f64,
-) -> Map<String, Value> {
-    let updates = (stepped.max(1) as f64) * md.particles.n_mobile().max(1) as f64;
-    let mut summary = Map::new();
-    summary.insert("scenario".into(), json!(loaded.scenario.name));
-    summary.insert("dimension".into(), json!(D::NAME));
-    summary.insert("particles".into(), json!(md.particles.n_owned()));
-    summary.insert("steps".into(), json!(steps));
-    summary.insert("time".into(), json!(md.time));
-    summary.insert("dt".into(), json!(resolved.dt));
-    summary.insert("contact_time".into(), json!(resolved.contact_time));
-    summary.insert("wall_seconds".into(), json!(wall_seconds));
-    summary.insert(
-        "ns_per_particle_step".into(),
-        json!(1e9 * wall_seconds / updates),
-    );
-    summary.insert(
-        "kinetic_energy".into(),
-        json!(md.particles.kinetic_energy()),
-    );
-    summary.insert(
-        "rotational_energy".into(),
-        json!(md.particles.rotational_energy()),
-    );
-    summary.insert(
-        "granular_temperature".into(),
-        json!(granular_temperature(&md.particles)),
-    );
-    summary
 }
 
 /// The flow events as a hook of the run loop: after the stretches that end
@@ -364,12 +323,12 @@ impl<E: MdView> Hook<E> for MeasureHook<'_> {
             let t = engine.sim_time();
             let want = self.m.as_deref().is_some_and(|m| m.due(now, t));
             if let (Some(md), Some(m)) = (engine.whole_if(want)?, self.m.as_deref_mut()) {
-                m.step(md);
+                m.step(&md.view());
             }
         }
         if self.sample.due(now) {
             if let (Some(md), Some(m)) = (engine.whole()?, self.m.as_deref_mut()) {
-                m.sample(md);
+                m.sample(&md.view());
             }
         }
         Ok(Control::Go)

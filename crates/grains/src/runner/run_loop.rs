@@ -13,8 +13,8 @@
 
 use super::checkpointer::Checkpointer;
 pub(crate) use super::checkpointer::Saved;
-use super::engine::Engine;
 use super::options::Progress;
+use crate::engine::Engine;
 use crate::error::Result;
 use crate::output::Outputs;
 use serde_json::Value;

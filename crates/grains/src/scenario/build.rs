@@ -6,6 +6,8 @@ use super::resolve::{resolve, Resolved};
 use super::schema::{FileFormat, MotionSpec, Placement, Scenario, ShapeSpec, WallSpec};
 use super::Loaded;
 use crate::boundary::{Motion, Shape, Wall};
+use crate::contact::hertz_mindlin::MaterialLaw;
+use crate::contact::Law;
 use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
@@ -450,8 +452,16 @@ fn build_md_inner<D: Dim>(
     if let Some(g) = &s.gravity {
         settings.gravity = vector::<D>("gravity", g)?;
     }
-    settings.materials = super::materials::hertz_law(s, &particles.kind)?;
-    if settings.materials.is_some() && !s.contact.elastic_walls.is_empty() {
+    // The one law of the run: the materials' when the scenario has them,
+    // with the stand-in the time step came from.
+    let hertz = super::materials::hertz_law(s, &particles.kind)?;
+    if let Some(hertz) = hertz {
+        settings.law = Law::Materials(MaterialLaw {
+            hertz,
+            estimate: resolved.law.clone(),
+        });
+    }
+    if settings.law.materials().is_some() && !s.contact.elastic_walls.is_empty() {
         return Err(Error::input(format!(
             "{}: contact.elastic_walls is an option of the spring-dashpot laws; with \
              materials, give those walls a material (or a [[material_pairs]] entry) \

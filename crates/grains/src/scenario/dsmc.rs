@@ -5,9 +5,9 @@
 
 use super::build::{motion, vector};
 use super::resolve::cycle_frequency;
-use super::schema::{Dimension, MotionSpec, Placement, ShapeSpec, TimeStep};
+use super::schema::{MotionSpec, Placement, ShapeSpec, TimeStep};
 use super::Loaded;
-use crate::dim::{Dim, D2, D3};
+use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::dsmc::collide::GasDim;
 use crate::dsmc::engine::{Dsmc, DsmcSettings, PlaneWall};
@@ -268,16 +268,4 @@ pub fn describe<D: GasDim>(loaded: &Loaded, sim: &Dsmc<D>, plan: &Plan) -> Value
         "measure_steps": plan.measure_steps,
         "output_every_steps": plan.output_every,
     })
-}
-
-/// What `grains check` prints for a DSMC scenario.
-pub fn check(loaded: &Loaded) -> Result<Value> {
-    fn go<D: GasDim>(loaded: &Loaded) -> Result<Value> {
-        let (sim, plan) = build_dsmc::<D>(loaded)?;
-        Ok(describe(loaded, &sim, &plan))
-    }
-    match loaded.scenario.dimension {
-        Dimension::Two => go::<D2>(loaded),
-        Dimension::Three => go::<D3>(loaded),
-    }
 }

@@ -144,7 +144,7 @@ impl<D: Dim> FlowRun<D> {
                 .measure
                 .spacetime
                 .as_ref()
-                .map(|m| Spacetime::new(md, m.bin * d0)),
+                .map(|m| Spacetime::new(&md.view(), m.bin * d0)),
         })
     }
 
@@ -259,7 +259,7 @@ impl<D: Dim> FlowRun<D> {
     fn repose_fit(&self, md: &Md<D>) -> Option<SurfaceFit> {
         let m = self.repose.as_ref()?;
         let fit = surface(
-            md,
+            &md.view(),
             m.x_range[0],
             m.x_range[1],
             m.column * self.d0,
@@ -303,7 +303,7 @@ impl<D: Dim> FlowRun<D> {
     pub fn sample(&mut self, md: &Md<D>) {
         if let Some((m, angles)) = &mut self.drum {
             let fit = surface(
-                md,
+                &md.view(),
                 m.x_range[0],
                 m.x_range[1],
                 m.column * self.d0,
@@ -314,7 +314,7 @@ impl<D: Dim> FlowRun<D> {
             }
         }
         if let Some(s) = &mut self.spacetime {
-            s.sample(md);
+            s.sample(&md.view());
         }
     }
 

@@ -3,7 +3,8 @@
 //! pair of materials that meet, the values the engine's law holds (E*, G*,
 //! the damping coefficient, friction, rolling and cohesion) and the spread
 //! of R* and m* over the grains that meet; then the time step's reasoning
-//! and the memory estimate, for every law.
+//! and the memory estimate, for every law; [`md_report`] puts them
+//! together with the run's plan.
 //!
 //! Every number is read from the built engine's objects (the law's pair
 //! table, the grains' radii and masses) or computed by the functions the
@@ -13,6 +14,7 @@
 use super::memory::md_bytes_per_grain;
 use super::resolve::Resolved;
 use super::schema::Scenario;
+use super::Loaded;
 use crate::contact::cohesion::{dmt_pull_off, CohesionModel};
 use crate::contact::hertz_mindlin::HertzMindlin;
 use crate::contact::material::r_star;
@@ -60,7 +62,7 @@ fn range(lo: f64, hi: f64) -> Value {
     }
 }
 
-/// The material law of `md` (`law`, its `settings.materials`) as JSON.
+/// The material law of `md` (`law`, its `settings.law`'s materials) as JSON.
 pub fn material_law<D: Dim>(s: &Scenario, md: &Md<D>, law: &HertzMindlin) -> Result<Value> {
     let names: Vec<String> = super::materials::materials(s)?
         .into_iter()
@@ -184,22 +186,23 @@ fn pair_json(
     let mut o = Map::new();
     o.insert("between".into(), json!(between));
     o.insert("materials".into(), json!([names[a], names[b]]));
+    let (mu, mu_r) = law.friction(a, b);
     if let Some(t) = law.granular() {
         let g = &t.pairs[a * names.len() + b];
         o.insert("e_star".into(), json!(g.e_star()));
         o.insert("g_star".into(), json!(g.g_star()));
         o.insert("damping_alpha".into(), json!(g.alpha()));
-        o.insert("friction".into(), json!(g.friction()));
-        o.insert("rolling_friction".into(), json!(g.rolling_friction()));
+        o.insert("friction".into(), json!(mu));
+        o.insert("rolling_friction".into(), json!(mu_r));
     } else {
         let c = law.coefficients(a, b);
         o.insert("e_star".into(), json!(c.e_star));
         o.insert("g_star".into(), json!(c.g_star));
         o.insert("restitution".into(), json!(c.restitution));
         o.insert("damping_alpha".into(), json!(law.pair(a, b).alpha()));
-        o.insert("friction".into(), json!(c.friction));
+        o.insert("friction".into(), json!(mu));
         if law.rolling != RollingModel::None {
-            o.insert("rolling_friction".into(), json!(c.rolling_friction));
+            o.insert("rolling_friction".into(), json!(mu_r));
         }
         let gamma = c.surface_energy;
         match law.cohesion() {
@@ -230,7 +233,7 @@ fn pair_json(
 /// that contact time is of, dt, the steps per contact and where dt came
 /// from.
 pub fn time_step<D: Dim>(md: &Md<D>, r: &Resolved) -> Value {
-    let of = if md.settings.materials.is_some() {
+    let of = if md.settings.law.materials().is_some() {
         format!(
             "an undamped Hertz contact of two of the smallest grains (d = d0 (1 - width/2)) of the \
              stiffest material, k_n = (4/3) E* sqrt(R*) = {:.4e}, at the impact speed",
@@ -260,4 +263,41 @@ pub fn memory<D: Dim>(md: &Md<D>) -> Value {
         "estimate_bytes": bytes,
         "estimate": format!("{:.1} MiB", bytes as f64 / 1048576.0),
     })
+}
+
+/// What `grains check` prints of an MD scenario built as `md` with the
+/// resolved settings `r`.
+pub fn md_report<D: Dim>(loaded: &Loaded, md: &Md<D>, r: &Resolved) -> Result<Value> {
+    let law = &r.law;
+    // Under materials the law is the pair table's; `r.law` is only the
+    // stand-in the time step was taken from.
+    let contact = match md.settings.law.materials() {
+        Some(m) => material_law(&loaded.scenario, md, m)?,
+        None => json!({
+            "kn": law.kn, "beta": law.beta, "gamma_n": law.gamma_n, "gamma_t": law.gamma_t,
+            "kt": law.kt, "mu": if law.mu.is_finite() { json!(law.mu) } else { json!("inf") },
+            "scaling": format!("{:?}", law.scaling).to_lowercase(), "rotation": law.rotation,
+        }),
+    };
+    Ok(json!({
+        "scenario": loaded.scenario.name,
+        "source": loaded.origin,
+        "dimension": D::NAME,
+        "particles": md.particles.n_owned(),
+        "frozen": md.particles.n_owned() - md.particles.n_mobile(),
+        "walls": md.walls.iter().map(|w| w.name.clone()).collect::<Vec<_>>(),
+        "contact": contact,
+        "integrator": md.settings.integrator.name(),
+        "time_step": time_step(md, r),
+        "contact_time": r.contact_time,
+        "dt": r.dt,
+        "dt_origin": r.dt_origin,
+        "steps_per_contact": r.contact_time / r.dt,
+        "cycle_frequency": r.cycle_frequency,
+        "relax_steps": r.relax_steps,
+        "measure_steps": r.measure_steps,
+        "output_every_steps": r.output_every,
+        "skin": md.settings.skin,
+        "memory": memory(md),
+    }))
 }

@@ -502,7 +502,7 @@ duration = 1.0e-4
         // 2700 kg/m³ × (4/3) π (0.1 m)³, not particles.density's default.
         let m = 2700.0 * 4.0 / 3.0 * std::f64::consts::PI * 1e-3;
         assert!((md.particles.mass[0] / m - 1.0).abs() < 1e-12);
-        assert!(md.settings.materials.is_some());
+        assert!(md.settings.law.materials().is_some());
     }
 
     #[test]

@@ -9,9 +9,13 @@
 //! integrator (Gear-5 keeps its own history) and the neighbour skin (the
 //! carried neighbour list was built with it). The time step may change
 //! under velocity Verlet only; the engine checks that, since a default dt
-//! follows from the contact law.
+//! follows from the contact law. [`Found::restart_with`] puts a checkpoint
+//! under such a changed scenario.
 
 use super::schema::Scenario;
+use super::Loaded;
+use crate::checkpoint::run::{scenario_text, Found};
+use crate::dsmc::Method;
 use crate::error::{Error, Result};
 use toml::Value;
 
@@ -99,6 +103,43 @@ pub fn check_changes(old: &Scenario, new: &Scenario, what: &str) -> Result<Vec<S
     }
     changed.retain(|k| k != "name" && k != "description");
     Ok(changed)
+}
+
+impl Found {
+    /// This checkpoint's state continued under `new`, a changed scenario
+    /// (a restart): refused, naming the key, when a change would not leave
+    /// the state meaningful ([`check_changes`]); `what` names the
+    /// change in messages.
+    pub fn restart_with(mut self, new: Loaded, what: &str) -> Result<Self> {
+        if self.loaded.scenario.method == Method::Dsmc || new.scenario.method == Method::Dsmc {
+            return Err(Error::input(format!(
+                "{what}: a DSMC checkpoint resumes as it was; a restart with changes is for MD runs"
+            )));
+        }
+        let changed = check_changes(&self.loaded.scenario, &new.scenario, what)?;
+        self.loaded = new;
+        self.restart = Some(changed);
+        Ok(self)
+    }
+
+    /// [`Found::restart_with`] the checkpoint's own scenario with `sets`
+    /// (`KEY=VALUE`) applied.
+    pub fn restart_with_sets(self, sets: &[String]) -> Result<Self> {
+        let text = scenario_text(&self.loaded.scenario)?;
+        let base = self.loaded.base_dir.clone();
+        let origin = format!(
+            "{} (checkpoint {})",
+            self.loaded.origin,
+            self.path.display()
+        );
+        let new = super::load_str(&text, &origin, base, sets)?;
+        self.restart_with(new, "--set")
+    }
+
+    /// The scenario keys a restart changed; `None` for a plain resume.
+    pub fn changed_keys(&self) -> Option<&[String]> {
+        self.restart.as_deref()
+    }
 }
 
 #[cfg(test)]

@@ -3,13 +3,13 @@
 //! engine reorders by cell every few steps, as in the runner's frames.
 
 use super::held::{Column, Contacts, Held};
-use crate::checkpoint::run::Found;
 use crate::dsmc::collide::GasDim;
 use crate::dsmc::engine::Dsmc;
+use crate::engine::Engine;
 use crate::error::{Error, Result};
 use crate::measure::gas::GasMeasurement as Measure;
 use crate::measure::gas::{gas_summary, THERMO_COLUMNS};
-use crate::runner::engine::Engine;
+use crate::runner::saved::Opened;
 use crate::scenario::dsmc::{build_dsmc, describe, spec, Plan};
 use crate::scenario::Loaded;
 use serde_json::{json, Map, Value};
@@ -52,9 +52,9 @@ fn head<D: GasDim>(loaded: &Loaded, sim: &Dsmc<D>, plan: &Plan) -> Map<String, V
 
 /// The engine of a DSMC checkpoint (with its measurement state) and its
 /// output interval.
-pub(super) fn restore<D: GasDim>(found: &Found) -> Result<(Box<dyn Held>, u64)> {
-    let loaded = found.loaded();
-    let r = crate::runner::dsmc::restore::<D>(found)?;
+pub(super) fn restore<D: GasDim>(opened: &Opened) -> Result<(Box<dyn Held>, u64)> {
+    let loaded = opened.loaded();
+    let r = opened.gas::<D>()?;
     let (sim, plan, measure) = (r.sim, r.plan, r.measure);
     let mut head = r.head;
     head.remove("source");

@@ -1,8 +1,8 @@
 //! What a session holds: the per-grain columns a script reads, the
 //! contacts, and the [`Held`] engine (MD or DSMC) behind them.
 
+use crate::engine::Engine;
 use crate::error::Result;
-use crate::runner::engine::Engine;
 use crate::scenario::Loaded;
 use serde_json::{Map, Value};
 

@@ -1,15 +1,13 @@
 //! The MD engine of a [`super::Session`].
 
 use super::held::{Column, Contacts, Held};
-use crate::checkpoint::run::Found;
 use crate::dim::Dim;
+use crate::engine::Engine;
 use crate::error::Result;
 use crate::md::Md;
 use crate::measure::granular_temperature;
-use crate::output::THERMO_COLUMNS;
-use crate::runner::engine::md_scalars;
-use crate::runner::engine::Engine;
-use crate::runner::md_run::md_summary;
+use crate::output::{md_summary, THERMO_COLUMNS};
+use crate::runner::saved::Opened;
 use crate::scenario::{build_md, Loaded, Resolved};
 use rayon::prelude::*;
 use serde_json::{Map, Value};
@@ -46,9 +44,9 @@ fn wrap<D: Dim>(mut md: Md<D>, resolved: Resolved, plan: (u64, u64)) -> Built {
 }
 
 /// The engine of an MD checkpoint and its output interval.
-pub(super) fn restore<D: Dim>(found: &Found) -> Result<(Box<dyn Held>, u64)> {
-    let (md, resolved, _) = found.restore_built::<D>()?;
-    let (engine, _, every) = wrap(md, resolved, found.plan);
+pub(super) fn restore<D: Dim>(opened: &Opened) -> Result<(Box<dyn Held>, u64)> {
+    let (md, resolved) = opened.md::<D>()?;
+    let (engine, _, every) = wrap(md, resolved, opened.plan());
     Ok((engine, every))
 }
 
@@ -203,7 +201,7 @@ impl<D: Dim> Held for MdEngine<D> {
     fn summary(&self, loaded: &Loaded, stepped: u64, wall_seconds: f64) -> Map<String, Value> {
         let md = &self.md;
         let mut s = md_summary(loaded, md, &self.resolved, md.step, stepped, wall_seconds);
-        md_scalars(md, &mut s, wall_seconds);
+        crate::md::contract::scalars(md, &mut s, wall_seconds);
         s
     }
 }

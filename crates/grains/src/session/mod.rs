@@ -17,10 +17,11 @@ mod md_engine;
 use held::Held;
 pub use held::{Column, Contacts};
 
-use crate::checkpoint::run::{find, payload, OutputState, RunHeader};
-use crate::dim::{D2, D3};
+use crate::dim::Dim;
+use crate::dsmc::collide::GasDim;
 use crate::error::{Error, Result};
-use crate::scenario::schema::Dimension;
+use crate::runner::choose::{choose, Runs};
+use crate::runner::saved::{self, Opened};
 use crate::scenario::Loaded;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -47,14 +48,18 @@ impl Session {
     /// Refuses `[hopper]` and `run.events`, which act between the runner's
     /// steps and are not run here: run such scenarios whole.
     pub fn new(loaded: &Loaded) -> Result<Self> {
-        let s = &loaded.scenario;
         runner_only(loaded)?;
-        let (engine, plan, every) = match (s.method, s.dimension) {
-            (crate::dsmc::Method::Dsmc, Dimension::Two) => dsmc_engine::build::<D2>(loaded)?,
-            (crate::dsmc::Method::Dsmc, Dimension::Three) => dsmc_engine::build::<D3>(loaded)?,
-            (_, Dimension::Two) => md_engine::build::<D2>(loaded)?,
-            (_, Dimension::Three) => md_engine::build::<D3>(loaded)?,
-        };
+        struct Build<'a>(&'a Loaded);
+        impl Runs for Build<'_> {
+            type Out = Result<(Box<dyn Held>, (u64, u64), u64)>;
+            fn md<D: Dim>(self) -> Self::Out {
+                md_engine::build::<D>(self.0)
+            }
+            fn gas<D: GasDim>(self) -> Self::Out {
+                dsmc_engine::build::<D>(self.0)
+            }
+        }
+        let (engine, plan, every) = choose(&loaded.scenario, Build(loaded))?;
         Ok(Self::around(loaded.clone(), engine, plan, every))
     }
 
@@ -90,22 +95,21 @@ impl Session {
         sets: &[String],
         allow_changed_inputs: bool,
     ) -> Result<Self> {
-        let (found, _skipped) = find(path)?;
-        found.check_inputs(allow_changed_inputs)?;
-        let found = match sets {
-            [] => found,
-            _ => found.restart_with_sets(sets)?,
-        };
-        let loaded = found.loaded().clone();
-        let s = &loaded.scenario;
+        let opened = Opened::open(path, sets, allow_changed_inputs)?;
+        let loaded = opened.loaded().clone();
         runner_only(&loaded)?;
-        let (engine, every) = match (s.method, found.dim) {
-            (crate::dsmc::Method::Dsmc, 2) => dsmc_engine::restore::<D2>(&found)?,
-            (crate::dsmc::Method::Dsmc, _) => dsmc_engine::restore::<D3>(&found)?,
-            (_, 2) => md_engine::restore::<D2>(&found)?,
-            (_, _) => md_engine::restore::<D3>(&found)?,
-        };
-        Ok(Self::around(loaded, engine, found.plan, every))
+        struct Restore<'a>(&'a Opened);
+        impl Runs for Restore<'_> {
+            type Out = Result<(Box<dyn Held>, u64)>;
+            fn md<D: Dim>(self) -> Self::Out {
+                md_engine::restore::<D>(self.0)
+            }
+            fn gas<D: GasDim>(self) -> Self::Out {
+                dsmc_engine::restore::<D>(self.0)
+            }
+        }
+        let (engine, every) = choose(&loaded.scenario, Restore(&opened))?;
+        Ok(Self::around(loaded, engine, opened.plan(), every))
     }
 
     /// The scenario the session runs.
@@ -293,23 +297,15 @@ impl Session {
     /// format of `grains run --checkpoint-every`, which
     /// [`Session::resume`] reads back to continue bit for bit.
     pub fn save_checkpoint(&self, path: &Path) -> Result<PathBuf> {
-        let run = RunHeader::new(&self.loaded, self.plan, None)?;
-        // No output files belong to a session.
-        let outputs = OutputState::default();
-        let engine = self.engine.engine().export().map_err(|e| match e {
-            Error::Input(m) => Error::input(format!("save_checkpoint: {m}")),
-            other => other,
-        })?;
         let measurements = self.engine.measurements();
-        let bytes = payload(
-            &run,
-            &outputs,
-            self.step(),
-            &engine,
-            (measurements.as_deref(), None),
-        );
-        crate::io::write_atomic(path, &crate::checkpoint::seal(&bytes))?;
-        Ok(path.to_path_buf())
+        let engine = self.engine.engine();
+        saved::save(
+            path,
+            &self.loaded,
+            self.plan,
+            engine,
+            measurements.as_deref(),
+        )
     }
 }
 

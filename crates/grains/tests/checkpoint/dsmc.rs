@@ -228,7 +228,7 @@ fn md_checkpoint_of_dsmc_kind_is_refused() {
     run(&loaded, &opts, &mut Silent).unwrap();
     // The engine state of a DSMC checkpoint carries its kind tag.
     let payload = grains::checkpoint::read(&ck(&dir, 5)).unwrap();
-    let tag = grains::checkpoint::dsmc::TAG;
+    let tag = grains::dsmc::contract::TAG;
     assert!(payload.windows(tag.len()).any(|w| w == tag));
     // Restoring that state into an MD engine is refused by name, in both
     // dimensions, before any byte of it is read as MD state.

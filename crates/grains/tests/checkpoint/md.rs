@@ -8,9 +8,11 @@
 //! the same engine taken one `Md::step` at a time: frames, a measurement
 //! file and checkpoints bit for bit.
 
-use grains::checkpoint::{codec::Enc, engine, state::encode_md};
+use grains::codec::Enc;
 use grains::dim::{Dim, D2, D3};
 use grains::io::vtp_string;
+use grains::md::codec::encode_md;
+use grains::md::contract as engine;
 use grains::md::Md;
 use grains::measure::Convection;
 use grains::runner::checkpointing::{self, Every};
@@ -262,7 +264,7 @@ fn runner_matches_single_steps<D: Dim>(dim: &str, integrator: &str, events: bool
                 continue;
             };
             if k > 0 && k % 37 == 0 {
-                convection.sample(&md);
+                convection.sample(&md.view());
             }
             if k % OUTPUT_EVERY == 0 || md.step == end {
                 frame_is(&md, frames);
@@ -273,7 +275,7 @@ fn runner_matches_single_steps<D: Dim>(dim: &str, integrator: &str, events: bool
     })
     .unwrap();
     assert_eq!(frames, 7, "frames at k = 0, 373, ..., 1865 and the end");
-    convection.sample(&md);
+    convection.sample(&md.view());
     if !events {
         let newest = checkpointing::find(&dir).unwrap().0;
         let newest = newest.restore_md::<D>().unwrap();

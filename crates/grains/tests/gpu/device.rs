@@ -24,14 +24,17 @@ fn chute() -> Mirror {
 
 /// The pipeline on the device, or `None` (after a visible line) where no
 /// device is found; with `GRAINS_REQUIRE_GPU=1` a missing device fails the
-/// test instead.
+/// test instead. The line goes to the process's stderr itself, which the
+/// test harness does not capture (`eprintln!` it does, and shows only for
+/// a failing test), so a passing run says that it skipped.
 fn on_device(m: Mirror, options: Options) -> Option<Cuda> {
     match Cuda::with(m, options) {
         Ok(g) => Some(g),
         Err(e) => {
             let required = std::env::var("GRAINS_REQUIRE_GPU").is_ok_and(|v| v == "1");
             assert!(!required, "GRAINS_REQUIRE_GPU=1 but no CUDA device: {e}");
-            eprintln!("skipped: no CUDA device ({e})");
+            let line = format!("skipped: no CUDA device ({e})\n");
+            let _ = std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes());
             None
         }
     }

@@ -321,7 +321,9 @@ fn refuses_what_it_does_not_run() {
     let e = Mirror::from_md(&md).unwrap_err().to_string();
     assert!(e.contains("run.integrator = \"gear5\""), "{e}");
     let mut md = bed();
-    md.settings.contact.beta = 1.5;
+    if let grains::contact::Law::SpringDashpot(law) = &mut md.settings.law {
+        law.beta = 1.5;
+    }
     let e = Mirror::from_md(&md).unwrap_err().to_string();
     assert!(e.contains("Hooke-with-history"), "{e}");
     let mut md = bed();

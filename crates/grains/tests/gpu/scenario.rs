@@ -160,8 +160,8 @@ fn a_mirror_run_writes_the_cpu_runs_files() {
         "statistics"
     );
     let encode = |s| {
-        let mut e = grains::checkpoint::codec::Enc::default();
-        grains::checkpoint::state::encode_md(&mut e, &s);
+        let mut e = grains::codec::Enc::default();
+        grains::md::codec::encode_md(&mut e, &s);
         e.buf
     };
     assert!(encode(x) == encode(y), "checkpoint states differ");

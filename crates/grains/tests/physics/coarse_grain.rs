@@ -310,7 +310,7 @@ fn gaussian_cdf(u: f64, w: f64) -> f64 {
 fn settled_bed_carries_its_weight() {
     let (md, g) = settled_bed();
     let ke = md.particles.kinetic_energy();
-    let s = snapshot(&md);
+    let s = snapshot(&md.view());
     assert!(!s.walls.is_empty() && !s.contacts.is_empty());
     let w = 1.0;
     let cells = 80;

@@ -112,7 +112,7 @@ fn seed_scaling_conserves_momentum_for_equal_masses_only() {
 fn total_energy<D: Dim>(md: &Md<D>) -> f64 {
     // Kinetic plus elastic energy k ξ²/2 of every overlapping pair (β = 1).
     let p = &md.particles;
-    let kn = md.settings.contact.kn;
+    let kn = md.settings.law.spring_dashpot().unwrap().kn;
     let mut e = p.kinetic_energy();
     for i in 0..p.len() {
         for j in i + 1..p.len() {

@@ -195,9 +195,9 @@ fn jkr_contacts_resume_bit_for_bit() {
         md.step().unwrap();
     }
     assert_eq!(md.stats.contacts, 1);
-    let bytes = grains::checkpoint::engine::encode(&md).unwrap();
+    let bytes = grains::md::contract::encode(&md).unwrap();
     let mut resumed = fresh();
-    grains::checkpoint::engine::restore(&mut resumed, &bytes).unwrap();
+    grains::md::contract::restore(&mut resumed, &bytes).unwrap();
     md.run(2_000).unwrap();
     resumed.run(2_000).unwrap();
     let bits = |m: &Md<D3>| {
@@ -206,7 +206,7 @@ fn jkr_contacts_resume_bit_for_bit() {
     };
     assert_eq!(bits(&md), bits(&resumed));
     let mut forgetful = fresh();
-    grains::checkpoint::engine::restore(&mut forgetful, &bytes).unwrap();
+    grains::md::contract::restore(&mut forgetful, &bytes).unwrap();
     forget_rolling_springs(&mut forgetful);
     forgetful.run(2_000).unwrap();
     assert_ne!(bits(&md), bits(&forgetful));

@@ -148,9 +148,9 @@ fn rolling_springs_resume_bit_for_bit() {
     let fresh = || ball_on_plane(RollingModel::Epsd, 0.1, g_vec, 0.0);
     let mut md = fresh();
     md.run(2_000).unwrap();
-    let bytes = grains::checkpoint::engine::encode(&md).unwrap();
+    let bytes = grains::md::contract::encode(&md).unwrap();
     let mut resumed = fresh();
-    grains::checkpoint::engine::restore(&mut resumed, &bytes).unwrap();
+    grains::md::contract::restore(&mut resumed, &bytes).unwrap();
     md.run(2_000).unwrap();
     resumed.run(2_000).unwrap();
     let bits = |m: &Md<D3>| {
@@ -161,7 +161,7 @@ fn rolling_springs_resume_bit_for_bit() {
     // Without the rolling spring the resumed ball would take a different
     // path: the test can tell.
     let mut forgetful = fresh();
-    grains::checkpoint::engine::restore(&mut forgetful, &bytes).unwrap();
+    grains::md::contract::restore(&mut forgetful, &bytes).unwrap();
     forget_rolling_springs(&mut forgetful);
     forgetful.run(2_000).unwrap();
     assert_ne!(bits(&md), bits(&forgetful));

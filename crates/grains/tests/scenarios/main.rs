@@ -1,4 +1,5 @@
-//! The shipped flow scenarios: hopper, repose, mesh discharge, `check`.
+//! The shipped flow scenarios: hopper, repose, mesh discharge, `check`,
+//! and the engine each is run on.
 //!
 //! One test binary per topic, so that `cargo test` links a few binaries
 //! rather than one per file; each module holds the tests of one subject.
@@ -6,6 +7,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod choose;
 mod hopper;
 mod mesh_discharge;
 mod repose;

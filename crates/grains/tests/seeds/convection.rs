@@ -1,6 +1,6 @@
 //! Seed 002 Figs. 2-3 as ensembles: convection from a modulated plate
 //! amplitude and from side walls, through the shipped scenarios, over
-//! seeds 1..=n of the random placement. Each claim is tested on the
+//! ensembles of seeds of the random placement. Each claim is tested on the
 //! ensemble mean with a stated significance (Welch's t on the seeds'
 //! spread), not on one run; the spreads quoted are those of the 20-seed
 //! sweeps in docs/seed-figures.md (`tools/seed002_ensembles.sh`).
@@ -47,20 +47,36 @@ fn try_run(name: &str, tag: &str, sets: &[String]) -> Option<serde_json::Value> 
 /// one of which must run to the end: a run that stops as unstable fails
 /// the ensemble, naming its seed, rather than shrinking it quietly.
 fn ensemble(name: &str, tag: &str, extra: &[&str], n: u64) -> Vec<(f64, f64)> {
-    let (runs, unstable) = ensemble_counted(name, tag, extra, n);
+    ensemble_of(name, tag, extra, 1..=n)
+}
+
+/// [`ensemble`] over the given seeds.
+fn ensemble_of(
+    name: &str,
+    tag: &str,
+    extra: &[&str],
+    seeds: std::ops::RangeInclusive<u64>,
+) -> Vec<(f64, f64)> {
+    let (runs, unstable) = ensemble_counted(name, tag, extra, seeds.clone());
     assert!(
         unstable.is_empty(),
-        "{name} {extra:?}: seeds {unstable:?} of 1..={n} stopped as unstable"
+        "{name} {extra:?}: seeds {unstable:?} of {seeds:?} stopped as unstable"
     );
     runs
 }
 
-/// [`ensemble`] that counts the runs stopped as unstable instead of failing
-/// on them: (the runs that ended, the seeds that stopped); the two add up to
-/// n.
-fn ensemble_counted(name: &str, tag: &str, extra: &[&str], n: u64) -> (Vec<(f64, f64)>, Vec<u64>) {
+/// [`ensemble_of`] that counts the runs stopped as unstable instead of
+/// failing on them: (the runs that ended, the seeds that stopped); the two
+/// add up to the number of seeds.
+fn ensemble_counted(
+    name: &str,
+    tag: &str,
+    extra: &[&str],
+    seeds: std::ops::RangeInclusive<u64>,
+) -> (Vec<(f64, f64)>, Vec<u64>) {
     let (mut runs, mut unstable) = (Vec::new(), Vec::new());
-    for seed in 1..=n {
+    let n = seeds.clone().count();
+    for seed in seeds {
         let mut sets: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
         sets.push(format!("seed={seed}"));
         match try_run(name, &format!("{tag}-{seed}"), &sets) {
@@ -71,7 +87,7 @@ fn ensemble_counted(name: &str, tag: &str, extra: &[&str], n: u64) -> (Vec<(f64,
             None => unstable.push(seed),
         }
     }
-    assert_eq!(runs.len() + unstable.len(), n as usize);
+    assert_eq!(runs.len() + unstable.len(), n);
     (runs, unstable)
 }
 
@@ -120,28 +136,52 @@ fn modulated_plate_flows_up_in_the_centre() {
     );
 }
 
-/// Fig. 2, "γ ten times larger": 20 seeds gave 155 ± 7 mm/s at γ = 200 s⁻¹
-/// and 48 ± 5 at 2000 (mean ± standard error; spreads 31 and 22 mm/s).
-/// The convection is weakened about threefold, not "completely
-/// suppressed" (48 mm/s is ten standard errors from zero). The test asks
-/// for what holds on seeds 1-8: weaker at t > 5 (expected t ≈ 8 from the
-/// spreads) and by more than half on the means (measured ratio
-/// 0.31 ± 0.04).
+/// Fig. 2, "γ ten times larger": the convection is weakened at least
+/// twofold. Written before the runs it judges, from the 20-seed sweeps of
+/// docs/seed-figures.md (seeds 1-20: 155 and 48 mm/s at γ = 200 and 2000
+/// s⁻¹, spreads 31 and 22 mm/s; weakened about threefold, not "completely
+/// suppressed"):
+///
+/// - the runs: seeds 21-44, none of them in that sweep, 24 per ensemble,
+///   each of which must run to the end;
+/// - the statistic: Welch's T = (m/2 − m₁₀) / √(se²/4 + se₁₀²) on the
+///   ensemble means m, m₁₀ and their standard errors (expected 6.3 and
+///   4.5 mm/s from those spreads); the claim holds when T > 2.5, which
+///   rejects "weakened by less than half" (m₁₀ ≥ m/2) one-sided at 1 %
+///   or less (Welch's degrees of freedom are at least 23, and the 99 %
+///   point of Student's t with 23 is 2.50);
+/// - expected T = 5.4; the chance that a correct engine fails by the
+///   noise of the placements, T < 2.5, is 0.3 % (Monte Carlo of normal
+///   ensembles with the sweep's means and spreads);
+/// - the same test on m − m₁₀ (weakened at all) expects T = 14.
+///
+/// Measured afterwards: 154.9 ± 6.7 and 48.4 ± 4.8 mm/s, T = 5.0
+/// (halved) and 12.9 (weaker).
 #[test]
 #[cfg_attr(not(feature = "long-tests"), ignore = "long tier: .ci/long.sh")]
 fn ten_times_the_dissipation_weakens_the_convection() {
-    let s = strengths(&ensemble("seed-convection-modulated", "g200", &[], 8));
-    let s10 = strengths(&ensemble(
+    const T_99: f64 = 2.5;
+    let seeds = 21..=44;
+    let s = strengths(&ensemble_of(
+        "seed-convection-modulated",
+        "g200",
+        &[],
+        seeds.clone(),
+    ));
+    let s10 = strengths(&ensemble_of(
         "seed-convection-modulated",
         "g2000",
         &["contact.gamma_n=2000"],
-        8,
+        seeds,
     ));
-    let ((m, _), (m10, _)) = (mean_se(&s), mean_se(&s10));
-    let t = welch(&s, &s10);
+    let ((m, se), (m10, se10)) = (mean_se(&s), mean_se(&s10));
+    let weaker = welch(&s, &s10);
+    let halved = (0.5 * m - m10) / (0.25 * se * se + se10 * se10).sqrt();
+    eprintln!("strength {m} +- {se} m/s at gamma_n = 200, {m10} +- {se10} at 2000: T = {weaker} (weaker), {halved} (halved)");
     assert!(
-        t > 5.0 && m10 < 0.5 * m,
-        "strength {m} at gamma_n = 200, {m10} at 2000: weaker at t = {t}"
+        weaker > T_99 && halved > T_99,
+        "strength {m} +- {se} at gamma_n = 200, {m10} +- {se10} at 2000: \
+         T = {weaker} (weaker), {halved} (at least halved), {T_99} asked"
     );
 }
 
@@ -160,7 +200,7 @@ fn modulated_plate_convection_is_insensitive_to_shear_friction() {
         "seed-convection-modulated",
         "gs0",
         &["contact.gamma_t=0"],
-        8,
+        1..=8,
     );
     let s0 = strengths(&runs0);
     let ((m, _), (m0, _)) = (mean_se(&s), mean_se(&s0));

@@ -5,8 +5,8 @@
 
 use super::super::field_forces::GrainView;
 use super::{Block, BlockContacts, BlockStats, PairInput, Share};
-use crate::contact::hertz_mindlin::RunLaw;
 use crate::contact::lanes::{evaluate_lanes, ContactLanes, LANES};
+use crate::contact::RunLaw;
 use crate::contact::{Contact, ContactModel, Step};
 use crate::dim::Dim;
 
@@ -164,8 +164,8 @@ pub(super) fn run_block<D: Dim, L: ContactModel>(
     dep.stats
 }
 
-/// [`run_block`] for a law chosen at run time
-/// ([`crate::contact::hertz_mindlin::HertzMindlin::with_rolling`]).
+/// [`run_block`] for the run's law, as [`crate::contact::Law::with_kernel`]
+/// compiles it.
 pub(super) struct BlockRun<'a, 'b, D: Dim> {
     pub input: &'a PairInput<'a, D>,
     pub grains: &'a GrainView<'a, D>,

@@ -1,32 +1,31 @@
-//! The one place the fields meet the engine: an MD state as a
-//! [`Snapshot`] of plain data (grains in memory order, grain–grain contacts
-//! from [`Md::contact_list`], wall contacts from [`Md::wall_contact_list`]).
+//! The one place the fields meet an engine: its [`GrainView`] as a
+//! [`Snapshot`] of plain data (grains in memory order, grain–grain and
+//! grain–wall contacts from the view's contact lists).
 
 use crate::dim::Dim;
 use crate::io::contact_records::{dot, scale, sub, ContactRecord, Snapshot, WallRecord};
-use crate::md::Md;
+use crate::view::GrainView;
 use rustc_hash::FxHashMap;
 
-/// The owned grains and the contacts of `md` now.
-pub fn snapshot<D: Dim>(md: &Md<D>) -> Snapshot {
-    let p = &md.particles;
-    let n = p.n_owned();
+/// The grains of `view` and their contacts now.
+pub fn snapshot<D: Dim>(view: &GrainView<D>) -> Snapshot {
+    let p = &view.grains;
     let mut s = Snapshot {
         dim: D::D,
-        time: md.time,
-        step: md.step,
-        id: p.id[..n].to_vec(),
-        pos: p.pos[..n].iter().map(|&x| D::to_xyz(x)).collect(),
-        vel: p.vel[..n].iter().map(|&v| D::to_xyz(v)).collect(),
-        mass: p.mass[..n].to_vec(),
-        radius: p.radius[..n].to_vec(),
-        lo: D::to_xyz(md.domain.lo),
-        hi: D::to_xyz(md.domain.hi),
-        periodic: md.domain.periodic,
+        time: view.time,
+        step: view.step,
+        id: p.id.to_vec(),
+        pos: p.pos.iter().map(|&x| D::to_xyz(x)).collect(),
+        vel: p.vel.iter().map(|&v| D::to_xyz(v)).collect(),
+        mass: p.mass.to_vec(),
+        radius: p.radius.to_vec(),
+        lo: D::to_xyz(view.domain.lo),
+        hi: D::to_xyz(view.domain.hi),
+        periodic: view.domain.periodic,
         ..Snapshot::default()
     };
     let index: FxHashMap<u64, usize> = s.id.iter().enumerate().map(|(i, &id)| (id, i)).collect();
-    let pairs = md.contact_list();
+    let pairs = view.pair_contacts();
     for k in 0..pairs.ids.len() {
         let [a, b] = pairs.ids[k];
         let (Some(&i), Some(&j)) = (index.get(&a), index.get(&b)) else {
@@ -50,7 +49,7 @@ pub fn snapshot<D: Dim>(md: &Md<D>) -> Snapshot {
             overlap,
         });
     }
-    let walls = md.wall_contact_list();
+    let walls = view.wall_contacts();
     for k in 0..walls.ids.len() {
         let Some(&i) = index.get(&walls.ids[k]) else {
             continue;
@@ -60,7 +59,7 @@ pub fn snapshot<D: Dim>(md: &Md<D>) -> Snapshot {
             id: walls.ids[k],
             index: i,
             wall: w,
-            wall_name: md.walls[w].name.clone(),
+            wall_name: view.walls[w].name.clone(),
             point: D::to_xyz(walls.point[k]),
             normal: D::to_xyz(walls.normal[k]),
             force: D::to_xyz(walls.force[k]),

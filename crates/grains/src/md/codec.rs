@@ -1,16 +1,18 @@
-//! The binary encoding of the MD engine's state ([`MdState`], beside
-//! `Md`) and of its neighbour list's ([`ListState`], beside the list).
+//! The binary encoding of the MD engine's state ([`MdState`]), its
+//! grains and its neighbour list's ([`ListState`]), as a checkpoint's
+//! engine field carries them after the fingerprint (`super::contract`).
 
+use super::state::MdState;
 use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
-pub use crate::md::state::MdState;
-pub use crate::neighbors::ListState;
+use crate::neighbors::ListState;
 use crate::particles::{ParticleRecord, Particles};
 use glam::DVec3;
 
 /// Largest number of Gear derivative arrays a file may declare.
 const MAX_GEAR: usize = 8;
 
+/// Writes the grains, each with its Gear history.
 pub fn encode_particles<D: Dim>(e: &mut Enc, p: &Particles<D>) {
     let n = p.len();
     e.len(n);
@@ -89,6 +91,7 @@ pub fn decode_particles<D: Dim>(d: &mut Dec) -> DecResult<Particles<D>> {
     Ok(p)
 }
 
+/// Writes the complete MD state.
 pub fn encode_md<D: Dim>(e: &mut Enc, s: &MdState<D>) {
     e.f64(s.time);
     e.u64(s.step);
@@ -136,6 +139,7 @@ pub fn encode_md<D: Dim>(e: &mut Enc, s: &MdState<D>) {
     }
 }
 
+/// Reads the state written by [`encode_md`].
 pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
     let time = d.f64("time")?;
     let step = d.u64("step")?;

@@ -1,4 +1,5 @@
-//! A DSMC engine to and from checkpoint bytes: a kind tag (so an MD and a
+//! The DSMC engine's side of the [`Engine`] contract: its steps, its frame,
+//! and its state to and from checkpoint bytes: a kind tag (so an MD and a
 //! DSMC state are never mistaken for each other), a fingerprint of the
 //! settings the state depends on, then the state: the particle store in
 //! store order, the cell starts of the last sort, every cell's v_max,
@@ -10,11 +11,74 @@
 //! the seed (fingerprinted) and the step (saved) bring them back. The cell
 //! keys are a function of the positions and are recomputed on restore.
 
+use super::collide::{CellState, GasDim, Tally};
+use super::engine::Dsmc;
+use super::store::Particle;
 use crate::codec::{Dec, DecResult, Enc};
-use crate::dsmc::collide::{CellState, GasDim, Tally};
-use crate::dsmc::engine::Dsmc;
-use crate::dsmc::store::Particle;
+use crate::engine::Engine;
 use crate::error::{Error, Result};
+use crate::io::Frame;
+
+impl<D: GasDim> Engine for Dsmc<D> {
+    fn dim(&self) -> usize {
+        D::D
+    }
+    fn step_count(&self) -> u64 {
+        self.step
+    }
+    fn sim_time(&self) -> f64 {
+        self.time
+    }
+    fn time_step(&self) -> f64 {
+        self.settings.dt
+    }
+    fn advance(&mut self, n: u64) -> Result<()> {
+        self.run(n);
+        Ok(())
+    }
+    fn frame(&self) -> Result<Frame> {
+        Ok(gas_frame(self))
+    }
+    fn export(&self) -> Result<Vec<u8>> {
+        Ok(encode(self))
+    }
+    fn import(&mut self, bytes: &[u8], origin: &str) -> Result<()> {
+        let rest = restore(self, bytes, origin)?;
+        match rest.len() {
+            0 => Ok(()),
+            n => Err(Error::input(format!(
+                "checkpoint {origin}: {n} unexpected bytes after the DSMC state"
+            ))),
+        }
+    }
+}
+
+/// A DSMC gas as a frame: point particles whose ids are their store
+/// positions + 1 (they carry no identity), a 2D box one unit deep.
+pub fn gas_frame<D: GasDim>(sim: &Dsmc<D>) -> Frame {
+    let n = sim.store.len();
+    let mut periodic = [false; 3];
+    periodic[..D::D].copy_from_slice(&sim.domain.periodic[..D::D]);
+    let (mut lo, mut hi) = (D::to_xyz(sim.domain.lo), D::to_xyz(sim.domain.hi));
+    if D::D == 2 {
+        lo[2] = -0.5;
+        hi[2] = 0.5;
+    }
+    Frame {
+        step: sim.step,
+        time: sim.time,
+        dim: D::D,
+        box_lo: lo,
+        box_hi: hi,
+        periodic,
+        id: (1..=n as u64).collect(),
+        kind: vec![1; n],
+        pos: sim.store.p.iter().map(|q| D::to_xyz(q.x)).collect(),
+        vel: sim.store.p.iter().map(|q| D::to_xyz(q.v)).collect(),
+        omega: vec![[0.0; 3]; n],
+        radius: vec![0.5 * sim.store.diameter; n],
+    }
+}
 
 /// First bytes of a DSMC engine state.
 pub const TAG: &[u8; 8] = b"DSMCSTAT";

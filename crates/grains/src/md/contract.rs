@@ -1,13 +1,67 @@
-//! An MD engine to and from checkpoint bytes: a fingerprint of the settings
-//! the state depends on (checked on restore, so a checkpoint never starts a
-//! different scenario silently), then the [`MdState`].
+//! The MD engine's side of the [`Engine`] contract: its steps, its frame,
+//! and its state to and from checkpoint bytes: a fingerprint of the
+//! settings the state depends on (checked on restore, so a checkpoint never
+//! starts a different scenario silently), then the [`MdState`].
 
-use super::state::{decode_md, encode_md};
+use super::codec::{decode_md, encode_md};
+use super::{Md, MdState};
 use crate::codec::{Dec, Enc};
 use crate::dim::Dim;
+use crate::engine::Engine;
 use crate::error::{Error, Result};
 use crate::integrate::Integrator;
-use crate::md::{Md, MdState};
+use crate::io::Frame;
+use serde_json::{json, Map, Value};
+
+impl<D: Dim> Engine for Md<D> {
+    fn dim(&self) -> usize {
+        D::D
+    }
+    fn step_count(&self) -> u64 {
+        self.step
+    }
+    fn sim_time(&self) -> f64 {
+        self.time
+    }
+    fn time_step(&self) -> f64 {
+        self.settings.dt
+    }
+    fn advance(&mut self, n: u64) -> Result<()> {
+        Md::advance(self, n)
+    }
+    fn frame(&self) -> Result<Frame> {
+        Ok(Md::frame(self))
+    }
+    fn export(&self) -> Result<Vec<u8>> {
+        encode(self)
+    }
+    fn import(&mut self, bytes: &[u8], origin: &str) -> Result<()> {
+        if crate::dsmc::contract::is_dsmc(bytes) {
+            return Err(Error::input(format!(
+                "checkpoint {origin}: holds a DSMC engine state, but its scenario is an MD run \
+                 (method = \"dsmc\" is not set); the file cannot be resumed as MD"
+            )));
+        }
+        restore(self, bytes).map_err(|e| Error::input(format!("{origin}: {e}")))
+    }
+}
+
+/// What a serial MD engine adds to summary.json: its neighbour builds, the
+/// seconds per phase of the step (`other` is mostly measurements and
+/// output), and how the governor ran its steps (the pool's size, the steps
+/// run on all of it and on one thread: they depend on the machine's load,
+/// never on the result).
+pub fn scalars<D: Dim>(md: &Md<D>, summary: &mut Map<String, Value>, wall_seconds: f64) {
+    summary.insert("neighbor_builds".into(), json!(md.neighbor_builds()));
+    let phases = md.timing.to_json(wall_seconds, 1.0);
+    summary.insert("phase_seconds".into(), phases);
+    let (wide, narrow) = md.governor.steps_wide_narrow();
+    let pool = rayon::current_num_threads();
+    summary.insert(
+        "threads".into(),
+        json!({ "pool": pool, "steps_on_pool": wide, "steps_on_one": narrow }),
+    );
+}
 
 /// What must be equal between the engine that wrote a checkpoint and the
 /// one rebuilt from the scenario to restore it, as comparable text.
@@ -28,7 +82,7 @@ fn fingerprint<D: Dim>(md: &Md<D>) -> Vec<(&'static str, String)> {
         ("neighbour skin", bits(&[s.skin])),
         ("sort interval", s.sort_every.to_string()),
         ("gravity", bits(&D::to_xyz(s.gravity))),
-        ("contact law", format!("{:?}", s.contact)),
+        ("contact law", format!("{:?}", s.law.estimate())),
         (
             "domain",
             format!("{} {} {:?}", bits(&lo), bits(&hi), md.domain.periodic),
@@ -42,7 +96,7 @@ fn fingerprint<D: Dim>(md: &Md<D>) -> Vec<(&'static str, String)> {
                 .join("; "),
         ),
     ];
-    if let Some(law) = &s.materials {
+    if let Some(law) = s.law.materials() {
         fp.push(("material law", format!("{law:?}")));
     }
     fp
