@@ -77,43 +77,56 @@ impl Grid {
             .product()
     }
 
+    /// The volume of one cell along the grid's axes (its spacings' product).
+    fn cell(&self) -> f64 {
+        (0..self.axes.len()).map(|g| self.spacing(g)).product()
+    }
+
     /// Calls `f(point index, point position along the grid axes, unwrapped
-    /// near the source)` for every point whose grid coordinates lie within
-    /// [lo, hi] (grid axes only): periodic axes visit the images, others
-    /// are clamped to the grid.
-    fn visit(&self, lo: [f64; 3], hi: [f64; 3], mut f: impl FnMut(usize, [f64; 3])) {
-        let mut lists: Vec<Vec<(usize, f64)>> = Vec::with_capacity(self.axes.len());
+    /// near the source)` for every lattice point whose grid coordinates lie
+    /// within [lo, hi] (grid axes only): periodic axes visit the images;
+    /// along the others, points of the lattice beyond the grid's ends are
+    /// visited too, with no index.
+    fn visit(&self, lo: [f64; 3], hi: [f64; 3], mut f: impl FnMut(Option<usize>, [f64; 3])) {
+        let mut lists: Vec<Vec<(Option<usize>, f64)>> = Vec::with_capacity(self.axes.len());
         for (g, &a) in self.axes.iter().enumerate() {
             let (h, n) = (self.spacing(g), self.cells[g] as i64);
             let first = ((lo[a] - self.lo[a]) / h - 0.5).ceil() as i64;
             let last = ((hi[a] - self.lo[a]) / h - 0.5).floor() as i64;
-            let mut list = Vec::new();
-            if self.periodic[a] {
-                for i in first..=last {
-                    list.push((i.rem_euclid(n) as usize, self.lo[a] + (i as f64 + 0.5) * h));
-                }
-            } else {
-                for i in first.max(0)..=last.min(n - 1) {
-                    list.push((i as usize, self.lo[a] + (i as f64 + 0.5) * h));
-                }
-            }
-            lists.push(list);
+            let list = (first..=last).map(|i| {
+                let at = if self.periodic[a] {
+                    Some(i.rem_euclid(n) as usize)
+                } else {
+                    (0..n).contains(&i).then_some(i as usize)
+                };
+                (at, self.lo[a] + (i as f64 + 0.5) * h)
+            });
+            lists.push(list.collect());
         }
         let mut p = [0.0; 3];
-        visit_product(&lists, &self.axes, &self.cells, 0, 0, 1, &mut p, &mut f);
+        visit_product(
+            &lists,
+            &self.axes,
+            &self.cells,
+            0,
+            Some(0),
+            1,
+            &mut p,
+            &mut f,
+        );
     }
 }
 
 #[allow(clippy::too_many_arguments)]
 fn visit_product(
-    lists: &[Vec<(usize, f64)>],
+    lists: &[Vec<(Option<usize>, f64)>],
     axes: &[usize],
     cells: &[usize],
     g: usize,
-    index: usize,
+    index: Option<usize>,
     stride: usize,
     p: &mut [f64; 3],
-    f: &mut impl FnMut(usize, [f64; 3]),
+    f: &mut impl FnMut(Option<usize>, [f64; 3]),
 ) {
     if g == lists.len() {
         f(index, *p);
@@ -121,16 +134,39 @@ fn visit_product(
     }
     for &(i, x) in &lists[g] {
         p[axes[g]] = x;
-        visit_product(
-            lists,
-            axes,
-            cells,
-            g + 1,
-            index + i * stride,
-            stride * cells[g],
-            p,
-            f,
-        );
+        let at = index.zip(i).map(|(index, i)| index + i * stride);
+        visit_product(lists, axes, cells, g + 1, at, stride * cells[g], p, f);
+    }
+}
+
+/// Into `hits`, the grid points (index, weight) within `lo..hi` where
+/// `phi` is positive, the weights scaled so that over the whole lattice
+/// (points beyond a non-periodic end included) they sum to
+/// 1/`per_lattice`, the inverse of a lattice cell's volume times the
+/// averaged extent: a source that no lattice point reaches gives nothing.
+fn spread(
+    grid: &Grid,
+    (lo, hi): ([f64; 3], [f64; 3]),
+    phi: impl Fn([f64; 3]) -> f64,
+    per_lattice: f64,
+    hits: &mut Vec<(usize, f64)>,
+) {
+    hits.clear();
+    let mut norm = 0.0;
+    grid.visit(lo, hi, |at, p| {
+        let w = phi(p);
+        norm += w;
+        if let (Some(at), true) = (at, w > 0.0) {
+            hits.push((at, w));
+        }
+    });
+    let scale = if norm > 0.0 {
+        1.0 / (norm * per_lattice)
+    } else {
+        0.0
+    };
+    for h in hits.iter_mut() {
+        h.1 *= scale;
     }
 }
 
@@ -260,30 +296,37 @@ impl CoarseGrainer {
                     }
                     out
                 };
+                // Each grain's (and contact's) weights are normalised on
+                // the lattice: they sum to 1/ΔV over its points, those
+                // beyond a non-periodic end included, so the fields on the
+                // grid hold the totals (mass, momentum, the virial)
+                // exactly, not to the lattice sum's error.
+                let per_lattice = grid.cell() * cross;
+                let mut hits: Vec<(usize, f64)> = Vec::new();
                 for i in 0..n {
                     let x = s.pos[i];
                     let lo = x.map(|c| c - reach);
                     let hi = x.map(|c| c + reach);
-                    grid.visit(lo, hi, |at, p| {
+                    let phi = |p: [f64; 3]| {
                         let d = on_grid(crate::io::contact_records::sub(p, x));
-                        let w = k.at(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / cross;
-                        if w > 0.0 {
-                            per_grain(&mut sums[at * STRIDE..(at + 1) * STRIDE], w, i);
-                        }
-                    });
+                        k.at(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+                    };
+                    spread(grid, (lo, hi), phi, per_lattice, &mut hits);
+                    for &(at, w) in &hits {
+                        per_grain(&mut sums[at * STRIDE..(at + 1) * STRIDE], w, i);
+                    }
                 }
                 for (a, b, f) in segments {
                     let end = crate::io::contact_records::add(a, b);
                     let lo = [0, 1, 2].map(|c| a[c].min(end[c]) - reach);
                     let hi = [0, 1, 2].map(|c| a[c].max(end[c]) + reach);
                     let bp = on_grid(b);
-                    grid.visit(lo, hi, |at, p| {
-                        let q = on_grid(crate::io::contact_records::sub(p, a));
-                        let w = k.along(q, bp) / cross;
-                        if w > 0.0 {
-                            per_contact(&mut sums[at * STRIDE..(at + 1) * STRIDE], w, f, b);
-                        }
-                    });
+                    let phi =
+                        |p: [f64; 3]| k.along(on_grid(crate::io::contact_records::sub(p, a)), bp);
+                    spread(grid, (lo, hi), phi, per_lattice, &mut hits);
+                    for &(at, w) in &hits {
+                        per_contact(&mut sums[at * STRIDE..(at + 1) * STRIDE], w, f, b);
+                    }
                 }
             }
         }
