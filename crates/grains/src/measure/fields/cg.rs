@@ -9,7 +9,9 @@
 //! vector (for a wall contact, the force on the grain and b = x_i − c from
 //! the contact point c), and stresses counted positive in compression (the
 //! negative of the Cauchy stress, so that a bed at rest has σ_zz(z) =
-//! ∫_z ρ g dz'). Everything here reads plain data ([`Snapshot`]).
+//! ∫_z ρ g dz'). On a grid each grain's and each contact's weights are
+//! normalised on the lattice (`spread`), so that the fields hold the
+//! totals exactly. Everything here reads plain data ([`Snapshot`]).
 
 use super::kernel::Kernel;
 use crate::io::contact_records::{add_outer, Snapshot};

@@ -108,7 +108,7 @@ impl FieldsMeasure {
 
     /// Whether the state after step `step` is sampled (at time `t`).
     pub fn due(&self, step: u64) -> bool {
-        step % self.every == 0
+        step.is_multiple_of(self.every)
     }
 
     /// Whether a snapshot at `step`, time `t`, is taken.

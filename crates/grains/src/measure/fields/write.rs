@@ -21,10 +21,8 @@ pub fn write_windows(dir: &Path, windows: &[Fields]) -> Result<()> {
         let g = &f.grid;
         let mut points = [1; 3];
         let mut spacing = [1.0; 3];
-        for a in 0..3 {
-            if a < g.dim {
-                spacing[a] = g.hi[a] - g.lo[a];
-            }
+        for (a, h) in spacing.iter_mut().enumerate().take(g.dim) {
+            *h = g.hi[a] - g.lo[a];
         }
         for (i, &a) in g.axes.iter().enumerate() {
             points[a] = g.cells[i];
@@ -79,9 +77,9 @@ pub fn csv_string(f: &Fields) -> String {
     head.extend((0..d).map(|a| format!("v{}", AXES[a])));
     head.push("temperature".into());
     for t in ["stress", "kinetic_stress", "contact_stress", "fabric"] {
-        for a in 0..d {
-            for b in 0..d {
-                head.push(format!("{t}_{}{}", AXES[a], AXES[b]));
+        for a in &AXES[..d] {
+            for b in &AXES[..d] {
+                head.push(format!("{t}_{a}{b}"));
             }
         }
     }
@@ -95,8 +93,8 @@ pub fn csv_string(f: &Fields) -> String {
         row.extend(&f.velocity[i][..d]);
         row.push(f.temperature[i]);
         for t in [&f.stress, &f.kinetic_stress, &f.contact_stress, &f.fabric] {
-            for a in 0..d {
-                row.extend(&t[i][a][..d]);
+            for r in &t[i][..d] {
+                row.extend(&r[..d]);
             }
         }
         row.push(f.coordination[i]);
