@@ -6,6 +6,7 @@ use crate::comm::Comm;
 use crate::dim::Dim;
 use crate::error::Error;
 use crate::error::Result;
+use crate::io::contacts_out::ContactSeries;
 use crate::io::{write_atomic, DumpWriter, Frame, Num, ThermoWriter, VtkSeries};
 use crate::md::Md;
 use crate::measure::draw::in_box;
@@ -143,6 +144,7 @@ pub struct Outputs {
     picture: bool,
     movie: bool,
     last_step: Option<u64>,
+    contacts: Option<ContactSeries>,
 }
 
 impl Outputs {
@@ -170,6 +172,7 @@ impl Outputs {
             picture: spec.picture,
             movie: spec.movie,
             last_step: None,
+            contacts: contact_series(dir, spec)?,
         })
     }
 
@@ -246,6 +249,13 @@ impl Outputs {
             picture: spec.picture,
             movie: spec.movie,
             last_step: state.last_step,
+            contacts: match spec.contacts {
+                true => Some(ContactSeries::resume(
+                    dir,
+                    state.frames.last().map(|e| e.0),
+                )?),
+                false => None,
+            },
         })
     }
 
@@ -262,6 +272,13 @@ impl Outputs {
             md.stats.contacts as f64,
             md.stats.max_overlap,
         ];
+        if let Some(c) = self
+            .contacts
+            .as_mut()
+            .filter(|_| self.last_step != Some(md.step))
+        {
+            c.write(&crate::measure::fields::snapshot(&md.view()))?;
+        }
         // What a later `grains movie` or `grains view` needs besides the
         // frames (written again at the end, with any walls removed).
         self.record(&row, &frame, |f| Some(Scene::new(&md.walls, f)))
@@ -336,6 +353,11 @@ impl Outputs {
         let text = serde_json::to_string_pretty(summary).expect("JSON values always serialize");
         write_atomic(&self.dir.join("summary.json"), text.as_bytes())
     }
+}
+
+/// The contact series when `output.contacts` asks for it.
+fn contact_series(dir: &Path, spec: &OutputSpec) -> Result<Option<ContactSeries>> {
+    spec.contacts.then(|| ContactSeries::new(dir)).transpose()
 }
 
 /// The summary scalars every MD run reports: what ran, how long it took

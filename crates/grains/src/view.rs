@@ -34,6 +34,49 @@ pub trait MeshLoads {
     fn mesh_loads(&self) -> Vec<MeshLoad>;
 }
 
+/// The grain–grain contacts of an engine now: the touching pairs of its
+/// neighbour list, in list order.
+#[derive(Clone, Debug, Default)]
+pub struct ContactList<D: Dim> {
+    /// Ids of the two grains of each contact.
+    pub ids: Vec<[u64; 2]>,
+    /// Overlap r_i + r_j − |x_i − x_j| (m), positive (down to −δ_c for a
+    /// JKR contact kept beyond touching).
+    pub overlap: Vec<f64>,
+    /// Unit normal from the second grain to the first.
+    pub normal: Vec<D::V>,
+    /// Force on the first grain (the second gets its negative times its own
+    /// mass factor under the mass-normalized law of Gallas, Herrmann &
+    /// Sokolowski 1992).
+    pub force: Vec<D::V>,
+}
+
+/// The touching grain–wall pairs, in grain order and then wall order.
+#[derive(Clone, Debug, Default)]
+pub struct WallContactList<D: Dim> {
+    /// Id of the grain of each contact.
+    pub ids: Vec<u64>,
+    /// Index of the wall among the engine's walls.
+    pub wall: Vec<usize>,
+    /// Contact point on the wall surface.
+    pub point: Vec<D::V>,
+    /// Unit normal from the wall towards the grain.
+    pub normal: Vec<D::V>,
+    /// Overlap (radius minus the distance to the wall).
+    pub overlap: Vec<f64>,
+    /// Force on the grain.
+    pub force: Vec<D::V>,
+}
+
+/// An engine that can list its contacts now, with the force the contact
+/// law gives on the present state (springs read, not advanced).
+pub trait ContactLists<D: Dim> {
+    /// Every grain–grain contact.
+    fn pair_contacts(&self) -> ContactList<D>;
+    /// Every grain–wall contact.
+    fn wall_contacts(&self) -> WallContactList<D>;
+}
+
 /// The owned grains, one entry per grain in the engine's memory order (not
 /// id order: measurements key their running state by `id`).
 pub struct Grains<'a, D: Dim> {
@@ -96,12 +139,24 @@ pub struct GrainView<'a, D: Dim> {
     pub contacts: usize,
     /// Where the loads on the mesh walls come from when asked.
     pub loads: &'a dyn MeshLoads,
+    /// Where the contact lists come from when asked.
+    pub lists: &'a dyn ContactLists<D>,
 }
 
 impl<D: Dim> GrainView<'_, D> {
     /// What the grains put on each mesh wall at the last force evaluation.
     pub fn mesh_loads(&self) -> Vec<MeshLoad> {
         self.loads.mesh_loads()
+    }
+
+    /// The grain–grain contacts now (a pass over the neighbour list).
+    pub fn pair_contacts(&self) -> ContactList<D> {
+        self.lists.pair_contacts()
+    }
+
+    /// The grain–wall contacts now (a pass over the grains and walls).
+    pub fn wall_contacts(&self) -> WallContactList<D> {
+        self.lists.wall_contacts()
     }
 
     /// A neutral snapshot of the grains for the writers (2D boxes get a unit
@@ -146,6 +201,14 @@ mod tests {
             Vec::new()
         }
     }
+    impl<D: Dim> ContactLists<D> for NoLoads {
+        fn pair_contacts(&self) -> ContactList<D> {
+            ContactList::default()
+        }
+        fn wall_contacts(&self) -> WallContactList<D> {
+            WallContactList::default()
+        }
+    }
 
     /// Two owned disks and a ghost copy of the first: the view holds the
     /// two owned ones (a ghost read as a grain would be counted twice), and
@@ -167,6 +230,7 @@ mod tests {
             grains: Grains::owned(&p),
             contacts: 0,
             loads: &NoLoads,
+            lists: &NoLoads,
         };
         assert_eq!(view.grains.len(), 2);
         assert_eq!(view.grains.mass, &[1.0, 2.0]);
@@ -177,5 +241,6 @@ mod tests {
         assert_eq!((f.box_lo, f.box_hi), ([0.0, 0.0, -0.5], [1.0, 1.0, 0.5]));
         assert_eq!(f.periodic, [true, false, false]);
         assert!(view.mesh_loads().is_empty());
+        assert!(view.pair_contacts().ids.is_empty() && view.wall_contacts().ids.is_empty());
     }
 }

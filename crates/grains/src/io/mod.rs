@@ -4,6 +4,8 @@
 //! snapshot, and readers return plain records.
 
 pub mod atomic;
+pub mod contact_records;
+pub mod contacts_out;
 pub mod csv_particles;
 pub mod frame;
 pub mod lammps_data;
@@ -12,6 +14,7 @@ pub mod picture;
 pub mod polyline;
 pub mod stl;
 pub mod thermo;
+pub mod vti;
 pub mod vtk;
 pub mod vtk_read;
 

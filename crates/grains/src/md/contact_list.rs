@@ -5,20 +5,7 @@ use super::Md;
 use crate::contact::{Contact, ContactModel, RunLaw, Step};
 use crate::dim::Dim;
 
-/// The touching pairs of the neighbour list, in list order.
-#[derive(Clone, Debug, Default)]
-pub struct ContactList<D: Dim> {
-    /// Ids of the two grains of each contact.
-    pub ids: Vec<[u64; 2]>,
-    /// Overlap r_i + r_j − |x_i − x_j| (m), positive (down to −δ_c for a
-    /// JKR contact kept beyond touching).
-    pub overlap: Vec<f64>,
-    /// Unit normal from the second grain to the first.
-    pub normal: Vec<D::V>,
-    /// Force on the first grain (the second gets its negative times its own
-    /// mass factor under the seeds' mass-normalized law).
-    pub force: Vec<D::V>,
-}
+pub use crate::view::ContactList;
 
 impl<D: Dim> Md<D> {
     /// Every grain–grain contact now. The force is the contact law

@@ -28,6 +28,7 @@ mod pair_hash;
 pub mod phase_times;
 pub mod state;
 mod view;
+pub mod wall_contact_list;
 
 pub use state::MdState;
 mod wall_loads;

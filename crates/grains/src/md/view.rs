@@ -3,7 +3,9 @@
 
 use super::Md;
 use crate::dim::Dim;
-use crate::view::{GrainView, Grains, MeshLoad, MeshLoads};
+use crate::view::{
+    ContactList, ContactLists, GrainView, Grains, MeshLoad, MeshLoads, WallContactList,
+};
 
 impl<D: Dim> Md<D> {
     /// The engine's grains, walls and loads now, read-only.
@@ -18,6 +20,7 @@ impl<D: Dim> Md<D> {
             grains: Grains::owned(&self.particles),
             contacts: self.stats.contacts,
             loads: self,
+            lists: self,
         }
     }
 }
@@ -25,5 +28,14 @@ impl<D: Dim> Md<D> {
 impl<D: Dim> MeshLoads for Md<D> {
     fn mesh_loads(&self) -> Vec<MeshLoad> {
         Md::mesh_loads(self)
+    }
+}
+
+impl<D: Dim> ContactLists<D> for Md<D> {
+    fn pair_contacts(&self) -> ContactList<D> {
+        self.contact_list()
+    }
+    fn wall_contacts(&self) -> WallContactList<D> {
+        self.wall_contact_list()
     }
 }

@@ -116,13 +116,21 @@ mod tests {
     use super::*;
     use crate::dim::D2;
     use crate::domain::Domain;
-    use crate::view::{Grains, MeshLoad, MeshLoads};
+    use crate::view::{ContactList, ContactLists, Grains, MeshLoad, MeshLoads, WallContactList};
     use glam::DVec2;
 
     struct NoLoads;
     impl MeshLoads for NoLoads {
         fn mesh_loads(&self) -> Vec<MeshLoad> {
             Vec::new()
+        }
+    }
+    impl ContactLists<D2> for NoLoads {
+        fn pair_contacts(&self) -> ContactList<D2> {
+            ContactList::default()
+        }
+        fn wall_contacts(&self) -> WallContactList<D2> {
+            WallContactList::default()
         }
     }
 
@@ -155,6 +163,7 @@ mod tests {
                 },
                 contacts: 0,
                 loads: &NoLoads,
+                lists: &NoLoads,
             };
             match field {
                 None => DisplacementField::begin(&v),

@@ -26,6 +26,7 @@ pub(crate) struct Measurements {
     trajectories: Option<Trajectories>,
     flow_field: Option<FlowField>,
     impact: Option<Impacts>,
+    fields: Option<crate::measure::fields::FieldsMeasure>,
 }
 
 impl Measurements {
@@ -73,7 +74,13 @@ impl Measurements {
             true => Some(Impacts::begin(view)?),
             false => None,
         };
+        let fields = m
+            .fields
+            .as_ref()
+            .map(|f| fields_begin(f, d0, view))
+            .transpose()?;
         Ok(Self {
+            fields,
             impact,
             flow_field,
             displacement: m.displacement.then(|| DisplacementField::begin(view)),
@@ -179,6 +186,13 @@ impl Measurements {
             )?,
             flow_field: None,
             impact: None,
+            // Not in the checkpoint: a resumed run opens a fresh window.
+            fields: m
+                .fields
+                .as_ref()
+                .map(|f| fields_begin(f, loaded.scenario.particles.d0, view))
+                .transpose()
+                .map_err(|e| e.to_string())?,
         };
         let mut out = out;
         // Written only when asked for (see `save`).
@@ -240,6 +254,7 @@ impl Measurements {
         self.phases.as_ref().is_some_and(|p| p.due(t))
             || self.trajectories.as_ref().is_some_and(|x| x.due(step))
             || self.impact.is_some()
+            || self.fields.as_ref().is_some_and(|f| f.due(step))
     }
 
     /// After every step (phase- and step-exact measurements).
@@ -252,6 +267,13 @@ impl Measurements {
         }
         if let Some(i) = &mut self.impact {
             i.step(view);
+        }
+        if let Some(f) = self
+            .fields
+            .as_mut()
+            .filter(|f| f.wants(view.step, view.time))
+        {
+            f.sample(&crate::measure::fields::snapshot(view));
         }
     }
 
@@ -300,6 +322,9 @@ impl Measurements {
         if let Some(i) = &self.impact {
             i.write(dir)?;
         }
+        if let Some(f) = &self.fields {
+            f.write(dir)?;
+        }
         Ok(())
     }
 
@@ -322,5 +347,19 @@ impl Measurements {
         if let Some(i) = &self.impact {
             i.scalars(summary);
         }
+        if let Some(f) = &self.fields {
+            f.scalars(summary);
+        }
     }
+}
+
+/// `[measure.fields]` over the view's box, `d0` the mean grain diameter.
+fn fields_begin<D: Dim>(
+    f: &crate::scenario::schema::FieldsSpec,
+    d0: f64,
+    view: &GrainView<D>,
+) -> Result<crate::measure::fields::FieldsMeasure> {
+    let b = view.domain;
+    let bx = (D::to_xyz(b.lo), D::to_xyz(b.hi), b.periodic);
+    crate::measure::fields::FieldsMeasure::begin(f, d0, D::D, bx)
 }

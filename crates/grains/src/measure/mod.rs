@@ -8,6 +8,7 @@ pub mod convection;
 pub mod displacement;
 pub mod displacement_draw;
 pub mod draw;
+pub mod fields;
 pub mod flow_field;
 pub mod gas;
 pub mod impact;

@@ -131,7 +131,13 @@ impl<D: Dim, E: MdView<D = D>> Phases<E> for MdPhases<'_, D> {
             m: self.measurements.as_mut(),
             sample,
             dt: e.time_step(),
-            per_step: m.phases.is_some() || m.trajectories.is_some() || m.impact,
+            // The fields sample in `Measurements::step` at their own
+            // `every`, not at the sampled steps; the hook stops only at
+            // their due steps.
+            per_step: m.phases.is_some()
+                || m.trajectories.is_some()
+                || m.impact
+                || m.fields.is_some(),
             lockstep: e.lockstep(),
         };
         vec![Box::new(events), Box::new(meas), Box::new(record)]

@@ -5,6 +5,7 @@
 //! step. Vectors are arrays with one entry per axis of the chosen dimension.
 
 mod contact;
+mod fields;
 mod flow;
 mod measure;
 mod run;
@@ -12,6 +13,7 @@ mod size;
 mod walls;
 
 pub use contact::{ContactModelKind, ContactPreset, ContactSpec, MaterialPairSpec, MaterialSpec};
+pub use fields::FieldsSpec;
 pub use flow::{EventsSpec, HopperSpec};
 pub use measure::{
     ConvectionSpec, FlowFieldSpec, MeasureSpec, PhasesSpec, ProfilesSpec, SpacetimeSpec,

@@ -48,6 +48,10 @@ pub struct MeasureSpec {
     /// rebound angle: impacts.csv and `impact_*` (`measure::impact`).
     #[serde(default)]
     pub impact: bool,
+    /// Coarse-grained stress, density, velocity, temperature, coordination
+    /// and fabric fields: fields/*.vti, fields.pvd (docs/fields.md).
+    #[serde(default)]
+    pub fields: Option<super::fields::FieldsSpec>,
 }
 
 /// `measure.flow_field`: `cells` = [along x, along the vertical axis] over

@@ -145,6 +145,9 @@ pub struct OutputSpec {
     /// Draw movie.gif (and movie.mp4 with ffmpeg) from the frames at the end.
     #[serde(default)]
     pub movie: bool,
+    /// Write each frame's contacts (contacts/*.vtp, *.csv, contacts.pvd).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub contacts: bool,
 }
 
 /// The files of one VTK frame (`output.frames_layout`).
@@ -168,6 +171,7 @@ impl Default for OutputSpec {
             dump: false,
             picture: true,
             movie: false,
+            contacts: false,
         }
     }
 }
