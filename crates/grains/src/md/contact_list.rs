@@ -57,6 +57,9 @@ impl<D: Dim> Md<D> {
             }
             let n = del * (1.0 / r);
             let mut v_rel = p.vel[i] - p.vel[j];
+            if self.neighbors.sheared() {
+                v_rel -= self.neighbors.velocity_shift(self.neighbors.image[k]);
+            }
             if law.rotation() {
                 v_rel -= D::ang_cross(p.omega[i] * ri + p.omega[j] * rj, n);
             }

@@ -15,6 +15,7 @@ pub mod placement;
 pub mod resolve;
 pub mod restart;
 pub mod schema;
+pub mod shear;
 pub mod sweep;
 
 pub use build::{build_md, build_md_reporting};
@@ -91,6 +92,7 @@ pub fn load_str(text: &str, origin: &str, base_dir: PathBuf, sets: &[String]) ->
     scenario
         .parallel
         .validate(origin, scenario.dimension.axes())?;
+    shear::check(&scenario).map_err(|e| in_scenario(e, origin))?;
     Ok(Loaded {
         scenario,
         origin: origin.to_string(),

@@ -17,3 +17,4 @@ mod oblique;
 mod rebuild_springs;
 mod rolling;
 mod rotation;
+mod shear;

@@ -11,4 +11,5 @@ mod choose;
 mod hopper;
 mod mesh_discharge;
 mod repose;
+mod shear;
 mod shipped_check;
