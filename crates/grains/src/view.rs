@@ -27,11 +27,20 @@ pub struct MeshLoad {
     pub point: DVec3,
 }
 
-/// An engine that can tell the loads the grains put on its mesh walls.
+/// An engine that can tell the loads the grains put on its mesh walls,
+/// and the forces of its contacts.
 pub trait MeshLoads {
     /// What the grains put on each mesh wall at the last force evaluation
     /// (walls that are not meshes are left out).
     fn mesh_loads(&self) -> Vec<MeshLoad>;
+
+    /// The contact virial Σ r ⊗ f of the grain–grain contacts now (r the
+    /// branch vector from the second grain's image to the first, f the
+    /// force on the first; row r, column f) and their number; `None` where
+    /// the engine cannot tell.
+    fn contact_virial(&self) -> Option<([[f64; 3]; 3], usize)> {
+        None
+    }
 }
 
 /// The owned grains, one entry per grain in the engine's memory order (not
@@ -102,6 +111,12 @@ impl<D: Dim> GrainView<'_, D> {
     /// What the grains put on each mesh wall at the last force evaluation.
     pub fn mesh_loads(&self) -> Vec<MeshLoad> {
         self.loads.mesh_loads()
+    }
+
+    /// The contact virial of the grain–grain contacts now and their number
+    /// ([`MeshLoads::contact_virial`]).
+    pub fn contact_virial(&self) -> Option<([[f64; 3]; 3], usize)> {
+        self.loads.contact_virial()
     }
 
     /// A neutral snapshot of the grains for the writers (2D boxes get a unit

@@ -15,6 +15,9 @@ pub struct ContactList<D: Dim> {
     pub overlap: Vec<f64>,
     /// Unit normal from the second grain to the first.
     pub normal: Vec<D::V>,
+    /// Branch vector from the second grain (its image across a periodic
+    /// or sliding boundary) to the first.
+    pub branch: Vec<D::V>,
     /// Force on the first grain (the second gets its negative times its own
     /// mass factor under the seeds' mass-normalized law).
     pub force: Vec<D::V>,
@@ -83,6 +86,7 @@ impl<D: Dim> Md<D> {
             out.ids.push([p.id[i], p.id[j]]);
             out.overlap.push(ri + rj - r);
             out.normal.push(n);
+            out.branch.push(del);
             out.force.push(f.force * law.force_factor(p.mass[i]));
         }
         out

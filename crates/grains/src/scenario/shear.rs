@@ -25,10 +25,16 @@ fn axis(key: &str, name: &str, dims: usize) -> Result<usize> {
     Ok(a)
 }
 
-/// The scenario's shear checked (nothing without `domain.shear`): what
-/// does not run sheared is refused by name.
+/// The scenario's shear checked (without `domain.shear`, only that
+/// nothing needs it): what does not run sheared is refused by name.
 pub fn check(s: &Scenario) -> Result<()> {
     let Some(spec) = &s.domain.shear else {
+        if s.measure.rheology {
+            return Err(Error::input(
+                "measure.rheology needs a sheared box: domain.shear = \
+                 { axis, gradient_axis, rate }",
+            ));
+        }
         return Ok(());
     };
     if s.method == crate::settings::Method::Dsmc {

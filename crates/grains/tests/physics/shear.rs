@@ -533,3 +533,57 @@ fn a_sheared_run_gives_the_same_bits_on_threads_and_across_a_checkpoint() {
     on(2, &mut || resumed.advance(300).unwrap());
     assert_eq!(bits(&resumed), bits(&one), "resumed vs uninterrupted");
 }
+
+/// `measure.rheology` on two unit disks pressed together through the
+/// sliding boundary, both on the shear profile (no velocity fluctuation):
+/// the stress is the one contact's virial over the box area A,
+/// σ = k_n ξ |r| n ⊗ n / A (Hooke without damping, force k_n ξ n), so
+/// P = tr σ / 2 = k_n ξ |r| / 2A, τ = −σ_xy = −k_n ξ |r| n_x n_y / A,
+/// μ = −2 n_x n_y, I = γ̇ d / √(P/ρ) with ρ = m/(π r²), φ = 2π r²/A and
+/// Z = 2 × 1 contact / 2 grains = 1, to round-off.
+#[test]
+fn rheology_of_one_contact_through_the_sliding_boundary_is_its_virial() {
+    use grains::measure::Rheology;
+    let (lx, ly, rate) = (8.0, 4.0, 0.5);
+    let kn = 1.0e4;
+    // Grain 2's image above the box sits at grain 1 + r, |r| < 1.
+    let r = DVec2::new(0.3, 0.95);
+    let a = DVec2::new(4.0, 3.8);
+    let b = a + r - DVec2::new(0.0, ly);
+    let on_profile = |id: u64, pos: DVec2| {
+        let mut g = grain::<D2>(id, pos, 1.0);
+        g.vel = DVec2::new(rate * (pos.y - 0.5 * ly), 0.0);
+        g
+    };
+    let md = engine(
+        vec![on_profile(1, a), on_profile(2, b)],
+        sheared(lx, ly, rate),
+        MdSettings::new(1e-4, hooke(kn, 0.0, MassScaling::Reduced), 0.1),
+    );
+    let view = md.view();
+    let mut rh = Rheology::begin(&view).unwrap();
+    rh.sample(&view);
+    let got = rh.rows()[0];
+    let area = lx * ly;
+    let (dist, n) = (r.length(), r.normalize());
+    let xi = 1.0 - dist;
+    let pressure = kn * xi * dist / (2.0 * area);
+    let tau = -kn * xi * dist * n.x * n.y / area;
+    let m = md.particles.mass[0];
+    let rho = m / (std::f64::consts::PI * 0.25);
+    let want = [
+        0.0,
+        tau,
+        pressure,
+        -2.0 * n.x * n.y,
+        rate * 1.0 / (pressure / rho).sqrt(),
+        2.0 * std::f64::consts::PI * 0.25 / area,
+        1.0,
+    ];
+    for (k, (g, w)) in got.iter().zip(&want).enumerate() {
+        assert!(
+            (g - w).abs() <= 1e-12 * w.abs().max(1e-12),
+            "column {k}: {g} vs {w}"
+        );
+    }
+}
