@@ -97,8 +97,12 @@ impl Rheology {
         let n = self.rows.len() as f64;
         let mean = |k: usize| self.rows.iter().map(|r| r[k]).sum::<f64>() / n;
         let (tau, p) = (mean(1), mean(2));
-        // I √P = |γ̇| d √ρ is the same in every sample.
-        let scale = self.rows.first().map_or(f64::NAN, |r| r[4] * r[2].sqrt());
+        // I √P = |γ̇| d √ρ is the same in every sample (where P > 0: a
+        // sample with no contacts and no fluctuation yet has P = 0).
+        let scale = (self.rows.iter())
+            .map(|r| r[4] * r[2].sqrt())
+            .find(|x| x.is_finite())
+            .unwrap_or(f64::NAN);
         summary.insert("rheology_samples".into(), json!(self.rows.len()));
         summary.insert("shear_stress".into(), json!(tau));
         summary.insert("pressure".into(), json!(p));
