@@ -4,8 +4,24 @@
 //! rebuilds only, so that the image code stored with each pair stays valid).
 //! On a non-periodic axis the bounds only size the cell grid: particles may
 //! leave them (an open top), and the grid clamps them into its edge cells.
+//!
+//! A sheared box ([`Shear`]) has Lees–Edwards boundaries (Lees & Edwards
+//! 1972): the images across the gradient axis slide along the shear axis
+//! at the velocity jump γ̇ L_g, offset by Δ(t) = γ̇ L_g t (mod L_shear).
 
 use crate::dim::Dim;
+
+/// Lees–Edwards shear of a box periodic on both its axes: the image above
+/// the box (one gradient length up) moves at `rate · L_g` along `axis`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shear {
+    /// The axis the images slide along (the flow direction).
+    pub axis: usize,
+    /// The axis across which they slide (the velocity gradient).
+    pub gradient: usize,
+    /// Shear rate γ̇ (1/time).
+    pub rate: f64,
+}
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Domain<D: Dim> {
@@ -13,11 +29,75 @@ pub struct Domain<D: Dim> {
     pub hi: D::V,
     /// Periodicity per axis; entries beyond `D::D` are ignored.
     pub periodic: [bool; 3],
+    /// Lees–Edwards boundaries, if the box is sheared.
+    pub shear: Option<Shear>,
 }
 
 impl<D: Dim> Domain<D> {
     pub fn new(lo: D::V, hi: D::V, periodic: [bool; 3]) -> Self {
-        Self { lo, hi, periodic }
+        Self {
+            lo,
+            hi,
+            periodic,
+            shear: None,
+        }
+    }
+
+    /// The velocity jump γ̇ L_g of the image above the box (0 unsheared).
+    pub fn shear_jump(&self) -> f64 {
+        self.shear.map_or(0.0, |s| s.rate * self.length(s.gradient))
+    }
+
+    /// The image offset at time `t` as a whole number of shear lengths
+    /// taken off and the rest, Δ(t) = γ̇ L_g t − turns · L_s, in
+    /// [−L_s/2, L_s/2] (so that a cell search near it needs one image on
+    /// each side); (0, 0) unsheared.
+    pub fn shear_offset(&self, t: f64) -> (f64, f64) {
+        match self.shear {
+            None => (0.0, 0.0),
+            Some(s) => {
+                let total = self.shear_jump() * t;
+                let l = self.length(s.axis);
+                let turns = (total / l).round();
+                (turns, total - turns * l)
+            }
+        }
+    }
+
+    /// [`Domain::wrap`] under Lees–Edwards boundaries with image offset
+    /// `offset`: a grain leaving through the top re-enters at the bottom
+    /// shifted by −Δ along the shear axis with its velocity less the jump
+    /// (the opposite through the bottom); then every periodic axis wraps.
+    pub fn wrap_sheared(&self, p: &mut D::V, v: &mut D::V, offset: f64) {
+        if let Some(s) = self.shear {
+            let (g, a) = (s.gradient, s.axis);
+            let lo = D::get(self.lo, g);
+            let l = self.length(g);
+            let y = D::get(*p, g);
+            if y < lo || y >= lo + l {
+                let k = ((y - lo) / l).floor();
+                D::set(p, g, y - k * l);
+                D::set(p, a, D::get(*p, a) - k * offset);
+                D::set(v, a, D::get(*v, a) - k * self.shear_jump());
+            }
+        }
+        *p = self.wrap(*p);
+    }
+
+    /// [`Domain::minimum_image`] of `d = p_i − p_j` under Lees–Edwards
+    /// boundaries with image offset `offset`, with the images' velocity
+    /// jump: the separation and what to subtract from `v_i − v_j`.
+    pub fn minimum_image_sheared(&self, mut d: D::V, offset: f64) -> (D::V, D::V) {
+        let mut dv = D::zero();
+        if let Some(s) = self.shear {
+            let l = self.length(s.gradient);
+            let k = (D::get(d, s.gradient) / l).round();
+            let (dg, dx) = (D::get(d, s.gradient), D::get(d, s.axis));
+            D::set(&mut d, s.gradient, dg - k * l);
+            D::set(&mut d, s.axis, dx - k * offset);
+            D::set(&mut dv, s.axis, k * self.shear_jump());
+        }
+        (self.minimum_image(d), dv)
     }
 
     pub fn length(&self, axis: usize) -> f64 {
@@ -78,5 +158,30 @@ mod tests {
         assert_eq!(d.wrap(DVec2::new(-0.5, 7.0)), DVec2::new(9.5, 7.0));
         assert_eq!(d.wrap(DVec2::new(23.0, -1.0)), DVec2::new(3.0, -1.0));
         assert_eq!(d.minimum_image(DVec2::new(9.0, 4.0)), DVec2::new(-1.0, 4.0));
+    }
+
+    /// A grain through the top comes back at the bottom shifted by −Δ along
+    /// x with its x velocity less γ̇ L_y (Lees & Edwards 1972), exactly.
+    #[test]
+    fn sheared_wrap_shifts_position_and_velocity() {
+        let mut d = Domain::<D2>::new(DVec2::ZERO, DVec2::new(10.0, 4.0), [true, true, false]);
+        d.shear = Some(Shear {
+            axis: 0,
+            gradient: 1,
+            rate: 0.5,
+        });
+        assert_eq!(d.shear_jump(), 2.0);
+        // γ̇ L t = 2 × 3.25 = 6.5 = 1 × 10 − 3.5.
+        assert_eq!(d.shear_offset(3.25), (1.0, -3.5));
+        let (mut p, mut v) = (DVec2::new(2.0, 4.25), DVec2::new(1.0, 0.5));
+        d.wrap_sheared(&mut p, &mut v, 1.5);
+        assert_eq!((p, v), (DVec2::new(0.5, 0.25), DVec2::new(-1.0, 0.5)));
+        let (mut p, mut v) = (DVec2::new(9.0, -0.25), DVec2::new(1.0, 0.5));
+        d.wrap_sheared(&mut p, &mut v, 1.5);
+        assert_eq!((p, v), (DVec2::new(0.5, 3.75), DVec2::new(3.0, 0.5)));
+        // A pair across the top: j near the bottom, its image up by L and
+        // along by Δ, moving at +2 along x.
+        let (sep, dv) = d.minimum_image_sheared(DVec2::new(1.0, 3.5), 1.5);
+        assert_eq!((sep, dv), (DVec2::new(-0.5, -0.5), DVec2::new(2.0, 0.0)));
     }
 }

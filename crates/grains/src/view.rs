@@ -27,11 +27,20 @@ pub struct MeshLoad {
     pub point: DVec3,
 }
 
-/// An engine that can tell the loads the grains put on its mesh walls.
+/// An engine that can tell the loads the grains put on its mesh walls,
+/// and the forces of its contacts.
 pub trait MeshLoads {
     /// What the grains put on each mesh wall at the last force evaluation
     /// (walls that are not meshes are left out).
     fn mesh_loads(&self) -> Vec<MeshLoad>;
+
+    /// The contact virial Σ r ⊗ f of the grain–grain contacts now (r the
+    /// branch vector from the second grain's image to the first, f the
+    /// force on the first; row r, column f) and their number; `None` where
+    /// the engine cannot tell.
+    fn contact_virial(&self) -> Option<([[f64; 3]; 3], usize)> {
+        None
+    }
 }
 
 /// The grain–grain contacts of an engine now: the touching pairs of its
@@ -45,6 +54,9 @@ pub struct ContactList<D: Dim> {
     pub overlap: Vec<f64>,
     /// Unit normal from the second grain to the first.
     pub normal: Vec<D::V>,
+    /// Branch vector from the second grain (its image across a periodic
+    /// or sliding boundary) to the first.
+    pub branch: Vec<D::V>,
     /// Force on the first grain (the second gets its negative times its own
     /// mass factor under the mass-normalized law of Gallas, Herrmann &
     /// Sokolowski 1992).
@@ -157,6 +169,12 @@ impl<D: Dim> GrainView<'_, D> {
     /// The grain–wall contacts now (a pass over the grains and walls).
     pub fn wall_contacts(&self) -> WallContactList<D> {
         self.lists.wall_contacts()
+    }
+
+    /// The contact virial of the grain–grain contacts now and their number
+    /// ([`MeshLoads::contact_virial`]).
+    pub fn contact_virial(&self) -> Option<([[f64; 3]; 3], usize)> {
+        self.loads.contact_virial()
     }
 
     /// A neutral snapshot of the grains for the writers (2D boxes get a unit

@@ -137,6 +137,10 @@ pub fn encode_md<D: Dim>(e: &mut Enc, s: &MdState<D>) {
         }
         None => e.bool(false),
     }
+    // Last, so that an unsheared state's bytes are what they always were.
+    if let Some(offsets) = l.shear {
+        offsets.iter().for_each(|&x| e.f64(x));
+    }
 }
 
 /// Reads the state written by [`encode_md`].
@@ -157,6 +161,7 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
         ref_pos: d.vecs::<D>("skin reference positions")?,
         builds: d.u64("list builds")?,
         built: d.bool("list built flag")?,
+        shear: None,
     };
     let springs = d.vecs::<D>("tangential springs")?;
     let wall_springs = d.vecs::<D>("wall springs")?;
@@ -182,6 +187,27 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
         loads.push([DVec3::new(x[0], x[1], x[2]), DVec3::new(x[3], x[4], x[5])]);
     }
     let wall_loads = (loads, d.f64("wall load time")?);
+    let rebuilds_since_sort = d.u32("rebuild counter")?;
+    let contacts = d.u64("contacts")?;
+    let max_overlap = d.f64("max overlap")?;
+    let max_overlap_fraction = d.f64("max overlap fraction")?;
+    let worst_pair = (
+        d.u64("worst pair")?,
+        if d.bool("worst pair partner flag")? {
+            Some(d.u64("worst pair partner")?)
+        } else {
+            None
+        },
+    );
+    // A sheared box's image offsets close the state.
+    let mut list = list;
+    if d.remaining() > 0 {
+        list.shear = Some([
+            d.f64("shear turns")?,
+            d.f64("shear offset at build")?,
+            d.f64("shear offset")?,
+        ]);
+    }
     Ok(MdState {
         time,
         step,
@@ -193,17 +219,10 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
         wall_rolling,
         mesh_springs,
         wall_loads,
-        rebuilds_since_sort: d.u32("rebuild counter")?,
-        contacts: d.u64("contacts")?,
-        max_overlap: d.f64("max overlap")?,
-        max_overlap_fraction: d.f64("max overlap fraction")?,
-        worst_pair: (
-            d.u64("worst pair")?,
-            if d.bool("worst pair partner flag")? {
-                Some(d.u64("worst pair partner")?)
-            } else {
-                None
-            },
-        ),
+        rebuilds_since_sort,
+        contacts,
+        max_overlap,
+        max_overlap_fraction,
+        worst_pair,
     })
 }

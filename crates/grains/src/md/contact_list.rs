@@ -44,6 +44,9 @@ impl<D: Dim> Md<D> {
             }
             let n = del * (1.0 / r);
             let mut v_rel = p.vel[i] - p.vel[j];
+            if self.neighbors.sheared() {
+                v_rel -= self.neighbors.velocity_shift(self.neighbors.image[k]);
+            }
             if law.rotation() {
                 v_rel -= D::ang_cross(p.omega[i] * ri + p.omega[j] * rj, n);
             }
@@ -67,6 +70,7 @@ impl<D: Dim> Md<D> {
             out.ids.push([p.id[i], p.id[j]]);
             out.overlap.push(ri + rj - r);
             out.normal.push(n);
+            out.branch.push(del);
             out.force.push(f.force * law.force_factor(p.mass[i]));
         }
         out

@@ -96,6 +96,12 @@ fn fingerprint<D: Dim>(md: &Md<D>) -> Vec<(&'static str, String)> {
                 .join("; "),
         ),
     ];
+    if let Some(sh) = md.domain.shear {
+        fp.push((
+            "shear",
+            format!("{} {} {}", sh.axis, sh.gradient, bits(&[sh.rate])),
+        ));
+    }
     if let Some(law) = s.law.materials() {
         fp.push(("material law", format!("{law:?}")));
     }

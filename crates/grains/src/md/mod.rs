@@ -226,6 +226,7 @@ impl<D: Dim> Md<D> {
 
     /// Advances one time step.
     pub fn step(&mut self) -> Result<()> {
+        self.slide_to_next_step();
         let moved = self.predict_checked();
         self.time = (self.step + 1) as f64 * self.settings.dt;
         self.step += 1;
@@ -274,6 +275,7 @@ impl<D: Dim> Md<D> {
         if n == 0 {
             return Ok(());
         }
+        self.slide_to_next_step();
         let mut moved = self.predict_checked();
         for left in (0..n).rev() {
             self.time = (self.step + 1) as f64 * self.settings.dt;
@@ -289,10 +291,20 @@ impl<D: Dim> Md<D> {
                 self.correct();
                 return Err(e);
             }
+            self.slide_to_next_step();
             moved = self.correct_predict_checked()?;
         }
         self.correct();
         self.check_stability()
+    }
+
+    /// Moves a sheared box's sliding images to the end of the next step,
+    /// before the displacement test of the grains moved to it.
+    fn slide_to_next_step(&mut self) {
+        if self.domain.shear.is_some() {
+            let t = (self.step + 1) as f64 * self.settings.dt;
+            self.neighbors.set_time(t);
+        }
     }
 
     /// The integrator's part before the forces.
@@ -424,10 +436,22 @@ impl<D: Dim> Md<D> {
     fn rebuild_neighbors_untimed(&mut self) -> Result<()> {
         let n = self.particles.n_owned();
         let domain = &self.domain;
-        self.particles.pos[..n]
-            .par_iter_mut()
-            .with_min_len(crate::parallel::min_len(1))
-            .for_each(|x| *x = domain.wrap(*x));
+        if domain.shear.is_some() {
+            // Lees–Edwards: through the gradient boundary a grain's place
+            // along x and its velocity change too.
+            let (_, offset) = domain.shear_offset(self.time);
+            let p = &mut self.particles;
+            p.pos[..n]
+                .par_iter_mut()
+                .zip(p.vel[..n].par_iter_mut())
+                .with_min_len(crate::parallel::min_len(1))
+                .for_each(|(x, v)| domain.wrap_sheared(x, v, offset));
+        } else {
+            self.particles.pos[..n]
+                .par_iter_mut()
+                .with_min_len(crate::parallel::min_len(1))
+                .for_each(|x| *x = domain.wrap(*x));
+        }
         let saved = self.save_springs();
         let saved_rolling = self.save_rolling();
         let sort_every = self.settings.sort_every;
@@ -442,7 +466,7 @@ impl<D: Dim> Md<D> {
         self.rebuilds_since_sort = self.rebuilds_since_sort.wrapping_add(1);
         let p = &self.particles;
         self.neighbors
-            .build(&p.pos, &p.radius, &p.frozen, &self.domain)?;
+            .build_at(&p.pos, &p.radius, &p.frozen, &self.domain, self.time)?;
         self.blocks = PairBlocks::build(&self.neighbors.pairs, p.len());
         self.restore_springs(saved);
         self.restore_rolling(saved_rolling);

@@ -9,7 +9,8 @@ use crate::io::Frame;
 use crate::measure::impact::Impacts;
 use crate::measure::phase::drive;
 use crate::measure::{
-    Convection, DisplacementField, FlowField, PhaseSnapshots, Profiles, Tracer, Trajectories,
+    Convection, DisplacementField, FlowField, PhaseSnapshots, Profiles, Rheology, Tracer,
+    Trajectories,
 };
 use crate::scenario::Loaded;
 use crate::view::GrainView;
@@ -27,6 +28,7 @@ pub(crate) struct Measurements {
     flow_field: Option<FlowField>,
     impact: Option<Impacts>,
     fields: Option<crate::measure::fields::FieldsMeasure>,
+    rheology: Option<Rheology>,
 }
 
 impl Measurements {
@@ -79,8 +81,13 @@ impl Measurements {
             .as_ref()
             .map(|f| fields_begin(f, d0, view))
             .transpose()?;
+        let rheology = match m.rheology {
+            true => Some(Rheology::begin(view)?),
+            false => None,
+        };
         Ok(Self {
             fields,
+            rheology,
             impact,
             flow_field,
             displacement: m.displacement.then(|| DisplacementField::begin(view)),
@@ -125,7 +132,8 @@ impl Measurements {
         // Last, the time the displacement field began (for its picture),
         // after both flags, false where absent: older checkpoints end
         // before it and load with the time unknown.
-        if let Some(t0) = self.displacement.as_ref().and_then(|d| d.t0) {
+        let t0 = self.displacement.as_ref().and_then(|d| d.t0);
+        if let Some(t0) = t0 {
             if self.flow_field.is_none() && self.impact.is_none() {
                 e.bool(false);
             }
@@ -133,6 +141,24 @@ impl Measurements {
                 e.bool(false);
             }
             e.f64(t0);
+        }
+        // Last, the rheology: every flag before it written (false where
+        // absent) and the start time where there is a displacement field
+        // (NaN unknown), so that checkpoints without it are unchanged.
+        if let Some(r) = &self.rheology {
+            if t0.is_none() {
+                if self.flow_field.is_none() && self.impact.is_none() {
+                    e.bool(false);
+                }
+                if self.impact.is_none() {
+                    e.bool(false);
+                }
+                if self.displacement.is_some() {
+                    e.f64(f64::NAN);
+                }
+            }
+            e.bool(true);
+            r.save(&mut e);
         }
         e.buf
     }
@@ -193,6 +219,7 @@ impl Measurements {
                 .map(|f| fields_begin(f, loaded.scenario.particles.d0, view))
                 .transpose()
                 .map_err(|e| e.to_string())?,
+            rheology: None,
         };
         let mut out = out;
         // Written only when asked for (see `save`).
@@ -233,8 +260,24 @@ impl Measurements {
         }
         if let Some(field) = &mut out.displacement {
             if d.remaining() > 0 {
-                field.t0 = Some(d.f64("displacement start time")?);
+                let t0 = d.f64("displacement start time")?;
+                field.t0 = (!t0.is_nan()).then_some(t0);
             }
+        }
+        let has_rheology = d.remaining() > 0 && d.bool("rheology")?;
+        if has_rheology != m.rheology {
+            return Err(format!(
+                "measurement rheology: {} in the checkpoint but {} in the scenario",
+                if has_rheology { "present" } else { "absent" },
+                if m.rheology {
+                    "asked for"
+                } else {
+                    "not asked for"
+                }
+            ));
+        }
+        if has_rheology {
+            out.rheology = Some(Rheology::load(&mut d)?);
         }
         if d.remaining() != 0 {
             return Err(format!(
@@ -293,6 +336,9 @@ impl Measurements {
         if let Some(f) = &mut self.flow_field {
             f.sample(view);
         }
+        if let Some(r) = &mut self.rheology {
+            r.sample(view);
+        }
     }
 
     pub(crate) fn write<D: Dim>(
@@ -325,6 +371,9 @@ impl Measurements {
         if let Some(f) = &self.fields {
             f.write(dir)?;
         }
+        if let Some(r) = &self.rheology {
+            r.write(dir)?;
+        }
         Ok(())
     }
 
@@ -349,6 +398,9 @@ impl Measurements {
         }
         if let Some(f) = &self.fields {
             f.scalars(summary);
+        }
+        if let Some(r) = &self.rheology {
+            r.scalars(summary);
         }
     }
 }

@@ -11,6 +11,7 @@
 //! drift out of the box between builds.
 
 mod scan;
+mod shear;
 mod state;
 
 pub use state::ListState;
@@ -20,7 +21,8 @@ use crate::dim::Dim;
 use crate::domain::Domain;
 use crate::error::{Error, Result};
 use rayon::prelude::*;
-use scan::Scan;
+use scan::{Scan, ScanShear};
+use shear::ListShear;
 
 /// Particles per work unit of a parallel build. Fixed, not derived from the
 /// thread count, so the list comes out the same on any number of threads.
@@ -46,8 +48,14 @@ pub struct NeighborList<D: Dim> {
     /// lengths; the code is the base-3 number of those digits, x least
     /// significant (9 codes in 2D, 27 in 3D).
     pub image: Vec<u8>,
-    /// Shift vector of each image code, for the domain of the last build.
+    /// Shift vector of each image code, for the domain of the last build
+    /// (in a sheared box, for the offset of the latest time set).
     shifts: [D::V; 27],
+    /// Velocity of each image code relative to the grain it images: the
+    /// sliding images' jump in a sheared box, zero otherwise.
+    vshifts: [D::V; 27],
+    /// The sliding images of a sheared box.
+    shear: Option<ListShear>,
     /// Positions at the last build, for the skin criterion.
     ref_pos: Vec<D::V>,
     skin: f64,
@@ -69,6 +77,8 @@ impl<D: Dim> NeighborList<D> {
             pairs: Vec::new(),
             image: Vec::new(),
             shifts: [D::zero(); 27],
+            vshifts: [D::zero(); 27],
+            shear: None,
             ref_pos: Vec::new(),
             skin,
             builds: 0,
@@ -87,13 +97,29 @@ impl<D: Dim> NeighborList<D> {
     /// the caller (an error otherwise). Uses a cell grid of side ≥
     /// 2·max_radius + skin. Fails if a periodic length is below
     /// 2 × (largest diameter + skin), where a pair could interact through two
-    /// images at once; the list is left unchanged on error.
+    /// images at once; the list is left unchanged on error. A sheared box's
+    /// images slide: [`NeighborList::build_at`] builds at a time.
     pub fn build(
         &mut self,
         pos: &[D::V],
         radius: &[f64],
         frozen: &[bool],
         domain: &Domain<D>,
+    ) -> Result<()> {
+        self.build_at(pos, radius, frozen, domain, 0.0)
+    }
+
+    /// [`NeighborList::build`] at time `t`, where a sheared box's images
+    /// have slid by its offset Δ(t) (positions wrapped for that offset,
+    /// [`Domain::wrap_sheared`]); across the gradient boundary the search
+    /// looks around each grain's place less the offset.
+    pub fn build_at(
+        &mut self,
+        pos: &[D::V],
+        radius: &[f64],
+        frozen: &[bool],
+        domain: &Domain<D>,
+        t: f64,
     ) -> Result<()> {
         let n = pos.len();
         if radius.len() != n || frozen.len() != n {
@@ -143,6 +169,7 @@ impl<D: Dim> NeighborList<D> {
             length[a] = l;
             periodic[a] = true;
         }
+        let shear = ListShear::at(domain, t, reach)?;
         for (i, &p) in pos.iter().enumerate() {
             for (a, &wrapped) in periodic.iter().enumerate().take(D::D) {
                 let x = D::get(p, a);
@@ -170,6 +197,9 @@ impl<D: Dim> NeighborList<D> {
                 D::set(s, a, (digit as f64 - 1.0) * length[a]);
             }
         }
+        self.shear = shear;
+        self.slide_images();
+        self.set_velocity_shifts();
 
         let max_cells = (CELLS_PER_PARTICLE * n).clamp(MIN_CELLS, MAX_CELLS);
         let shape = GridShape::new(domain, reach, max_cells);
@@ -187,6 +217,10 @@ impl<D: Dim> NeighborList<D> {
             length,
             shifts: &self.shifts,
             skin: self.skin,
+            shear: shear.map(|s| ScanShear {
+                gradient: s.gradient,
+                offset: s.built,
+            }),
         };
         self.pairs.clear();
         self.image.clear();
@@ -225,7 +259,9 @@ impl<D: Dim> NeighborList<D> {
         if !self.built || pos.len() != self.ref_pos.len() {
             return true;
         }
-        let limit = 0.25 * self.skin * self.skin;
+        let Some(limit) = self.limit2() else {
+            return true;
+        };
         pos.par_chunks(4096)
             .zip(self.ref_pos.par_chunks(4096))
             .with_min_len(crate::parallel::min_len(1))
@@ -237,8 +273,20 @@ impl<D: Dim> NeighborList<D> {
     /// for an integrator that checks while it moves the grains; `None` when a
     /// rebuild is due whatever the motion (no build yet, or `n` grains now).
     pub fn skin_reference(&self, n: usize) -> Option<(&[D::V], f64)> {
-        (self.built && n == self.ref_pos.len())
-            .then(|| (&self.ref_pos[..], 0.25 * self.skin * self.skin))
+        if !(self.built && n == self.ref_pos.len()) {
+            return None;
+        }
+        Some((&self.ref_pos[..], self.limit2()?))
+    }
+
+    /// The squared displacement beyond which a grain calls for a rebuild:
+    /// (skin/2)², less in a sheared box as its images slide (`None`: no
+    /// skin left, a rebuild is due).
+    fn limit2(&self) -> Option<f64> {
+        match &self.shear {
+            None => Some(0.25 * self.skin * self.skin),
+            Some(s) => s.limit2(self.skin),
+        }
     }
 
     /// The shift to add to the partner's position for image `code`.
@@ -486,6 +534,71 @@ mod tests {
             listed(&one, &pos),
             brute_force(&pos, &radius, &frozen, skin, &domain)
         );
+    }
+
+    /// Lees–Edwards: the list built at time t holds exactly the pairs
+    /// within reach through the sliding images, each once, for offsets
+    /// across the whole shear length, in 2D and 3D.
+    fn sheared_matches_brute_force<D: Dim>(gradient: usize, seed: u64) {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
+        for round in 0..40 {
+            let n = rng.gen_range(2..300);
+            let lx = rng.gen_range(2.3..9.0);
+            let hi = D::from_xyz([lx, rng.gen_range(3.4..9.0), rng.gen_range(3.4..9.0)]);
+            let mut domain = Domain::<D>::new(D::zero(), hi, [true; 3]);
+            domain.shear = Some(crate::domain::Shear {
+                axis: 0,
+                gradient,
+                rate: rng.gen_range(-2.0..2.0),
+            });
+            let t = rng.gen_range(0.0..20.0);
+            let (_, offset) = domain.shear_offset(t);
+            let radius: Vec<f64> = (0..n).map(|_| rng.gen_range(0.2..0.5)).collect();
+            let frozen = vec![false; n];
+            let pos: Vec<D::V> = (0..n)
+                .map(|_| {
+                    let mut p = D::zero();
+                    for a in 0..D::D {
+                        D::set(&mut p, a, rng.gen_range(0.0..D::get(hi, a)));
+                    }
+                    p
+                })
+                .collect();
+            let skin = 0.1;
+            let mut list = NeighborList::<D>::new(skin);
+            list.build_at(&pos, &radius, &frozen, &domain, t).unwrap();
+            let mut expected = PairMap::new();
+            for i in 0..n {
+                for j in i + 1..n {
+                    let (d, _) = domain.minimum_image_sheared(pos[i] - pos[j], offset);
+                    let cut = radius[i] + radius[j] + skin;
+                    if D::norm2(d) < cut * cut {
+                        expected.insert((i as u32, j as u32), D::to_xyz(d));
+                    }
+                }
+            }
+            let got = listed(&list, &pos);
+            assert_eq!(
+                got.keys().collect::<Vec<_>>(),
+                expected.keys().collect::<Vec<_>>(),
+                "round {round}"
+            );
+            for (k, d) in &got {
+                let e = expected[k];
+                assert!(
+                    (0..3).all(|a| (d[a] - e[a]).abs() < 1e-9),
+                    "{k:?}: {d:?} {e:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn sheared_list_matches_brute_force() {
+        sheared_matches_brute_force::<D2>(1, 11);
+        sheared_matches_brute_force::<D3>(2, 12);
+        sheared_matches_brute_force::<D3>(1, 13);
     }
 
     #[test]

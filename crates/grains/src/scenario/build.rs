@@ -76,7 +76,11 @@ fn domain<D: Dim>(s: &Scenario) -> Result<Domain<D>> {
     }
     let mut periodic = [false; 3];
     periodic[..s.domain.periodic.len()].copy_from_slice(&s.domain.periodic);
-    Ok(Domain::new(lo, hi, periodic))
+    let mut domain = Domain::new(lo, hi, periodic);
+    if let Some(spec) = &s.domain.shear {
+        domain.shear = Some(super::shear::shear(spec, s.dimension, &periodic)?);
+    }
+    Ok(domain)
 }
 
 fn grain<D: Dim>(id: u64, pos: D::V, d: f64, density: f64, model: MassModel) -> ParticleRecord<D> {
@@ -433,7 +437,10 @@ fn build_md_inner<D: Dim>(
     };
     let s = &loaded.scenario;
     let dom = domain::<D>(s)?;
-    let particles = grains::<D>(loaded, &dom)?;
+    let mut particles = grains::<D>(loaded, &dom)?;
+    if s.domain.shear.as_ref().is_some_and(|sh| sh.start_profile) {
+        super::shear::start_profile(&mut particles, &dom);
+    }
     pass(format!("placed {} grains", particles.len()));
     let lightest = (particles.mass.iter().zip(&particles.frozen))
         .filter(|&(_, &frozen)| !frozen)

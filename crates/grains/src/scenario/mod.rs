@@ -15,6 +15,7 @@ pub mod placement;
 pub mod resolve;
 pub mod restart;
 pub mod schema;
+pub mod shear;
 pub mod sizes;
 pub mod sweep;
 
@@ -95,6 +96,7 @@ pub fn load_str(text: &str, origin: &str, base_dir: PathBuf, sets: &[String]) ->
         .parallel
         .validate(origin, scenario.dimension.axes())?;
     sizes::complete(&mut scenario, d0_given, &base_dir).map_err(|e| in_scenario(e, origin))?;
+    shear::check(&scenario).map_err(|e| in_scenario(e, origin))?;
     Ok(Loaded {
         scenario,
         origin: origin.to_string(),

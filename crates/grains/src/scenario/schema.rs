@@ -103,6 +103,26 @@ pub struct DomainSpec {
     /// Periodicity per axis; default none.
     #[serde(default)]
     pub periodic: Vec<bool>,
+    /// Lees–Edwards shear of a periodic box (`scenario/shear.rs`).
+    #[serde(default)]
+    pub shear: Option<ShearSpec>,
+}
+
+/// `domain.shear = { axis, gradient_axis, rate, start_profile }`, checked
+/// in `scenario/shear.rs`.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ShearSpec {
+    /// The flow direction: "x" (the only one the cell search supports).
+    pub axis: String,
+    /// The direction of the velocity gradient: "y" (2D) or "y"/"z" (3D).
+    pub gradient_axis: String,
+    /// Shear rate γ̇ (1/s): the image above the box moves at γ̇ L_g.
+    pub rate: f64,
+    /// Start the grains on the linear profile u = γ̇ (y − y_mid) added to
+    /// their velocities (default true), so that the cell starts sheared.
+    #[serde(default = "yes")]
+    pub start_profile: bool,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]

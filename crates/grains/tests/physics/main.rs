@@ -18,3 +18,4 @@ mod oblique;
 mod rebuild_springs;
 mod rolling;
 mod rotation;
+mod shear;

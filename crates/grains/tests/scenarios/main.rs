@@ -11,5 +11,6 @@ mod choose;
 mod hopper;
 mod mesh_discharge;
 mod repose;
+mod shear;
 mod shipped_check;
 mod size_distributions;

@@ -119,6 +119,7 @@ impl Mirror {
                 ref_pos: dvec(&self.reference),
                 builds: self.builds,
                 built: self.builds > 0,
+                shear: None,
             },
             springs,
             wall_springs,

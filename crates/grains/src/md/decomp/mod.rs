@@ -120,6 +120,13 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
                 w.name
             )));
         }
+        if full.domain.shear.is_some() {
+            // Ghost shells do not slide with the Lees–Edwards images.
+            return Err(Error::input(
+                "domain.shear: a sheared box does not run under mpirun (over ranks) yet; \
+                 run on one process (--threads N)",
+            ));
+        }
         if full.rolling_history() && comm.size() > 1 {
             // Rolling springs and JKR contact marks do not migrate between ranks.
             return Err(Error::input(

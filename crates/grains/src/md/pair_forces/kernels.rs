@@ -104,6 +104,15 @@ pub(super) fn run_block<D: Dim, L: ContactModel>(
     for (code, s) in shifts.iter_mut().enumerate().take(27) {
         *s = list.shift(code as u8);
     }
+    // A sheared box's sliding images move relative to the grains they
+    // image; unsheared, the kernels below never read these.
+    let sheared = list.sheared();
+    let mut vshifts = [D::zero(); 32];
+    if sheared {
+        for (code, v) in vshifts.iter_mut().enumerate().take(27) {
+            *v = list.velocity_shift(code as u8);
+        }
+    }
 
     // Pass 1: which listed pairs touch.
     t.force.fill(D::zero());
@@ -145,6 +154,7 @@ pub(super) fn run_block<D: Dim, L: ContactModel>(
         images,
         touching,
         shifts: &shifts,
+        vshifts: &vshifts,
     };
     let dep = &mut Deposit {
         first: t.first,
@@ -156,10 +166,13 @@ pub(super) fn run_block<D: Dim, L: ContactModel>(
         stats: BlockStats::default(),
     };
     let springs = (&mut *t.springs, &mut *t.rolling);
-    if L::LANES {
-        contacts_in_lanes(law, input, g, &ctx, springs, dep);
-    } else {
-        contacts_one_by_one(law, input, g, &ctx, springs, dep);
+    // Sheared or not is chosen once here, not per contact: the unsheared
+    // kernels are the ones compiled before shear existed.
+    match (L::LANES, sheared) {
+        (true, false) => contacts_in_lanes::<D, L, false>(law, input, g, &ctx, springs, dep),
+        (true, true) => contacts_in_lanes::<D, L, true>(law, input, g, &ctx, springs, dep),
+        (false, false) => contacts_one_by_one::<D, L, false>(law, input, g, &ctx, springs, dep),
+        (false, true) => contacts_one_by_one::<D, L, true>(law, input, g, &ctx, springs, dep),
     }
     dep.stats
 }
@@ -214,6 +227,9 @@ struct Pass2<'a, D: Dim> {
     touching: &'a [u32],
     /// The list's image shifts, padded to 32 codes.
     shifts: &'a [D::V; 32],
+    /// The images' velocities relative to their grains, padded likewise
+    /// (read by the sheared kernels only).
+    vshifts: &'a [D::V; 32],
 }
 
 impl<D: Dim> Pass2<'_, D> {
@@ -221,6 +237,17 @@ impl<D: Dim> Pass2<'_, D> {
     #[inline(always)]
     fn shift(&self, k: usize) -> D::V {
         self.shifts[(self.images[k] & 31) as usize]
+    }
+
+    /// `v_i − v_j` of pair `k` less the velocity of the second grain's
+    /// image relative to that grain (`v_rel` itself unsheared).
+    #[inline(always)]
+    fn relative_velocity<const SHEARED: bool>(&self, k: usize, v_rel: D::V) -> D::V {
+        if SHEARED {
+            v_rel - self.vshifts[(self.images[k] & 31) as usize]
+        } else {
+            v_rel
+        }
     }
 }
 
@@ -277,8 +304,8 @@ impl<D: Dim> Deposit<'_, D> {
     }
 }
 
-/// The law one contact at a time.
-fn contacts_one_by_one<D: Dim, L: ContactModel>(
+/// The law one contact at a time (`SHEARED`: through sliding images).
+fn contacts_one_by_one<D: Dim, L: ContactModel, const SHEARED: bool>(
     law: &L,
     input: &PairInput<D>,
     g: &GrainView<D>,
@@ -301,7 +328,7 @@ fn contacts_one_by_one<D: Dim, L: ContactModel>(
         let overlap = ri + rj - r;
         // One division, three multiplications.
         let n = del * (1.0 / r);
-        let mut v_rel = at(g.vel, i) - at(g.vel, j);
+        let mut v_rel = c.relative_velocity::<SHEARED>(k, at(g.vel, i) - at(g.vel, j));
         if rotation {
             // Contact-point velocities: ω_i × (−r_i n) − ω_j × (r_j n).
             v_rel -= D::ang_cross(at(g.omega, i) * ri + at(g.omega, j) * rj, n);
@@ -364,7 +391,7 @@ fn effective_mass<D: Dim>(g: &GrainView<D>, i: u32) -> f64 {
 /// The law over batches of contacts in component rows (vectorized; same
 /// bits as [`contacts_one_by_one`]): gather a batch, run the kernel, add
 /// the results back in the contacts' order.
-fn contacts_in_lanes<D: Dim, L: ContactModel>(
+fn contacts_in_lanes<D: Dim, L: ContactModel, const SHEARED: bool>(
     law: &L,
     input: &PairInput<D>,
     g: &GrainView<D>,
@@ -389,7 +416,7 @@ fn contacts_in_lanes<D: Dim, L: ContactModel>(
             let [i, j] = c.pairs[k];
             let del = at(g.pos, i) - (at(g.pos, j) + c.shift(k));
             let (ri, rj) = (at(g.radius, i), at(g.radius, j));
-            let v_rel = at(g.vel, i) - at(g.vel, j);
+            let v_rel = c.relative_velocity::<SHEARED>(k, at(g.vel, i) - at(g.vel, j));
             // A law with rolling resistance gets ω_i and ω_j and forms
             // both the spin and ω_i − ω_j in its vector loop; the others
             // get the spin.

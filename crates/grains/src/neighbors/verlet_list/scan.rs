@@ -2,6 +2,8 @@
 //!
 //! The neighbouring cells of a grain's cell on each axis (with their
 //! periodic shifts), and the scan of a range of grains against them.
+//! In a sheared box the cells across the gradient boundary are searched
+//! around the grain's place less the images' offset along x.
 
 use super::POW3;
 use crate::dim::Dim;
@@ -47,6 +49,19 @@ impl AxisStencil {
         st
     }
 
+    /// The cells around unwrapped cell `k` of a periodic axis of `n ≥ 3`
+    /// cells, with their shifts (−1, 0 or +1 box lengths for `k` within
+    /// half a box of the box).
+    fn around(n: usize, k: i64) -> Self {
+        let n = n as i64;
+        let cell = |k: i64| (k.rem_euclid(n) as usize, k.div_euclid(n) as i32);
+        Self {
+            cells: [cell(k - 1), cell(k), cell(k + 1)],
+            len: 3,
+            min_image: false,
+        }
+    }
+
     fn cells(&self) -> &[(usize, i32)] {
         &self.cells[..self.len]
     }
@@ -62,6 +77,16 @@ pub(super) struct Scan<'a, D: Dim> {
     pub(super) length: [f64; 3],
     pub(super) shifts: &'a [D::V; 27],
     pub(super) skin: f64,
+    /// Lees–Edwards images sliding along x (axis 0).
+    pub(super) shear: Option<ScanShear>,
+}
+
+/// What the search needs of a sheared box: the gradient axis and the
+/// images' offset along x at the build.
+#[derive(Clone, Copy)]
+pub(super) struct ScanShear {
+    pub gradient: usize,
+    pub offset: f64,
 }
 
 impl<D: Dim> Scan<'_, D> {
@@ -77,9 +102,32 @@ impl<D: Dim> Scan<'_, D> {
             let st: [AxisStencil; 3] =
                 std::array::from_fn(|a| AxisStencil::new(shape.dims[a], self.periodic[a], c[a]));
             let any_min_image = st.iter().any(|s| s.min_image);
+            // Across the gradient boundary (digit g = ±1) the partner's
+            // image sits Δ·g further along x: search around x_i − Δ·g.
+            let slid: Option<[AxisStencil; 2]> = self.shear.map(|sh| {
+                std::array::from_fn(|k| {
+                    let g = 2.0 * k as f64 - 1.0;
+                    if st[0].min_image {
+                        st[0]
+                    } else {
+                        let x = D::get(pi, 0) - g * sh.offset;
+                        let f = ((x - shape.lo[0]) * shape.inv_width[0]).floor();
+                        AxisStencil::around(shape.dims[0], f as i64)
+                    }
+                })
+            });
             for &(z, sz) in st[2].cells() {
                 for &(y, sy) in st[1].cells() {
-                    for &(x, sx) in st[0].cells() {
+                    let g = match self.shear {
+                        Some(sh) if sh.gradient == 1 => sy,
+                        Some(_) => sz,
+                        None => 0,
+                    };
+                    let xs = match &slid {
+                        Some(slid) if g != 0 => &slid[((g + 1) / 2) as usize],
+                        _ => &st[0],
+                    };
+                    for &(x, sx) in xs.cells() {
                         let base = zero_code + sx + 3 * sy + 9 * sz;
                         let members = self.grid.cell_members(shape.linear([x, y, z]));
                         // Members are in ascending order: skip to those after i.
@@ -94,7 +142,11 @@ impl<D: Dim> Scan<'_, D> {
                             if any_min_image {
                                 for (a, s) in st.iter().enumerate().take(D::D) {
                                     if s.min_image {
-                                        let dx = D::get(pi, a) - D::get(pj, a);
+                                        let mut dx = D::get(pi, a) - D::get(pj, a);
+                                        if a == 0 && g != 0 {
+                                            // The partner's image slid by Δ·g.
+                                            dx -= g as f64 * self.shear.map_or(0.0, |s| s.offset);
+                                        }
                                         code += (dx / self.length[a]).round() as i32 * POW3[a];
                                     }
                                 }

@@ -20,6 +20,9 @@ pub struct ListState<D: Dim> {
     pub ref_pos: Vec<D::V>,
     pub builds: u64,
     pub built: bool,
+    /// A sheared box's image offsets (whole lengths taken off, at the last
+    /// build, now); `None` unsheared.
+    pub shear: Option<[f64; 3]>,
 }
 
 impl<D: Dim> NeighborList<D> {
@@ -33,6 +36,7 @@ impl<D: Dim> NeighborList<D> {
             ref_pos: self.ref_pos.clone(),
             builds: self.builds,
             built: self.built,
+            shear: self.shear_offsets(),
         }
     }
 
@@ -76,6 +80,7 @@ impl<D: Dim> NeighborList<D> {
                 D::NAME
             )));
         }
+        self.restore_offsets(s.shear)?;
         self.pairs = s.pairs;
         self.image = s.image;
         self.shifts.copy_from_slice(&s.shifts);

@@ -52,6 +52,12 @@ pub struct MeasureSpec {
     /// and fabric fields: fields/*.vti, fields.pvd (docs/fields.md).
     #[serde(default)]
     pub fields: Option<super::fields::FieldsSpec>,
+    /// The rheology of a sheared box (`domain.shear`): per sample the shear
+    /// stress, pressure, μ = τ/P, inertial number, packing fraction and
+    /// coordination from the contact virial and the grains' motion:
+    /// rheology.csv and their averages in summary.json (`measure::rheology`).
+    #[serde(default)]
+    pub rheology: bool,
 }
 
 /// `measure.flow_field`: `cells` = [along x, along the vertical axis] over
