@@ -31,6 +31,10 @@ pub struct Domain<D: Dim> {
     pub periodic: [bool; 3],
     /// Lees–Edwards boundaries, if the box is sheared.
     pub shear: Option<Shear>,
+    /// The time and image offset from which a sheared box's offset grows
+    /// at γ̇ L_g: (0, 0) unless the gradient length changed (a box at fixed
+    /// pressure), so that the offset stays continuous when L_g does.
+    pub slide_origin: [f64; 2],
 }
 
 impl<D: Dim> Domain<D> {
@@ -40,6 +44,7 @@ impl<D: Dim> Domain<D> {
             hi,
             periodic,
             shear: None,
+            slide_origin: [0.0; 2],
         }
     }
 
@@ -49,14 +54,17 @@ impl<D: Dim> Domain<D> {
     }
 
     /// The image offset at time `t` as a whole number of shear lengths
-    /// taken off and the rest, Δ(t) = γ̇ L_g t − turns · L_s, in
+    /// taken off and the rest, Δ(t) = Δ_0 + γ̇ L_g (t − t_0) − turns · L_s
+    /// with (t_0, Δ_0) the [`Domain::slide_origin`], in
     /// [−L_s/2, L_s/2] (so that a cell search near it needs one image on
     /// each side); (0, 0) unsheared.
     pub fn shear_offset(&self, t: f64) -> (f64, f64) {
         match self.shear {
             None => (0.0, 0.0),
             Some(s) => {
-                let total = self.shear_jump() * t;
+                let [since, base] = self.slide_origin;
+                // With the origin (0, 0) this is γ̇ L_g t to the bit.
+                let total = base + self.shear_jump() * (t - since);
                 let l = self.length(s.axis);
                 let turns = (total / l).round();
                 (turns, total - turns * l)
@@ -98,6 +106,20 @@ impl<D: Dim> Domain<D> {
             D::set(&mut dv, s.axis, k * self.shear_jump());
         }
         (self.minimum_image(d), dv)
+    }
+
+    /// Stretches a sheared box along its gradient axis by `factor` about
+    /// its lower bound at time `t`, the image offset carried on from its
+    /// value at `t` (the grains are the caller's to move).
+    pub fn stretch_gradient(&mut self, factor: f64, t: f64) {
+        let Some(s) = self.shear else {
+            return;
+        };
+        let (_, offset) = self.shear_offset(t);
+        self.slide_origin = [t, offset];
+        let lo = D::get(self.lo, s.gradient);
+        let l = self.length(s.gradient);
+        D::set(&mut self.hi, s.gradient, lo + l * factor);
     }
 
     pub fn length(&self, axis: usize) -> f64 {
@@ -183,5 +205,22 @@ mod tests {
         // along by Δ, moving at +2 along x.
         let (sep, dv) = d.minimum_image_sheared(DVec2::new(1.0, 3.5), 1.5);
         assert_eq!((sep, dv), (DVec2::new(-0.5, -0.5), DVec2::new(2.0, 0.0)));
+    }
+
+    /// Stretching the gradient axis keeps the image offset continuous and
+    /// then lets it grow at the new jump γ̇ L_g'.
+    #[test]
+    fn stretched_box_carries_the_offset_on() {
+        let mut d = Domain::<D2>::new(DVec2::ZERO, DVec2::new(10.0, 4.0), [true, true, false]);
+        d.shear = Some(Shear {
+            axis: 0,
+            gradient: 1,
+            rate: 0.5,
+        });
+        // Δ(1) = 2, then L_g = 8 and the jump is 4: Δ(1.5) = 2 + 4 × 0.5.
+        d.stretch_gradient(2.0, 1.0);
+        assert_eq!(d.hi, DVec2::new(10.0, 8.0));
+        assert_eq!(d.shear_offset(1.0), (0.0, 2.0));
+        assert_eq!(d.shear_offset(1.5), (0.0, 4.0));
     }
 }

@@ -140,6 +140,11 @@ pub fn encode_md<D: Dim>(e: &mut Enc, s: &MdState<D>) {
     // Last, so that an unsheared state's bytes are what they always were.
     if let Some(offsets) = l.shear {
         offsets.iter().for_each(|&x| e.f64(x));
+        // Then a fixed-pressure box, so that a constant-volume one's bytes
+        // are what they were.
+        if let Some(b) = s.pressure_box {
+            b.iter().for_each(|&x| e.f64(x));
+        }
     }
 }
 
@@ -201,12 +206,20 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
     );
     // A sheared box's image offsets close the state.
     let mut list = list;
+    let mut pressure_box = None;
     if d.remaining() > 0 {
         list.shear = Some([
             d.f64("shear turns")?,
             d.f64("shear offset at build")?,
             d.f64("shear offset")?,
         ]);
+        if d.remaining() > 0 {
+            pressure_box = Some([
+                d.f64("fixed-pressure box length")?,
+                d.f64("fixed-pressure box slide time")?,
+                d.f64("fixed-pressure box slide offset")?,
+            ]);
+        }
     }
     Ok(MdState {
         time,
@@ -224,5 +237,6 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
         max_overlap,
         max_overlap_fraction,
         worst_pair,
+        pressure_box,
     })
 }

@@ -74,7 +74,15 @@ fn fingerprint<D: Dim>(md: &Md<D>) -> Vec<(&'static str, String)> {
             .join(" ")
     };
     let lo = D::to_xyz(md.domain.lo);
-    let hi = D::to_xyz(md.domain.hi);
+    let mut hi = D::to_xyz(md.domain.hi);
+    // A fixed-pressure box's gradient length is part of the state, not of
+    // the scenario: marked as such.
+    let pressure_axis = (md.domain.shear)
+        .filter(|_| s.barostat.is_some())
+        .map(|sh| sh.gradient);
+    if let Some(g) = pressure_axis {
+        hi[g] = f64::NAN;
+    }
     let mut fp = vec![
         ("dimension", D::NAME.to_string()),
         ("integrator", s.integrator.name().to_string()),
@@ -101,6 +109,9 @@ fn fingerprint<D: Dim>(md: &Md<D>) -> Vec<(&'static str, String)> {
             "shear",
             format!("{} {} {}", sh.axis, sh.gradient, bits(&[sh.rate])),
         ));
+    }
+    if let Some(b) = s.barostat {
+        fp.push(("fixed pressure", format!("{b:?}")));
     }
     if let Some(law) = s.law.materials() {
         fp.push(("material law", format!("{law:?}")));

@@ -15,6 +15,7 @@
 //! Measurements and output are not part of the step: the caller runs them
 //! between steps (see the scenario runner).
 
+pub mod barostat;
 mod carry;
 pub mod codec;
 pub mod contact_list;
@@ -73,6 +74,9 @@ pub struct MdSettings<D: Dim> {
     pub max_overlap_fraction: f64,
     /// Check positions for NaN/inf every this many steps.
     pub nan_check_every: u64,
+    /// Constant pressure on a sheared box's gradient axis (`None`: the
+    /// box keeps its volume).
+    pub barostat: Option<barostat::Barostat>,
 }
 
 impl<D: Dim> MdSettings<D> {
@@ -87,6 +91,7 @@ impl<D: Dim> MdSettings<D> {
             sort_every: 20,
             max_overlap_fraction: 0.5,
             nan_check_every: 10,
+            barostat: None,
         }
     }
 
@@ -235,7 +240,11 @@ impl<D: Dim> Md<D> {
         }
         self.compute_forces(true);
         self.correct();
-        self.check_stability()
+        self.check_stability()?;
+        if self.barostat_due() {
+            self.apply_barostat()?;
+        }
+        Ok(())
     }
 
     /// Advances `n` steps (on a worker of rayon's pool, see
@@ -256,6 +265,19 @@ impl<D: Dim> Md<D> {
     /// whichever the governor measures as faster (see
     /// [`crate::parallel::Governor`]): the same bits either way.
     pub fn advance(&mut self, n: u64) -> Result<()> {
+        let end = self.step + n;
+        // A fixed-pressure box stops at each of the barostat's readings.
+        while let Some(k) = self.steps_to_barostat() {
+            if self.step + k > end {
+                break;
+            }
+            self.advance_governed(k)?;
+            self.apply_barostat()?;
+        }
+        self.advance_governed(end - self.step)
+    }
+
+    fn advance_governed(&mut self, n: u64) -> Result<()> {
         let mut governor = std::mem::take(&mut self.governor);
         let done = governor.run(n, |k| {
             // Worth keeping the pool's other workers awake for (a few

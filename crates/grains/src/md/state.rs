@@ -45,6 +45,9 @@ pub struct MdState<D: Dim> {
     pub max_overlap: f64,
     pub max_overlap_fraction: f64,
     pub worst_pair: (u64, Option<u64>),
+    /// A fixed-pressure box along its gradient axis (upper bound, slide
+    /// origin t_0 and Δ_0); `None` at constant volume.
+    pub pressure_box: Option<[f64; 3]>,
 }
 
 /// Export and import of the state, beside the state: the engine packs itself.
@@ -86,6 +89,7 @@ impl<D: Dim> Md<D> {
             max_overlap: self.stats.max_overlap,
             max_overlap_fraction: self.stats.max_overlap_fraction,
             worst_pair: self.stats.worst_pair,
+            pressure_box: self.pressure_box(),
         })
     }
 
@@ -205,6 +209,9 @@ impl<D: Dim> Md<D> {
                 self.walls.len()
             ));
         }
+        if let Some(b) = s.pressure_box {
+            self.check_pressure_box(b)?;
+        }
         let mut list = self.neighbors.clone();
         list.import_state(s.list, n)
             .map_err(|e| Error::input(format!("checkpoint state: {e}")))?;
@@ -234,6 +241,9 @@ impl<D: Dim> Md<D> {
         };
         self.blocks = PairBlocks::build(&self.neighbors.pairs, self.particles.len());
         self.deferred = Deferred::default();
+        if let Some(b) = s.pressure_box {
+            self.set_pressure_box(b);
+        }
         Ok(())
     }
 }

@@ -479,6 +479,9 @@ fn build_md_inner<D: Dim>(
     );
     settings.integrator = s.run.integrator;
     settings.max_overlap_fraction = s.run.max_overlap;
+    if let Some(spec) = &s.domain.shear {
+        settings.barostat = super::shear::barostat(spec)?;
+    }
     if let Some(g) = &s.gravity {
         settings.gravity = vector::<D>("gravity", g)?;
     }

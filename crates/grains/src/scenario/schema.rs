@@ -123,6 +123,17 @@ pub struct ShearSpec {
     /// their velocities (default true), so that the cell starts sheared.
     #[serde(default = "yes")]
     pub start_profile: bool,
+    /// Normal stress P (Pa) held on the gradient axis: the box length
+    /// along it follows the measured σ_gg (`md::barostat`); absent, the
+    /// box keeps its volume.
+    #[serde(default)]
+    pub pressure: Option<f64>,
+    /// Relaxation time τ_p (s) of the box length under `pressure`.
+    #[serde(default)]
+    pub relax_time: Option<f64>,
+    /// Steps between the barostat's readings of σ_gg (default 20).
+    #[serde(default)]
+    pub pressure_every: Option<u64>,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]

@@ -6,7 +6,11 @@ use super::schema::{Device, Dimension, Scenario, ShearSpec};
 use crate::dim::Dim;
 use crate::domain::{Domain, Shear};
 use crate::error::{Error, Result};
+use crate::md::barostat::Barostat;
 use crate::particles::Particles;
+
+/// Steps between the barostat's readings unless `pressure_every` says.
+const PRESSURE_EVERY: u64 = 20;
 
 /// The axis named `name` ("x", "y", "z") of a `dims`-dimensional box.
 fn axis(key: &str, name: &str, dims: usize) -> Result<usize> {
@@ -48,7 +52,55 @@ pub fn check(s: &Scenario) -> Result<()> {
              Lees–Edwards boundaries; use run.device = \"cpu\"",
         ));
     }
-    shear(spec, s.dimension, &s.domain.periodic).map(|_| ())
+    shear(spec, s.dimension, &s.domain.periodic)?;
+    barostat(spec).map(|_| ())
+}
+
+/// The pressure control of `domain.shear` (`None`: constant volume):
+/// `pressure` and `relax_time` positive, together, `pressure_every` at
+/// least one step.
+pub fn barostat(spec: &ShearSpec) -> Result<Option<Barostat>> {
+    let Some(pressure) = spec.pressure else {
+        for (key, given) in [
+            ("relax_time", spec.relax_time.is_some()),
+            ("pressure_every", spec.pressure_every.is_some()),
+        ] {
+            if given {
+                return Err(Error::input(format!(
+                    "domain.shear.{key} is a setting of the fixed-pressure box: give \
+                     domain.shear.pressure (Pa) too, or leave {key} out (constant volume)"
+                )));
+            }
+        }
+        return Ok(None);
+    };
+    if !(pressure.is_finite() && pressure > 0.0) {
+        return Err(Error::input(format!(
+            "domain.shear.pressure = {pressure}: must be a positive normal stress (Pa)"
+        )));
+    }
+    let Some(relax_time) = spec.relax_time else {
+        return Err(Error::input(
+            "domain.shear.pressure needs domain.shear.relax_time, the relaxation time τ_p (s) \
+             of the box length: dL/dt = L (σ_gg − P) / (P τ_p)",
+        ));
+    };
+    if !(relax_time.is_finite() && relax_time > 0.0) {
+        return Err(Error::input(format!(
+            "domain.shear.relax_time = {relax_time}: must be a positive time (s)"
+        )));
+    }
+    let every = spec.pressure_every.unwrap_or(PRESSURE_EVERY);
+    if every == 0 {
+        return Err(Error::input(
+            "domain.shear.pressure_every = 0: must be at least 1 (steps between readings)",
+        ));
+    }
+    Ok(Some(Barostat {
+        pressure,
+        relax_time,
+        every,
+    }))
 }
 
 /// The domain's [`Shear`] from its keys.

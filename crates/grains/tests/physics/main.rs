@@ -15,6 +15,7 @@ mod impact;
 mod jkr;
 mod lammps_granular;
 mod oblique;
+mod pressure;
 mod rebuild_springs;
 mod rolling;
 mod rotation;

@@ -322,7 +322,7 @@ fn a_contact_across_the_sliding_boundary_in_3d_is_the_same_contact_inside() {
 /// dissipative (Hooke k_n = 1e4, k_t = k_n/3, μ = 0.5, rotation; γ_n = 80
 /// gives e ≈ 0.5 for two unit disks), started on the profile γ̇ (y − y_mid).
 /// The contact time of the lightest pair is π/√(k_n/m*) ≈ 0.0115, 29 steps.
-fn dense_cell(rate: f64, integrator: Integrator) -> Md<D2> {
+pub(crate) fn dense_cell(rate: f64, integrator: Integrator) -> Md<D2> {
     let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(2026);
     let a = 1.07;
     let (nx, ny) = (20, 22);

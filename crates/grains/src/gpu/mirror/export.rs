@@ -135,6 +135,8 @@ impl Mirror {
             max_overlap,
             max_overlap_fraction: self.stats.max_fraction,
             worst_pair: worst.unwrap_or(t.worst_pair),
+            // The device runs no sheared box.
+            pressure_box: None,
         }
     }
 

@@ -29,6 +29,8 @@ pub(super) struct ListShear {
     /// The image offset at the last build and at the latest time set.
     pub built: f64,
     pub now: f64,
+    /// The box's slide origin (t_0, Δ_0) ([`Domain::slide_origin`]).
+    pub origin: [f64; 2],
 }
 
 /// The digit (−1, 0, +1) of image `code` on `axis`.
@@ -76,6 +78,7 @@ impl ListShear {
             turns,
             built: offset,
             now: offset,
+            origin: domain.slide_origin,
         }))
     }
 
@@ -106,9 +109,21 @@ impl<D: Dim> NeighborList<D> {
     /// before the grains' displacement test of the step that ends at `t`.
     pub fn set_time(&mut self, t: f64) {
         if let Some(s) = &mut self.shear {
-            s.now = s.jump * t - s.turns * s.length;
+            let [since, base] = s.origin;
+            // With the origin (0, 0), γ̇ L_g t − turns L_s to the bit.
+            s.now = base + s.jump * (t - since) - s.turns * s.length;
             self.slide_images();
         }
+    }
+
+    /// Takes the jump and slide origin of `domain`, whose gradient length
+    /// a checkpoint restored after the list (its shifts came with it).
+    pub fn follow_box(&mut self, domain: &Domain<D>) {
+        if let Some(s) = &mut self.shear {
+            s.jump = domain.shear_jump();
+            s.origin = domain.slide_origin;
+        }
+        self.set_velocity_shifts();
     }
 
     /// Whether the list was built for a sheared box.
