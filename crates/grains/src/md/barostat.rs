@@ -128,10 +128,8 @@ impl<D: Dim> Md<D> {
             ));
         };
         let hi = saved[0];
-        if !(hi.is_finite() && hi > D::get(self.domain.lo, shear.gradient))
-            || !saved[1].is_finite()
-            || !saved[2].is_finite()
-        {
+        let finite = saved.iter().all(|x| x.is_finite());
+        if !(finite && hi > D::get(self.domain.lo, shear.gradient)) {
             return Err(Error::input(format!(
                 "checkpoint state: the fixed-pressure box {saved:?} (upper bound on the \
                  gradient axis, slide origin) is not a finite box above its lower bound"
