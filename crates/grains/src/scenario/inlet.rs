@@ -13,7 +13,6 @@
 //! attempt), so the grains are the same on any thread count and after a
 //! resume; the inlets' counters go into the flow run's checkpoint section.
 
-use super::build::vector;
 use super::placement::stream;
 use super::schema::{InletRegion, InletSpec, Scenario};
 use super::sizes::SizeLaw;
@@ -41,6 +40,23 @@ fn mix(a: u64, b: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^ (z >> 31)
+}
+
+/// A vector of `D::D` finite numbers from the key `key` (as the builder
+/// reads them; the builder reads the inlets' extent from here).
+fn vector<D: Dim>(key: &str, v: &[f64]) -> Result<D::V> {
+    if v.len() != D::D || v.iter().any(|x| !x.is_finite()) {
+        return Err(Error::input(format!(
+            "{key} = {v:?}: a {} scenario needs {} finite numbers",
+            D::NAME,
+            D::D
+        )));
+    }
+    let mut out = D::zero();
+    for (a, x) in v.iter().enumerate() {
+        D::set(&mut out, a, *x);
+    }
+    Ok(out)
 }
 
 /// Where an inlet's grain centres are drawn.
@@ -336,6 +352,10 @@ impl<D: Dim> Inlet<D> {
     fn target(&self, t: f64) -> f64 {
         if t < self.start {
             return 0.0;
+        }
+        // A total is whole at stop, whatever the rounding of total/window.
+        if t >= self.stop && self.amount.total.is_finite() {
+            return self.amount.total;
         }
         match self.amount.per_second {
             Some(q) => (q * (t.min(self.stop) - self.start)).min(self.amount.total),
