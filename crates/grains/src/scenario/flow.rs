@@ -326,6 +326,11 @@ impl<D: Dim> FlowRun<D> {
     pub fn finish(&self, dir: &Path, md: &Md<D>, summary: &mut Map<String, Value>) -> Result<()> {
         if !self.inlets.is_empty() {
             summary.insert("inlets".into(), self.inlets.report(md.time));
+            let (seconds, acts) = self.inlets.cost();
+            summary.insert(
+                "inlet_seconds".into(),
+                json!({ "total": seconds, "insertions": acts }),
+            );
             self.inlets.warn_short(md.time);
         }
         if let Some(e) = &self.events {
