@@ -24,6 +24,8 @@ hi = [0.12, 0.12, 0.12]
 [particles]
 placement = "none"
 d0 = 1.0e-3
+[contact]
+preset = "lammps-hooke-history"
 [run]
 dt = 1.0e-5
 duration = 1.0e-3
