@@ -231,6 +231,7 @@ fn discrete_classes_by_number_and_by_mass() {
                 .all(|x| classes.iter().any(|c| (x - c.0).abs() < 1e-12)),
             "a diameter outside the classes"
         );
+        eprintln!("discrete by {weight}: chi-square {chi2:.2} (1 % critical 9.210)");
         assert!(
             chi2 < 9.210,
             "discrete by {weight}: chi-square {chi2:.2} >= 9.210"
