@@ -542,7 +542,7 @@ impl<D: Dim> Inlets<D> {
     /// Reads what [`Inlets::save`] wrote into inlets begun from the same
     /// scenario.
     pub fn load(&mut self, d: &mut Dec) -> DecResult<()> {
-        self.next_id = d.u64("inlets' next id")?;
+        let next_id = d.u64("inlets' next id")?;
         let n = d.len(40, "inlets")?;
         if n != self.list.len() {
             return Err(format!(
@@ -550,8 +550,17 @@ impl<D: Dim> Inlets<D> {
                 self.list.len()
             ));
         }
-        if self.next_id < self.first_id {
-            return Err("inlets' next id below their first".into());
+        // Without inlets the id is unused: a checkpoint of another
+        // scenario is then refused by the engine's own checks.
+        if n > 0 {
+            if next_id < self.first_id {
+                return Err(format!(
+                    "the inlets' next grain id {next_id} lies below the first, {}, that the \
+                     scenario's grains leave: the checkpoint is another scenario's",
+                    self.first_id
+                ));
+            }
+            self.next_id = next_id;
         }
         for inlet in &mut self.list {
             inlet.inserted = d.u64("inlet grains")?;
