@@ -62,6 +62,7 @@ fn passes_ks(what: &str, d: Vec<f64>, f: impl Fn(f64) -> f64) {
     let n = d.len() as f64;
     let stat = ks(d, f);
     let critical = 1.628 / n.sqrt();
+    eprintln!("{what}: KS {stat:.4} (1 % critical {critical:.4})");
     assert!(
         stat < critical,
         "{what}: KS statistic {stat:.4} above the 1 % critical value {critical:.4}"
