@@ -23,6 +23,7 @@ pub mod contract;
 pub mod decomp;
 pub mod edit;
 mod field_forces;
+mod insert;
 mod mesh_lists;
 mod pair_forces;
 mod pair_hash;

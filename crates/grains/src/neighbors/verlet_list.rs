@@ -304,6 +304,12 @@ impl<D: Dim> NeighborList<D> {
         self.pairs.is_empty()
     }
 
+    /// Marks the list as stale, so that the next displacement test asks for
+    /// a rebuild (grains were added behind its back).
+    pub fn invalidate(&mut self) {
+        self.built = false;
+    }
+
     /// Number of builds so far: statistics, and the key by which the mesh
     /// walls' per-grain triangle lists know they must be remade.
     pub fn builds(&self) -> u64 {

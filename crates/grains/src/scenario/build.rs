@@ -147,6 +147,10 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Particles<D>> {
         }
     };
     let mut out = match ps.placement {
+        // An empty box that inlets fill.
+        Placement::Lattice | Placement::Random if ps.count == 0 && !s.inlets.is_empty() => {
+            Particles::new()
+        }
         Placement::Lattice | Placement::Random => {
             if ps.count == 0 {
                 return Err(Error::input(
@@ -205,9 +209,9 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Particles<D>> {
         freeze(&mut g);
         out.push_record(g);
     }
-    if out.is_empty() {
+    if out.is_empty() && s.inlets.is_empty() {
         return Err(Error::input(
-            "the scenario places no grains: set particles.count or particles.add",
+            "the scenario places no grains: set particles.count, particles.add or [[inlets]]",
         ));
     }
     Ok(out)
@@ -446,10 +450,13 @@ fn build_md_inner<D: Dim>(
         .filter(|&(_, &frozen)| !frozen)
         .map(|(&m, _)| m)
         .fold(f64::INFINITY, f64::min);
-    let lightest = if lightest.is_finite() {
-        lightest
-    } else {
-        particles.mass[0]
+    // The inlets' grains count as placed ones for dt and the skin.
+    let arriving = super::inlet::extent(s, &loaded.base_dir)?;
+    let lightest = arriving.map_or(lightest, |(m, _)| lightest.min(m));
+    let lightest = match particles.mass.first() {
+        _ if lightest.is_finite() => lightest,
+        Some(&m) => m,
+        None => 1.0,
     };
     let resolved = resolve(s, lightest)?;
     let walls = s
@@ -459,7 +466,9 @@ fn build_md_inner<D: Dim>(
         .map(|(k, w)| wall::<D>(k, w, &dom, loaded))
         .collect::<Result<Vec<_>>>()?;
     let walls = super::resolve::elastic_walls(&s.contact.elastic_walls, walls)?;
-    let dmax = 2.0 * particles.max_radius();
+    let dmax = arriving
+        .map_or(0.0, |(_, d)| d)
+        .max(2.0 * particles.max_radius());
     if !(s.run.skin.is_finite() && s.run.skin > 0.0) {
         return Err(Error::input(format!(
             "run.skin = {}: must be positive (units of d0)",
@@ -487,7 +496,9 @@ fn build_md_inner<D: Dim>(
     }
     // The one law of the run: the materials' when the scenario has them,
     // with the stand-in the time step came from.
-    let hertz = super::materials::hertz_law(s, &particles.kind)?;
+    let mut kinds = particles.kind.clone();
+    kinds.extend(s.inlets.iter().map(|i| i.kind.unwrap_or(1)));
+    let hertz = super::materials::hertz_law(s, &kinds)?;
     if let Some(hertz) = hertz {
         settings.law = Law::Materials(MaterialLaw {
             hertz,

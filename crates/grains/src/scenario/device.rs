@@ -48,6 +48,12 @@ pub fn check_device(loaded: &Loaded) -> Result<()> {
     if s.run.events.is_some() {
         return refuse("run.events (they change walls and gravity on the host)");
     }
+    if !s.inlets.is_empty() {
+        return refuse(
+            "[[inlets]] (grains are inserted on the host; the pipeline would have to take its \
+             arrays back and upload them grown at every insertion)",
+        );
+    }
     let (md, _) = super::build_md::<D3>(loaded)?;
     gpu::check_supported(&md)?;
     Ok(())

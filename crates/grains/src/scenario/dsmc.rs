@@ -55,6 +55,11 @@ pub fn build_dsmc_reporting<D: GasDim>(
             "particles.d0 and particles.density must be positive",
         ));
     }
+    if !s.inlets.is_empty() {
+        return Err(Error::input(
+            "[[inlets]] belong to method = \"md\"; a DSMC gas takes no inserted grains",
+        ));
+    }
     if s.output.dump {
         return Err(Error::input(
             "output.dump = true, but method = \"dsmc\" writes no LAMMPS dump (the gas's \

@@ -15,6 +15,7 @@ use crate::error::{Error, Result};
 use crate::io::write_atomic;
 use crate::md::Md;
 use crate::measure::{refit_below, surface, Spacetime, SurfaceFit};
+use crate::scenario::inlet::Inlets;
 use crate::scenario::schema::{EventsSpec, HopperSpec, SurfaceSpec};
 use crate::scenario::Loaded;
 use rand::{Rng, SeedableRng};
@@ -65,6 +66,8 @@ pub struct FlowRun<D: Dim> {
     repose: Option<SurfaceSpec>,
     drum: Option<(SurfaceSpec, Vec<f64>)>,
     spacetime: Option<Spacetime>,
+    /// `[[inlets]]`: grains arriving during the run.
+    inlets: Inlets<D>,
 }
 
 struct Recycler {
@@ -145,6 +148,7 @@ impl<D: Dim> FlowRun<D> {
                 .spacetime
                 .as_ref()
                 .map(|m| Spacetime::new(&md.view(), m.bin * d0)),
+            inlets: Inlets::begin(loaded, md)?,
         })
     }
 
@@ -166,7 +170,7 @@ impl<D: Dim> FlowRun<D> {
             (false, Some(_)) => (now / LOOK_EVERY + 1) * LOOK_EVERY,
             (false, None) => horizon,
         };
-        next.min(horizon)
+        next.min(horizon).min(self.inlets.next_act(now, horizon))
     }
 
     /// Kinetic energy per mobile grain in units of m g d0.
@@ -179,6 +183,7 @@ impl<D: Dim> FlowRun<D> {
     /// position), in order, so that a decomposed run can move them on the
     /// ranks that own them.
     pub fn after_step(&mut self, md: &mut Md<D>) -> Vec<(u64, D::V)> {
+        self.inlets.act(md);
         let mut placed = match &mut self.hopper {
             Some(h) => h.recycle(md),
             None => Vec::new(),
@@ -319,6 +324,15 @@ impl<D: Dim> FlowRun<D> {
     }
 
     pub fn finish(&self, dir: &Path, md: &Md<D>, summary: &mut Map<String, Value>) -> Result<()> {
+        if !self.inlets.is_empty() {
+            summary.insert("inlets".into(), self.inlets.report(md.time));
+            let (seconds, acts) = self.inlets.cost();
+            summary.insert(
+                "inlet_seconds".into(),
+                json!({ "total": seconds, "insertions": acts }),
+            );
+            self.inlets.warn_short(md.time);
+        }
         if let Some(e) = &self.events {
             match self.stage {
                 Stage::Settling => {

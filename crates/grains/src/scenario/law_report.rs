@@ -285,6 +285,10 @@ pub fn md_report<D: Dim>(loaded: &Loaded, md: &Md<D>, r: &Resolved) -> Result<Va
         "dimension": D::NAME,
         "particles": md.particles.n_owned(),
         "sizes": crate::scenario::sizes::report(loaded)?,
+        "inlets": crate::scenario::inlet::check_report(
+            loaded,
+            (r.relax_steps + r.measure_steps) as f64 * r.dt,
+        )?,
         "frozen": md.particles.n_owned() - md.particles.n_mobile(),
         "walls": md.walls.iter().map(|w| w.name.clone()).collect::<Vec<_>>(),
         "contact": contact,

@@ -6,6 +6,7 @@ pub mod device;
 pub mod dsmc;
 pub mod flow;
 pub mod hopper;
+pub mod inlet;
 pub mod law_report;
 pub mod materials;
 pub mod memory;

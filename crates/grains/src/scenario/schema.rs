@@ -7,6 +7,7 @@
 mod contact;
 mod fields;
 mod flow;
+mod inlet;
 mod measure;
 mod run;
 mod size;
@@ -15,6 +16,7 @@ mod walls;
 pub use contact::{ContactModelKind, ContactPreset, ContactSpec, MaterialPairSpec, MaterialSpec};
 pub use fields::FieldsSpec;
 pub use flow::{EventsSpec, HopperSpec};
+pub use inlet::{InletRegion, InletSpec};
 pub use measure::{
     ConvectionSpec, FlowFieldSpec, MeasureSpec, PhasesSpec, ProfilesSpec, SpacetimeSpec,
     SurfaceSpec, TracerSpec, TrajectoriesSpec,
@@ -67,6 +69,9 @@ pub struct Scenario {
     /// A silo generated from a few numbers (`hopper.outlet` is the outlet width).
     #[serde(default)]
     pub hopper: Option<HopperSpec>,
+    /// Grains arriving during an MD run (`scenario/inlet.rs`).
+    #[serde(default)]
+    pub inlets: Vec<InletSpec>,
     /// How a distributed (MPI) MD run splits the box over its ranks.
     #[serde(default)]
     pub parallel: crate::settings::ParallelSpec,

@@ -359,6 +359,11 @@ impl SizeLaw {
         (0..count).map(|_| self.one(&mut rng)).collect()
     }
 
+    /// One diameter from `rng` (an inlet's stream of one grain).
+    pub fn draw_with(&self, rng: &mut impl Rng) -> Result<f64> {
+        self.one(rng)
+    }
+
     fn one(&self, rng: &mut impl Rng) -> Result<f64> {
         let (min, max) = (self.min, self.max);
         match &self.shape {

@@ -309,13 +309,13 @@ impl Session {
     }
 }
 
-/// Refuses a scenario with `[hopper]` or `run.events`, which act between
-/// the runner's steps and are not run by a session.
+/// Refuses a scenario with `[hopper]`, `run.events` or `[[inlets]]`, which
+/// act between the runner's steps and are not run by a session.
 fn runner_only(loaded: &Loaded) -> Result<()> {
     let s = &loaded.scenario;
-    if s.hopper.is_some() || s.run.events.is_some() {
+    if s.hopper.is_some() || s.run.events.is_some() || !s.inlets.is_empty() {
         return Err(Error::input(format!(
-            "{}: [hopper] recycling and run.events act inside the scenario runner; \
+            "{}: [hopper] recycling, run.events and [[inlets]] act inside the scenario runner; \
              run this scenario with `grains run` (grains.run in Python)",
             loaded.origin
         )));

@@ -9,6 +9,8 @@ mod common;
 
 mod choose;
 mod hopper;
+mod inlet_sizes;
+mod inlets;
 mod mesh_discharge;
 mod repose;
 mod shear;

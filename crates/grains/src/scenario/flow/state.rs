@@ -101,6 +101,7 @@ impl<D: Dim> FlowRun<D> {
         if let Some(s) = &self.spacetime {
             s.save(&mut e);
         }
+        self.inlets.save(&mut e);
         e.buf
     }
 
@@ -155,6 +156,7 @@ impl<D: Dim> FlowRun<D> {
         if let Some(s) = &mut self.spacetime {
             s.load(&mut d)?;
         }
+        self.inlets.load(&mut d)?;
         if d.remaining() != 0 {
             return Err(format!(
                 "{} unexpected bytes after the flow state",
@@ -165,9 +167,11 @@ impl<D: Dim> FlowRun<D> {
     }
 
     /// What the flow run has changed in the engine, put into `md`: the
-    /// gravity of the tilt and the removal time of the removed wall (set
-    /// when settling ended), as [`FlowRun::after_step`] set them.
-    fn apply(&self, md: &mut Md<D>) {
+    /// grains the inlets inserted, the gravity of the tilt and the removal
+    /// time of the removed wall (set when settling ended), as
+    /// [`FlowRun::after_step`] set them.
+    fn apply(&self, md: &mut Md<D>) -> Result<()> {
+        self.inlets.apply(md)?;
         if let Some(g) = self.gravity {
             md.settings.gravity = g;
         }
@@ -177,6 +181,7 @@ impl<D: Dim> FlowRun<D> {
                 w.remove_at = Some(t);
             }
         }
+        Ok(())
     }
 
     /// The flow run of a resumed run: begun on `md` freshly built from the
@@ -198,7 +203,7 @@ impl<D: Dim> FlowRun<D> {
             // A Python session's checkpoint has no flow section: its
             // scenario has no events, and its flow measurements begin here.
             let s = &loaded.scenario;
-            if s.hopper.is_some() || s.run.events.is_some() {
+            if s.hopper.is_some() || s.run.events.is_some() || !s.inlets.is_empty() {
                 return Err(Error::input(format!(
                     "checkpoint {origin}: an MD state without its flow state"
                 )));
@@ -207,7 +212,7 @@ impl<D: Dim> FlowRun<D> {
         };
         flow.load(bytes)
             .map_err(|e| Error::input(format!("checkpoint {origin}: {e}")))?;
-        flow.apply(md);
+        flow.apply(md)?;
         Ok(flow)
     }
 }

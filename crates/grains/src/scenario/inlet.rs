@@ -1,0 +1,672 @@
+//! Inlets (`[[inlets]]`): grains that arrive in a region during an MD run,
+//! at a rate (grains or kilograms per second) or as a total spread over a
+//! time window, with the size law of `particles.size` (`scenario/sizes.rs`).
+//!
+//! By time t an inlet has inserted floor(rate (t − start)) grains (by mass:
+//! every grain whose running total stays within mass_rate (t − start)), so
+//! it follows the requested rate within one grain at every step. A grain
+//! that finds no free spot (it would overlap a grain or a wall) waits, and
+//! later grains wait behind it: it is tried again every [`RETRY_STEPS`]
+//! steps until `stop`; what is still missing then is reported.
+//!
+//! Every draw comes from a stream of (seed, purpose, inlet, grain number,
+//! attempt), so the grains are the same on any thread count and after a
+//! resume; the inlets' counters go into the flow run's checkpoint section.
+
+use super::placement::stream;
+use super::schema::{InletRegion, InletSpec, Scenario};
+use super::sizes::SizeLaw;
+use super::Loaded;
+use crate::codec::{Dec, DecResult, Enc};
+use crate::dim::Dim;
+use crate::error::{Error, Result};
+use crate::md::Md;
+use crate::particles::{MassModel, ParticleRecord};
+use rand::Rng;
+use region::{vector, Region};
+use serde_json::{json, Value};
+use std::path::Path;
+
+mod region;
+
+/// Stream purposes (after placement's 1–3): a grain's size and velocity,
+/// and one attempt's position.
+const STREAM_GRAIN: u64 = 11;
+const STREAM_SPOT: u64 = 12;
+
+/// Steps between two tries of a grain that found no room.
+pub const RETRY_STEPS: u64 = 100;
+
+/// SplitMix64's finaliser: nearby inputs give unrelated words.
+fn mix(a: u64, b: u64) -> u64 {
+    let mut z = a ^ b.wrapping_add(1).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// How much an inlet delivers: `per_second` grains or kilograms per
+/// second (`None`: everything at `start`), at most `total`.
+#[derive(Clone, Copy, Debug)]
+struct Amount {
+    per_second: Option<f64>,
+    total: f64,
+    by_mass: bool,
+}
+
+/// One inlet: its keys checked, and its counters.
+#[derive(Clone, Debug)]
+struct Inlet<D: Dim> {
+    key: String,
+    region: Region<D>,
+    start: f64,
+    stop: f64,
+    amount: Amount,
+    velocity: D::V,
+    spread: f64,
+    law: SizeLaw,
+    density: f64,
+    model: MassModel,
+    kind: u32,
+    frozen: bool,
+    attempts: u32,
+    /// Grains inserted, their mass, the attempts already spent on the
+    /// next grain, and the attempts that found no room (all grains).
+    inserted: u64,
+    mass: f64,
+    tries: u64,
+    failed: u64,
+    /// The step at which a grain that found no room is tried again (0:
+    /// none waits), whatever else stops the run loop before it.
+    retry_at: u64,
+}
+
+fn positive(key: &str, v: f64, unit: &str) -> Result<f64> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(Error::input(format!(
+            "{key} = {v}: must be positive ({unit})"
+        )))
+    }
+}
+
+impl<D: Dim> Inlet<D> {
+    fn new(s: &Scenario, base: &Path, i: usize, spec: &InletSpec) -> Result<Self> {
+        let key = format!("inlets[{i}]");
+        let region = Region::<D>::new(&spec.region, &format!("{key}.region"))?;
+        if !(spec.start.is_finite() && spec.start >= 0.0) {
+            return Err(Error::input(format!(
+                "{key}.start = {}: must be a time >= 0 (s)",
+                spec.start
+            )));
+        }
+        let stop = spec.stop.unwrap_or(f64::INFINITY);
+        if stop.is_nan() || stop < spec.start {
+            return Err(Error::input(format!(
+                "{key}.stop = {stop}: must not come before start = {}",
+                spec.start
+            )));
+        }
+        let window = (stop > spec.start && stop.is_finite()).then_some(stop - spec.start);
+        let given = [
+            ("rate", spec.rate),
+            ("mass_rate", spec.mass_rate),
+            ("count", spec.count.map(|c| c as f64)),
+            ("mass", spec.mass),
+        ];
+        let named: Vec<_> = given.iter().filter(|(_, v)| v.is_some()).collect();
+        let [(name, Some(v))] = named[..] else {
+            return Err(Error::input(format!(
+                "{key}: give exactly one of rate (grains/s), mass_rate (kg/s), count (grains) \
+                 and mass (kg); {} given",
+                if named.is_empty() {
+                    "none".to_string()
+                } else {
+                    named.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+                }
+            )));
+        };
+        let full = format!("{key}.{name}");
+        let amount = match *name {
+            "rate" | "mass_rate" => Amount {
+                per_second: Some(positive(&full, *v, "per second")?),
+                total: f64::INFINITY,
+                by_mass: *name == "mass_rate",
+            },
+            _ => {
+                let total = positive(&full, *v, if *name == "mass" { "kg" } else { "grains" })?;
+                Amount {
+                    per_second: window.map(|w| total / w),
+                    total,
+                    by_mass: *name == "mass",
+                }
+            }
+        };
+        let velocity = match &spec.velocity {
+            Some(v) => vector::<D>(&format!("{key}.velocity"), v)?,
+            None => D::zero(),
+        };
+        let spread = spec.velocity_spread;
+        if !((2.0 * spread).is_finite() && spread >= 0.0) {
+            return Err(Error::input(format!(
+                "{key}.velocity_spread = {spread}: must be a finite speed >= 0 (m/s)"
+            )));
+        }
+        if spec.attempts == 0 {
+            return Err(Error::input(format!(
+                "{key}.attempts = 0: must be at least 1"
+            )));
+        }
+        let ps = &s.particles;
+        let law = match &spec.size {
+            Some(size) => SizeLaw::new(size, ps.mass_model, base).map_err(|e| match e {
+                Error::Input(m) => {
+                    Error::input(m.replace("particles.size", &format!("{key}.size")))
+                }
+                other => other,
+            })?,
+            None => SizeLaw::band(ps.d0, ps.width),
+        };
+        if !region.fits(0.5 * law.max()) {
+            return Err(Error::input(format!(
+                "{key}.region is narrower than its largest grain ({:.3e} m)",
+                law.max()
+            )));
+        }
+        let kind = spec.kind.unwrap_or(1);
+        // Grains of one kind share one material: a `particles.add` entry
+        // of this kind may name it.
+        let entry = ps.add.iter().find(|a| {
+            a.material.is_some() && a.kind.unwrap_or(if a.frozen { 2 } else { 1 }) == kind
+        });
+        let density = super::materials::density(s, entry)?;
+        Ok(Self {
+            key,
+            region,
+            start: spec.start,
+            stop,
+            amount,
+            velocity,
+            spread,
+            law,
+            density,
+            model: ps.mass_model,
+            kind,
+            frozen: ps.frozen_types.contains(&kind),
+            attempts: spec.attempts,
+            inserted: 0,
+            mass: 0.0,
+            tries: 0,
+            failed: 0,
+            retry_at: 0,
+        })
+    }
+
+    /// What is due by time `t` (grains, or kilograms by mass).
+    fn target(&self, t: f64) -> f64 {
+        if t < self.start {
+            return 0.0;
+        }
+        // A total is whole at stop, whatever the rounding of total/window.
+        if t >= self.stop && self.amount.total.is_finite() {
+            return self.amount.total;
+        }
+        match self.amount.per_second {
+            Some(q) => (q * (t.min(self.stop) - self.start)).min(self.amount.total),
+            None => self.amount.total,
+        }
+    }
+
+    /// Grain `k`'s diameter and velocity.
+    fn grain(&self, seed: u64, index: usize, k: u64) -> (f64, D::V) {
+        let mut rng = stream(mix(mix(seed, index as u64), k), STREAM_GRAIN);
+        // The law was checked when built: its draws cannot fail but by an
+        // exhausted redraw budget, which a checked law never reaches.
+        let d = self.law.draw_with(&mut rng).unwrap_or(self.law.max());
+        let mut v = self.velocity;
+        if self.spread > 0.0 {
+            for a in 0..D::D {
+                let dv = self.spread * (2.0 * rng.gen::<f64>() - 1.0);
+                let now = D::get(v, a);
+                D::set(&mut v, a, now + dv);
+            }
+        }
+        (d, v)
+    }
+
+    fn grain_mass(&self, d: f64) -> f64 {
+        self.model.mass(self.density, d)
+    }
+
+    /// Whether grain `k` (the next, with mass `m`) is due at time `t`.
+    fn due(&self, k: u64, m: f64, t: f64) -> bool {
+        let target = self.target(t);
+        if self.amount.by_mass {
+            self.mass + m <= target
+        } else {
+            (k + 1) as f64 <= target.floor()
+        }
+    }
+
+    /// The first step after `now` at which the next grain is due
+    /// (`u64::MAX`: never).
+    fn next_due(&self, seed: u64, index: usize, now: u64, dt: f64) -> u64 {
+        let k = self.inserted;
+        let m = if self.amount.by_mass {
+            self.grain_mass(self.grain(seed, index, k).0)
+        } else {
+            0.0
+        };
+        let need = if self.amount.by_mass {
+            self.mass + m
+        } else {
+            (k + 1) as f64
+        };
+        if need > self.amount.total {
+            return u64::MAX;
+        }
+        let at = match self.amount.per_second {
+            Some(q) => self.start + need / q,
+            None => self.start,
+        };
+        if at > self.stop + dt {
+            return u64::MAX;
+        }
+        // Near the exact step, then the step the engine's clock agrees on.
+        let mut s = ((at / dt).ceil().max(0.0) as u64).max(now + 1);
+        while s > now + 1 && self.due(k, m, (s - 1) as f64 * dt) {
+            s -= 1;
+        }
+        for _ in 0..4 {
+            if self.due(k, m, s as f64 * dt) {
+                return s;
+            }
+            s += 1;
+        }
+        u64::MAX
+    }
+}
+
+/// Grains near `lo`–`hi` (periodic images included), with their radii.
+fn near<D: Dim>(md: &Md<D>, lo: D::V, hi: D::V, margin: f64) -> Vec<(D::V, f64)> {
+    let p = &md.particles;
+    let centre = (lo + hi) * 0.5;
+    let half = (hi - lo) * 0.5;
+    (0..p.n_owned())
+        .filter(|&i| {
+            let d = md.domain.minimum_image(p.pos[i] - centre);
+            (0..D::D).all(|a| D::get(d, a).abs() <= D::get(half, a) + margin)
+        })
+        .map(|i| (p.pos[i], p.radius[i]))
+        .collect()
+}
+
+/// The inlets of a run and the ids they hand out.
+#[derive(Clone, Debug)]
+pub struct Inlets<D: Dim> {
+    list: Vec<Inlet<D>>,
+    seed: u64,
+    /// The first id inlets give (above every grain the scenario places)
+    /// and the next one.
+    first_id: u64,
+    next_id: u64,
+    /// The engine's time step: step s is at s dt.
+    dt: f64,
+    /// Wall time spent choosing and inserting grains (s), and the acts
+    /// that inserted some: the cost of the inlets (not checkpointed).
+    seconds: f64,
+    acts: u64,
+}
+
+impl<D: Dim> Inlets<D> {
+    /// The inlets of `loaded` (none: an empty list) for the engine `md`
+    /// built from it.
+    pub fn begin(loaded: &Loaded, md: &Md<D>) -> Result<Self> {
+        let s = &loaded.scenario;
+        let list = s
+            .inlets
+            .iter()
+            .enumerate()
+            .map(|(i, spec)| Inlet::new(s, &loaded.base_dir, i, spec))
+            .collect::<Result<Vec<_>>>()?;
+        for inlet in &list {
+            let (lo, hi) = inlet.region.bounds();
+            let outside = (0..D::D).any(|a| {
+                D::get(lo, a) < D::get(md.domain.lo, a) || D::get(hi, a) > D::get(md.domain.hi, a)
+            });
+            if outside {
+                return Err(Error::input(format!(
+                    "{}.region reaches outside the domain: keep it within domain.lo and domain.hi",
+                    inlet.key
+                )));
+            }
+        }
+        if !list.is_empty() && md.domain.shear.is_some() {
+            return Err(Error::input(
+                "[[inlets]] and domain.shear do not go together: a sheared box's images \
+                 slide, which the inlets' overlap test does not follow",
+            ));
+        }
+        let first_id = md.particles.id.iter().copied().max().unwrap_or(0) + 1;
+        Ok(Self {
+            list,
+            seed: s.seed,
+            first_id,
+            next_id: first_id,
+            dt: md.settings.dt,
+            seconds: 0.0,
+            acts: 0,
+        })
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
+    /// The next step after `now` at which an inlet acts (at most `horizon`).
+    pub fn next_act(&self, now: u64, horizon: u64) -> u64 {
+        let dt = self.dt;
+        let t = now as f64 * dt;
+        let mut next = horizon;
+        for (i, inlet) in self.list.iter().enumerate() {
+            let s = if t > inlet.stop + dt {
+                u64::MAX
+            } else if inlet.retry_at > now {
+                inlet.retry_at
+            } else {
+                inlet.next_due(self.seed, i, now, dt)
+            };
+            next = next.min(s);
+        }
+        next.max(now + 1).min(horizon.max(now + 1))
+    }
+
+    /// Inserts every grain due at the engine's time that finds room.
+    pub fn act(&mut self, md: &mut Md<D>) {
+        if self.list.is_empty() {
+            return;
+        }
+        let clock = std::time::Instant::now();
+        let t = md.time;
+        let walls: Vec<_> = md.walls.iter().map(|w| w.at(t)).collect();
+        let largest = md.particles.max_radius();
+        let mut added: Vec<ParticleRecord<D>> = Vec::new();
+        for (i, inlet) in self.list.iter_mut().enumerate() {
+            let waiting = inlet.retry_at > md.step;
+            if t < inlet.start || t > inlet.stop + md.settings.dt || waiting {
+                continue;
+            }
+            let mut nearby: Option<Vec<(D::V, f64)>> = None;
+            loop {
+                let k = inlet.inserted;
+                let (d, v) = inlet.grain(self.seed, i, k);
+                let m = inlet.grain_mass(d);
+                if !inlet.due(k, m, t) {
+                    break;
+                }
+                let r = 0.5 * d;
+                let (lo, hi) = inlet.region.bounds();
+                let near = nearby.get_or_insert_with(|| {
+                    near(
+                        md,
+                        lo,
+                        hi,
+                        0.5 * inlet.law.max() + largest.max(0.5 * inlet.law.max()),
+                    )
+                });
+                let free = |p: D::V| {
+                    let clear_of = |(q, rq): &(D::V, f64)| {
+                        let gap = r + rq;
+                        D::norm2(md.domain.minimum_image(p - *q)) >= gap * gap
+                    };
+                    near.iter().all(clear_of)
+                        && added.iter().all(|g| clear_of(&(g.pos, g.radius)))
+                        && walls.iter().all(|w| w.contact(p, r).is_none())
+                };
+                let mut spot = None;
+                for j in 0..inlet.attempts as u64 {
+                    let a = inlet.tries + j;
+                    let mut rng = stream(mix(mix(mix(self.seed, i as u64), k), a), STREAM_SPOT);
+                    let p = inlet.region.draw(r, &mut rng);
+                    if free(p) {
+                        spot = Some((p, j));
+                        break;
+                    }
+                }
+                let Some((p, j)) = spot else {
+                    inlet.tries += inlet.attempts as u64;
+                    inlet.failed += inlet.attempts as u64;
+                    inlet.retry_at = md.step + RETRY_STEPS;
+                    break;
+                };
+                inlet.failed += j;
+                inlet.tries = 0;
+                inlet.inserted += 1;
+                inlet.mass += m;
+                let inertia = inlet.model.inertia(m, r);
+                let mut g = ParticleRecord::new(self.next_id, p, r, m, inertia);
+                g.vel = v;
+                g.kind = inlet.kind;
+                g.frozen = inlet.frozen;
+                self.next_id += 1;
+                added.push(g);
+            }
+        }
+        if !added.is_empty() {
+            // Fresh ids and checked sizes: nothing here can be refused.
+            if let Err(e) = md.insert_grains(added) {
+                eprintln!("warning: inlets: {e}");
+            }
+            self.acts += 1;
+        }
+        self.seconds += clock.elapsed().as_secs_f64();
+    }
+
+    /// Wall time spent in [`Inlets::act`] (s) and the acts that inserted
+    /// grains.
+    pub fn cost(&self) -> (f64, u64) {
+        (self.seconds, self.acts)
+    }
+
+    /// Each inlet's account at time `t` (the end of the run):
+    /// requested (grains due by then), inserted, mass, failed attempts,
+    /// not inserted.
+    pub fn report(&self, t: f64) -> Value {
+        let rows: Vec<Value> = (self.list.iter().enumerate())
+            .map(|(i, inlet)| {
+                let requested = self.requested(i, inlet, t);
+                json!({
+                    "requested": requested,
+                    "inserted": inlet.inserted,
+                    "mass": inlet.mass,
+                    "failed_attempts": inlet.failed,
+                    "not_inserted": requested.saturating_sub(inlet.inserted),
+                })
+            })
+            .collect();
+        Value::Array(rows)
+    }
+
+    /// Grains due by time `t`: by number the target; by mass the grains
+    /// the target's mass holds, in their drawn order.
+    fn requested(&self, i: usize, inlet: &Inlet<D>, t: f64) -> u64 {
+        let target = inlet.target(t);
+        if !inlet.amount.by_mass {
+            return target.floor() as u64;
+        }
+        let (mut k, mut mass) = (inlet.inserted, inlet.mass);
+        // Bounded: a grain's mass is at least the smallest grain's.
+        let limit = k + 10_000_000;
+        while k < limit {
+            let m = inlet.grain_mass(inlet.grain(self.seed, i, k).0);
+            if mass + m > target {
+                break;
+            }
+            mass += m;
+            k += 1;
+        }
+        k
+    }
+
+    /// Warns on stderr about every inlet that fell short by time `t`.
+    pub fn warn_short(&self, t: f64) {
+        for (i, inlet) in self.list.iter().enumerate() {
+            let requested = self.requested(i, inlet, t);
+            if requested > inlet.inserted {
+                eprintln!(
+                    "warning: {}: {} of {requested} grains could not be inserted by t = {t:.4} s \
+                     ({} attempts found no room): the region is full; widen it, lower the rate \
+                     or let the grains drain",
+                    inlet.key,
+                    requested - inlet.inserted,
+                    inlet.failed
+                );
+            }
+        }
+    }
+
+    /// The counters, for the flow run's checkpoint section.
+    pub fn save(&self, e: &mut Enc) {
+        e.u64(self.next_id);
+        e.len(self.list.len());
+        for inlet in &self.list {
+            e.u64(inlet.inserted);
+            e.f64(inlet.mass);
+            e.u64(inlet.tries);
+            e.u64(inlet.failed);
+            e.u64(inlet.retry_at);
+        }
+    }
+
+    /// Reads what [`Inlets::save`] wrote into inlets begun from the same
+    /// scenario.
+    pub fn load(&mut self, d: &mut Dec) -> DecResult<()> {
+        let next_id = d.u64("inlets' next id")?;
+        let n = d.len(40, "inlets")?;
+        if n != self.list.len() {
+            return Err(format!(
+                "the checkpoint has {n} inlets, the scenario {}",
+                self.list.len()
+            ));
+        }
+        // Without inlets the id is unused: a checkpoint of another
+        // scenario is then refused by the engine's own checks.
+        if n > 0 {
+            if next_id < self.first_id {
+                return Err(format!(
+                    "the inlets' next grain id {next_id} lies below the first, {}, that the \
+                     scenario's grains leave: the checkpoint is another scenario's",
+                    self.first_id
+                ));
+            }
+            self.next_id = next_id;
+        }
+        for inlet in &mut self.list {
+            inlet.inserted = d.u64("inlet grains")?;
+            inlet.mass = d.f64("inlet mass")?;
+            inlet.tries = d.u64("inlet attempts")?;
+            inlet.failed = d.u64("inlet failed attempts")?;
+            inlet.retry_at = d.u64("inlet retry step")?;
+        }
+        Ok(())
+    }
+
+    /// The inserted grains put back into a freshly built engine (as
+    /// stand-ins, whose state the checkpoint's engine state replaces), so
+    /// that it holds the grains of the engine that wrote the checkpoint.
+    pub fn apply(&self, md: &mut Md<D>) -> Result<()> {
+        let stand_ins = (self.first_id..self.next_id)
+            .map(|id| ParticleRecord::new(id, md.domain.lo, 1.0, 1.0, 1.0))
+            .collect();
+        md.insert_grains(stand_ins)
+    }
+}
+
+/// The smallest mass and the largest diameter of the grains the inlets of
+/// `s` can bring (`None` without inlets): the time step and the neighbour
+/// skin of a run must allow for them.
+pub fn extent(s: &Scenario, base: &Path) -> Result<Option<(f64, f64)>> {
+    let mut out: Option<(f64, f64)> = None;
+    for (i, spec) in s.inlets.iter().enumerate() {
+        let inlet = match s.dimension {
+            super::schema::Dimension::Two => {
+                let x = Inlet::<crate::dim::D2>::new(s, base, i, spec)?;
+                (x.grain_mass(x.law.min()), x.law.max())
+            }
+            super::schema::Dimension::Three => {
+                let x = Inlet::<crate::dim::D3>::new(s, base, i, spec)?;
+                (x.grain_mass(x.law.min()), x.law.max())
+            }
+        };
+        out = Some(match out {
+            Some((m, d)) => (m.min(inlet.0), d.max(inlet.1)),
+            None => inlet,
+        });
+    }
+    Ok(out)
+}
+
+/// What `grains check` prints of the inlets: per inlet the rate, the count
+/// expected by the end of a run of `duration` seconds, and the size law's
+/// summary.
+pub fn check_report(loaded: &Loaded, duration: f64) -> Result<Value> {
+    let s = &loaded.scenario;
+    let rows = (s.inlets.iter().enumerate())
+        .map(|(i, spec)| {
+            let x = Inlet::<crate::dim::D3>::new_any(s, &loaded.base_dir, i, spec)?;
+            let size = x.law.summary();
+            let (unit, rate) = match (x.amount.by_mass, x.amount.per_second) {
+                (false, Some(q)) => ("grains/s", Some(q)),
+                (true, Some(q)) => ("kg/s", Some(q)),
+                (_, None) => ("all at start", None),
+            };
+            let expected = x.target(duration);
+            Ok(json!({
+                "rate": rate,
+                "rate_unit": unit,
+                "start": x.start,
+                "stop": x.stop.is_finite().then_some(x.stop),
+                "expected": expected,
+                "expected_unit": if x.amount.by_mass { "kg" } else { "grains" },
+                "size": {
+                    "min": x.law.min(),
+                    "max": x.law.max(),
+                    "number_mean": size.number.mean,
+                    "mass_mean": size.mass.mean,
+                },
+            }))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Value::Array(rows))
+}
+
+impl Inlet<crate::dim::D3> {
+    /// The inlet's keys checked in the scenario's own dimension, its
+    /// numbers (region aside) read in 3D's: what `grains check` prints.
+    fn new_any(s: &Scenario, base: &Path, i: usize, spec: &InletSpec) -> Result<Self> {
+        if s.dimension == super::schema::Dimension::Two {
+            Inlet::<crate::dim::D2>::new(s, base, i, spec)?;
+            let mut spec = spec.clone();
+            spec.region = InletRegion::Box {
+                lo: vec![0.0; 3],
+                hi: vec![1.0; 3],
+            };
+            spec.velocity = None;
+            return Inlet::new(s, base, i, &spec);
+        }
+        Inlet::new(s, base, i, spec)
+    }
+}
+
+/// `[[inlets]]` refused by name under mpirun: grains inserted on rank 0's
+/// mirror would have to be handed to the ranks whose boxes hold them.
+pub fn refuse_ranks(loaded: &Loaded) -> Result<()> {
+    if loaded.scenario.inlets.is_empty() {
+        return Ok(());
+    }
+    Err(Error::input(
+        "[[inlets]] run serially or on threads, not under mpirun: inserted grains would \
+         have to migrate to the ranks owning their boxes (run it without mpirun)",
+    ))
+}
