@@ -18,4 +18,5 @@ mod oblique;
 mod rebuild_springs;
 mod rolling;
 mod rotation;
+mod servo;
 mod shear;

@@ -1,10 +1,13 @@
 //! Prescribed wall motions: the wall's pose and velocity field at time t.
-//! Walls are driven, never pushed: the motion does not respond to the grains.
+//! Walls are driven: the motion does not respond to the grains, except a
+//! servo's, which moves by the load the grains put on it.
 //!
 //! The enum and what every kind answers are here; the vibrating plate's
-//! own computations in `vibrate`, the rigid placement in `pose`.
+//! own computations in `vibrate`, the servo's control in `servo`, the rigid
+//! placement in `pose`.
 
 mod pose;
+mod servo;
 mod vibrate;
 
 use super::geom::{from3, to3};
@@ -12,6 +15,7 @@ use crate::dim::Dim;
 use glam::{DQuat, DVec3};
 pub(crate) use pose::Pose;
 use serde::{Deserialize, Serialize};
+pub use servo::ServoState;
 use std::f64::consts::TAU;
 pub use vibrate::PlateSurface;
 
@@ -63,6 +67,22 @@ pub enum Motion<D: Dim> {
     Rotate { center: D::V, omega: D::A },
     /// Constant velocity, starting from the reference position at t = 0.
     Translate { velocity: D::V },
+    /// A plane moved along its unit `normal` (the plane's, set by
+    /// [`super::Wall::new`]) to hold the normal stress `pressure` (Pa; 2D
+    /// N/m) on `area` (m²; 2D m), at speed g (P_target − P) capped at
+    /// `max_speed`, from time `start` on (`servo.rs`).
+    Servo {
+        #[serde(skip)]
+        normal: D::V,
+        pressure: f64,
+        gain: f64,
+        max_speed: f64,
+        area: f64,
+        start: f64,
+        /// Where the wall is and how it moves, from step to step.
+        #[serde(skip)]
+        state: ServoState,
+    },
 }
 
 fn check_finite(x: f64, what: &str) -> Result<(), String> {
@@ -90,7 +110,27 @@ impl<D: Dim> Motion<D> {
             Motion::Oscillate { .. } => "oscillate",
             Motion::Rotate { .. } => "rotate",
             Motion::Translate { .. } => "translate",
+            Motion::Servo { .. } => "servo",
         }
+    }
+
+    /// A servo at rest in its reference position, its normal still to be
+    /// set from its plane ([`super::Wall::new`] does).
+    pub fn servo(pressure: f64, gain: f64, max_speed: f64, area: f64, start: f64) -> Self {
+        Motion::Servo {
+            normal: D::zero(),
+            pressure,
+            gain,
+            max_speed,
+            area,
+            start,
+            state: ServoState::default(),
+        }
+    }
+
+    /// Whether the wall moves by the grains' load on it.
+    pub fn is_servo(&self) -> bool {
+        matches!(self, Motion::Servo { .. })
     }
 
     /// Checks the parameters and normalizes `direction` in place.
@@ -151,6 +191,14 @@ impl<D: Dim> Motion<D> {
                     Err("translation velocity is not finite".into())
                 }
             }
+            Motion::Servo {
+                pressure,
+                gain,
+                max_speed,
+                area,
+                start,
+                ..
+            } => servo::check(*pressure, *gain, *max_speed, *area, *start),
         }
     }
 
@@ -173,6 +221,7 @@ impl<D: Dim> Motion<D> {
                 phase,
             } => shift(*amplitude * (TAU * frequency * t + phase).sin()),
             Motion::Translate { velocity } => shift(*velocity * t),
+            Motion::Servo { normal, state, .. } => shift(*normal * state.offset),
             Motion::Rotate { center, omega } => {
                 let w = DVec3::from_array(D::ang_to_xyz(*omega));
                 let speed = w.length();
@@ -204,6 +253,7 @@ impl<D: Dim> Motion<D> {
             } => *amplitude * (TAU * frequency * (TAU * frequency * t + phase).cos()),
             Motion::Rotate { center, omega } => D::ang_cross(*omega, q - *center),
             Motion::Translate { velocity } => *velocity,
+            Motion::Servo { normal, state, .. } => *normal * state.speed,
         }
     }
 
