@@ -15,7 +15,7 @@ use crate::common;
 use common::*;
 use glam::DVec3;
 use grains::boundary::{Motion, Shape, Wall};
-use grains::contact::MassScaling;
+use grains::contact::{ContactLaw, MassScaling};
 use grains::engine::Engine;
 use grains::integrate::Integrator;
 use grains::md::{Md, MdSettings};
@@ -27,10 +27,13 @@ const SIDE: f64 = 6.0;
 const TARGET: f64 = 4.0;
 const KN: f64 = 4000.0;
 const DT: f64 = 5e-4;
-/// The gain from the bed's stiffness (docs/servo-walls.md): 36 columns of
-/// 6 contacts in series, K ≈ 6 k_n, and a time constant τ = A / (K g) of
-/// 0.3, about twice the bed's slowest compression period.
-const GAIN: f64 = 5e-3;
+/// The gain (docs/servo-walls.md): under both bounds, the lid's contact
+/// stiffness (g 36 k_n dt / A = 0.04 ≪ 1) and its dashpots (the lid
+/// touches 7 grains: g 7 γ_n m / A = 0.4 < 1; at 0.05 the lid rings at ±
+/// max_speed from step to step); its time constant on the bed's elastic
+/// stiffness K ≈ 6 k_n (36 columns of 6 contacts), A / (K g) = 0.075, is
+/// far shorter than the bed's creep as it compacts under the lid.
+const GAIN: f64 = 0.02;
 
 fn domain() -> Domain<D3> {
     Domain::new(
@@ -41,8 +44,17 @@ fn domain() -> Domain<D3> {
 }
 
 fn settings() -> MdSettings<D3> {
-    // γ_n = 200: a damping ratio of about 0.3 at a contact.
-    let mut s = MdSettings::new(DT, hooke(KN, 200.0, MassScaling::Reduced), 0.2);
+    // γ_n = 200: a damping ratio of about 0.3 at a contact; friction
+    // μ = 0.5 on a tangential spring k_t = 2/7 k_n, so that the bed comes
+    // to rest.
+    let law = ContactLaw {
+        kt: 2.0 / 7.0 * KN,
+        gamma_t: 100.0,
+        mu: 0.5,
+        rotation: true,
+        ..hooke(KN, 200.0, MassScaling::Reduced)
+    };
+    let mut s = MdSettings::new(DT, law, 0.2);
     s.integrator = Integrator::Verlet;
     s.gravity = DVec3::new(0.0, 0.0, -1.0);
     s
@@ -70,10 +82,11 @@ fn settled() -> &'static (Particles<D3>, f64) {
             p.push_record(grain::<D3>(i + 1, pos, rng.gen_range(0.9..1.1)));
         }
         let mut md = Md::new(p, domain(), vec![floor()], settings()).unwrap();
-        md.run(8000).unwrap();
+        md.run(20000).unwrap();
         let p = &md.particles;
         let fastest = p.vel.iter().map(|v| v.length()).fold(0.0, f64::max);
-        assert!(fastest < 1e-3, "the bed has not settled: {fastest}");
+        // A few rattlers still roll; the bed itself is at rest.
+        assert!(fastest < 0.05, "the bed has not settled: {fastest}");
         let top = (0..p.len())
             .map(|i| p.pos[i].z + p.radius[i])
             .fold(0.0, f64::max);
@@ -122,23 +135,23 @@ fn sample(md: &mut Md<D3>, steps: u64) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// The lid reaches P within 1 % in about 5 τ, never goes above 1.1 P on the
-/// way (the bed does not fail: the pressure only approaches from below, a
-/// first-order response with the bed's slow mode well below the gain), and
-/// holds it: the time average over the next 2000 steps (1.0, about three
-/// τ) is within 1 %, and the floor carries the lid's load plus the weight
-/// of the grains (Σ m g / A), within 1 % of that sum: what is left of the
-/// bed's momentum change over the window and of the servo's 1 %.
+/// The lid reaches P within 1 % in 16000 steps (the bed compacts under it
+/// for about 6 time units), never goes above 1.02 P on the way (the
+/// pressure approaches from below, a first-order response), and holds it:
+/// the time average over the next 4000 steps (2.0) is within 1 %, and the
+/// floor carries the lid's load plus the weight of the grains (Σ m g / A),
+/// within 1 % of that sum: what is left of the bed's momentum change over
+/// the window and of the servo's 1 %.
 #[test]
 fn a_servo_lid_holds_its_pressure_on_a_settled_bed() {
     let mut md = press(GAIN);
-    let way = sample(&mut md, 4000);
+    let way = sample(&mut md, 16000);
     let peak = way.iter().map(|l| l.1).fold(0.0, f64::max);
     let reached = way
         .iter()
         .position(|l| (l.1 - TARGET).abs() < 0.01 * TARGET)
         .map(|k| (k + 1) as f64 * 10.0 * DT);
-    let held = sample(&mut md, 2000);
+    let held = sample(&mut md, 4000);
     let n = held.len() as f64;
     let lid = held.iter().map(|l| l.1).sum::<f64>() / n;
     let floor = held.iter().map(|l| l.0).sum::<f64>() / n;
@@ -154,9 +167,9 @@ fn a_servo_lid_holds_its_pressure_on_a_settled_bed() {
         servo.offset,
         servo.pressure
     );
-    assert!(reached.is_some(), "never within 1 % of P in 4000 steps");
+    assert!(reached.is_some(), "never within 1 % of P in 16000 steps");
     assert!(
-        peak < 1.1 * TARGET,
+        peak < 1.02 * TARGET,
         "overshoot: peak {peak} for P = {TARGET}"
     );
     assert!(
