@@ -35,15 +35,16 @@ pub enum Motion<D: Dim> {
     Fixed,
     /// Each point of the wall moves along `direction` (unit) with
     /// A(x) = A0 (1 − B cos(2π x_h / L)) sin(2π f t + phase), x_h the
-    /// coordinate of the point along axis 0 (x): seed 002 eq. (2)-(3), with
-    /// A0 = `amplitude`, B = `modulation`, L = `wavelength`, f = `frequency`.
+    /// coordinate of the point along axis 0 (x): Gallas, Herrmann &
+    /// Sokolowski 1992 eqs. (2)-(3), with A0 = `amplitude`, B =
+    /// `modulation`, L = `wavelength`, f = `frequency`.
     /// B = 0 is a rigid plate.
     ///
     /// With B ≠ 0 the wall must be a plane whose normal is perpendicular to
     /// x: its surface is then the curve (3D: the ridged sheet) z0(x, t), whose
-    /// normal tilts by the local slope ∂z0/∂x (up to 13° in seed 002 Fig. 2),
-    /// so the plate also pushes sideways. See `lifted_plane` in
-    /// `boundary/flat.rs`. The velocity is taken at the contact point's x.
+    /// normal tilts by the local slope ∂z0/∂x (up to 13° in Gallas, Herrmann
+    /// & Sokolowski 1992 Fig. 2), so the plate also pushes sideways. See
+    /// `lifted_plane` in `boundary/flat.rs`. The velocity is taken at the contact point's x.
     Vibrate {
         direction: D::V,
         amplitude: f64,
@@ -53,7 +54,8 @@ pub enum Motion<D: Dim> {
         phase: f64,
     },
     /// Elliptic (conveyor-belt) motion of the whole wall: displacement
-    /// `amplitude · sin(2π f t + phase)` (seed 002 eq. 4: x = A_x sin, z = A_z sin).
+    /// `amplitude · sin(2π f t + phase)` (Gallas, Herrmann & Sokolowski 1992
+    /// eq. 4: x = A_x sin, z = A_z sin).
     /// Along an infinite plane the in-plane part changes only the velocity.
     Oscillate {
         amplitude: D::V,

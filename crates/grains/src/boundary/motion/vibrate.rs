@@ -15,13 +15,13 @@ use std::f64::consts::TAU;
 #[serde(rename_all = "lowercase")]
 pub enum PlateSurface {
     /// The curve z0(x, t) itself: the normal leans by the local slope
-    /// ∂z0/∂x (up to 13° in seed 002 Fig. 2), so the plate also pushes
-    /// sideways.
+    /// ∂z0/∂x (up to 13° in Gallas, Herrmann & Sokolowski 1992 Fig. 2), so
+    /// the plate also pushes sideways.
     #[default]
     Curved,
-    /// Seed 002's 1992 reading: under each grain a flat plate at height
-    /// z0(x, t), its normal the plate's rest normal (vertical), so the plate
-    /// pushes only up whatever the modulation.
+    /// Gallas, Herrmann & Sokolowski's (1992) reading: under each grain a
+    /// flat plate at height z0(x, t), its normal the plate's rest normal
+    /// (vertical), so the plate pushes only up whatever the modulation.
     Flat,
 }
 
