@@ -216,10 +216,14 @@ impl<D: Dim> Md<D> {
                 self.walls.len()
             ));
         }
+        // A state without servo states under servo walls is a restart that
+        // made a wall a servo: it starts at rest from its reference
+        // position.
         let servos = self.walls.iter().filter(|w| w.motion.is_servo()).count();
-        if s.servo.len() != servos {
+        if !s.servo.is_empty() && s.servo.len() != servos {
             return bad(format!(
-                "{} servo wall states for {servos} servo walls",
+                "{} servo wall states for {servos} servo walls (a restart may make walls \
+                 servos, not change servo walls into others)",
                 s.servo.len()
             ));
         }

@@ -109,5 +109,19 @@ mod tests {
             .to_string();
         assert!(e.contains("walls[1] (lid).motion.area"), "{e}");
         assert!(motion("lid", &spec(Some(0.3)), &tilted, &dom).is_ok());
+        // Any shape but a plane is refused by name.
+        let disk = Shape::Cylinder {
+            point: DVec2::ZERO,
+            axis: DVec2::ZERO,
+            radius: 1.0,
+            inside: true,
+        };
+        let e = motion("walls[2] (drum)", &spec(None), &disk, &dom)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("walls[2] (drum)") && e.contains("\"plane\"") && e.contains("cylinder"),
+            "{e}"
+        );
     }
 }

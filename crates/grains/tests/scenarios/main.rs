@@ -11,6 +11,7 @@ mod choose;
 mod hopper;
 mod mesh_discharge;
 mod repose;
+mod servo;
 mod shear;
 mod shipped_check;
 mod size_distributions;
