@@ -29,7 +29,7 @@ mod shape;
 
 pub use mesh::{Mesh, MeshCandidates, MeshPlacement, MeshScratch, CREASE_DEG};
 use motion::Pose;
-pub use motion::{Motion, PlateSurface};
+pub use motion::{Motion, PlateSurface, ServoState};
 pub use shape::Shape;
 
 use crate::dim::Dim;
@@ -88,6 +88,18 @@ impl<D: Dim> Wall<D> {
         motion
             .validate()
             .map_err(|e| Error::input(format!("wall '{name}' ({} motion): {e}", motion.kind())))?;
+        if let Motion::Servo { normal, .. } = &mut motion {
+            // The servo moves the plane along its own normal.
+            let Shape::Plane { normal: n, .. } = &shape else {
+                return Err(Error::input(format!(
+                    "wall '{name}': motion type \"servo\" needs a wall of shape type \"plane\" \
+                     (a line in 2D), moved along its normal; this one is a {} {}",
+                    D::NAME,
+                    shape.kind()
+                )));
+            };
+            *normal = *n;
+        }
         if motion.is_modulated() {
             let flat_across_x =
                 matches!(&shape, Shape::Plane { normal, .. } if D::get(*normal, 0).abs() < 1e-12);
@@ -388,6 +400,12 @@ impl ReachBox {
 }
 
 impl<D: Dim> PlacedWall<'_, D> {
+    /// Whether the wall moves by the grains' load on it (a servo), so that
+    /// the force pass sums that load.
+    pub fn is_servo(&self) -> bool {
+        self.wall.motion.is_servo()
+    }
+
     /// The wall's angular velocity: a rotating wall's ω, else zero.
     pub fn spin(&self) -> D::A {
         match &self.wall.motion {

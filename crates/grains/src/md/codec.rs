@@ -137,16 +137,26 @@ pub fn encode_md<D: Dim>(e: &mut Enc, s: &MdState<D>) {
         }
         None => e.bool(false),
     }
-    // Last, so that an unsheared state's bytes are what they always were.
+    // Last, so that an unsheared state's bytes are what they always were;
+    // a fixed-pressure box and the servo walls' states (after a tag)
+    // likewise.
     if let Some(offsets) = l.shear {
         offsets.iter().for_each(|&x| e.f64(x));
-        // Then a fixed-pressure box, so that a constant-volume one's bytes
-        // are what they were.
         if let Some(b) = s.pressure_box {
             b.iter().for_each(|&x| e.f64(x));
         }
     }
+    if !s.servo.is_empty() {
+        e.u64(SERVO_TAG);
+        e.len(s.servo.len());
+        s.servo.iter().flatten().for_each(|&x| e.f64(x));
+    }
 }
+
+/// Opens the servo walls' section of a state. Read where a sheared box's
+/// image offsets may begin too: as an f64 it is a NaN, which the first
+/// offset (the shear's turns) never is.
+const SERVO_TAG: u64 = 0x7ff8_5345_5256_4f00;
 
 /// Reads the state written by [`encode_md`].
 pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
@@ -204,20 +214,43 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
             None
         },
     );
-    // A sheared box's image offsets close the state.
+    // A sheared box's image offsets, its fixed-pressure box, then the servo
+    // walls' states close the state; each may be absent.
     let mut list = list;
     let mut pressure_box = None;
-    if d.remaining() > 0 {
+    let mut servo = Vec::new();
+    let word = |d: &mut Dec, what| match d.remaining() {
+        0 => Ok(None),
+        _ => d.u64(what).map(Some),
+    };
+    let mut next = word(d, "shear turns or servo tag")?;
+    if let Some(turns) = next.filter(|&w| w != SERVO_TAG) {
         list.shear = Some([
-            d.f64("shear turns")?,
+            f64::from_bits(turns),
             d.f64("shear offset at build")?,
             d.f64("shear offset")?,
         ]);
-        if d.remaining() > 0 {
+        // A fixed-pressure box's length is finite, never the tag's NaN.
+        next = word(d, "fixed-pressure box length or servo tag")?;
+        if let Some(length) = next.filter(|&w| w != SERVO_TAG) {
             pressure_box = Some([
-                d.f64("fixed-pressure box length")?,
+                f64::from_bits(length),
                 d.f64("fixed-pressure box slide time")?,
                 d.f64("fixed-pressure box slide offset")?,
+            ]);
+            next = word(d, "servo tag")?;
+        }
+    }
+    if let Some(tag) = next {
+        if tag != SERVO_TAG {
+            return Err("unexpected bytes where the servo walls' states belong".into());
+        }
+        let ns = d.len(24, "servo wall count")?;
+        for _ in 0..ns {
+            servo.push([
+                d.f64("servo offset")?,
+                d.f64("servo speed")?,
+                d.f64("servo pressure")?,
             ]);
         }
     }
@@ -232,6 +265,7 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
         wall_rolling,
         mesh_springs,
         wall_loads,
+        servo,
         rebuilds_since_sort,
         contacts,
         max_overlap,

@@ -58,8 +58,8 @@ pub struct FieldPart<D: Dim> {
     kept: ChunkSprings<D>,
     mesh_kept: ChunkSprings<D, MeshKey>,
     rolling_kept: ChunkSprings<D>,
-    /// Per wall, what this range's grains push on it (mesh walls only;
-    /// empty when there is none).
+    /// Per wall, what this range's grains push on it (mesh and servo
+    /// walls only; empty when there is none).
     loads: Vec<WallLoad>,
 }
 
@@ -142,14 +142,16 @@ fn wall_contacts<D: Dim, L: ContactModel>(
     };
     let mut springs = springs_in.cursor(range.clone());
     // Mesh walls: several contacts per wall, springs per patch, and the
-    // load they take (nothing allocated when there is no mesh).
+    // load they take, as servo walls (nothing allocated when there is
+    // neither).
     let meshes = input.walls.iter().any(|w| w.mesh().is_some());
+    let servos = input.walls.iter().any(|w| w.is_servo());
     let mut mesh = MeshPass {
         springs: input.mesh_springs.cursor(range.clone()),
         kept: ChunkSprings::default(),
         scratch: MeshScratch::default(),
         found: Vec::new(),
-        loads: if meshes {
+        loads: if meshes || servos {
             vec![WallLoad::default(); input.walls.len()]
         } else {
             Vec::new()
@@ -250,6 +252,9 @@ fn wall_contacts<D: Dim, L: ContactModel>(
             force[k] += f;
             if rotation {
                 torque[k] -= t;
+            }
+            if servos && wall.is_servo() {
+                mesh.loads[w].add::<D>(f, contact.point);
             }
             s.count(&contact, ri, g.id[i]);
         }

@@ -165,7 +165,7 @@ pub struct Md<D: Dim> {
     rolling: Vec<D::V>,
     wall_rolling: WallSprings<D>,
     /// What the grains put on each wall at the last force evaluation
-    /// (empty unless a wall is a mesh), and its time.
+    /// (empty unless a wall is a mesh or a servo), and its time.
     wall_loads: (Vec<WallLoad>, f64),
     /// The pair list cut into blocks for the parallel force loop.
     blocks: PairBlocks,
@@ -555,7 +555,24 @@ impl<D: Dim> Md<D> {
         );
         finish_fields(parts, springs, &mut self.wall_loads.0, &mut self.stats);
         self.wall_loads.1 = self.time;
+        if update_history {
+            self.drive_servos();
+        }
         add_since(&mut self.timing.fields, fields_start);
+    }
+
+    /// Moves each servo wall by the load the grains put on it at this
+    /// force evaluation (summed in grain order: the same on any threads);
+    /// only when time has passed, so a rebuilt or resumed engine's first
+    /// evaluation does not move it.
+    fn drive_servos(&mut self) {
+        let loads = &self.wall_loads.0;
+        for (w, wall) in self.walls.iter_mut().enumerate() {
+            if wall.motion.is_servo() {
+                let load = loads.get(w).map_or(glam::DVec3::ZERO, |l| l.force);
+                wall.motion.servo_step(load, self.time, self.settings.dt);
+            }
+        }
     }
 
     /// Stops the run when a grain's state is not finite or two grains

@@ -6,6 +6,7 @@ use super::pair_forces::{Deferred, PairBlocks};
 use super::wall_loads::WallLoad;
 use super::wall_springs::WallSprings;
 use super::{Md, MdStats};
+use crate::boundary::ServoState;
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::integrate::Integrator;
@@ -15,8 +16,9 @@ use glam::DVec3;
 
 /// The complete dynamic state of an [`super::Md`]: with the same scenario
 /// (settings, walls, domain) it continues bit for bit like the run it came
-/// from. Walls need no state of their own: their motion (a mesh's pose
-/// included), phase and removal are functions of `time`.
+/// from. Walls need no state of their own, but for servo walls: any other
+/// motion (a mesh's pose included), phase and removal are functions of
+/// `time`.
 #[derive(Clone, Debug)]
 pub struct MdState<D: Dim> {
     pub time: f64,
@@ -39,6 +41,9 @@ pub struct MdState<D: Dim> {
     /// evaluation, and that evaluation's time; empty unless a wall is a
     /// mesh (what `walls.csv` reports).
     pub wall_loads: (Vec<[DVec3; 2]>, f64),
+    /// Each servo wall's state in wall order (offset, speed, pressure:
+    /// [`crate::boundary::ServoState`]); empty without servo walls.
+    pub servo: Vec<[f64; 3]>,
     pub rebuilds_since_sort: u32,
     /// Statistics of the last force evaluation (reported in thermo rows).
     pub contacts: u64,
@@ -84,6 +89,12 @@ impl<D: Dim> Md<D> {
                     .collect(),
                 self.wall_loads.1,
             ),
+            servo: self
+                .walls
+                .iter()
+                .filter_map(|w| w.motion.servo_state())
+                .map(|s| s.to_array())
+                .collect(),
             rebuilds_since_sort: self.rebuilds_since_sort,
             contacts: self.stats.contacts as u64,
             max_overlap: self.stats.max_overlap,
@@ -212,6 +223,17 @@ impl<D: Dim> Md<D> {
         if let Some(b) = s.pressure_box {
             self.check_pressure_box(b)?;
         }
+        // A state without servo states under servo walls is a restart that
+        // made a wall a servo: it starts at rest from its reference
+        // position.
+        let servos = self.walls.iter().filter(|w| w.motion.is_servo()).count();
+        if !s.servo.is_empty() && s.servo.len() != servos {
+            return bad(format!(
+                "{} servo wall states for {servos} servo walls (a restart may make walls \
+                 servos, not change servo walls into others)",
+                s.servo.len()
+            ));
+        }
         let mut list = self.neighbors.clone();
         list.import_state(s.list, n)
             .map_err(|e| Error::input(format!("checkpoint state: {e}")))?;
@@ -232,6 +254,10 @@ impl<D: Dim> Md<D> {
                 .collect(),
             s.wall_loads.1,
         );
+        let servo_walls = self.walls.iter_mut().filter(|w| w.motion.is_servo());
+        for (wall, &state) in servo_walls.zip(&s.servo) {
+            wall.motion.set_servo_state(ServoState::from_array(state));
+        }
         self.rebuilds_since_sort = s.rebuilds_since_sort;
         self.stats = MdStats {
             contacts: s.contacts as usize,

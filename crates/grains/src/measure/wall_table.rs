@@ -1,5 +1,6 @@
-//! walls.csv: the force and torque the grains put on each mesh wall, one
-//! row per output step (written only when the scenario has a mesh wall).
+//! walls.csv: the force and torque the grains put on each mesh wall, and
+//! each servo wall's position and measured pressure, one row per output
+//! step (written only when the scenario has a mesh or a servo wall).
 
 use crate::dim::Dim;
 use crate::error::Result;
@@ -17,10 +18,14 @@ impl WallTable {
     /// Creates `dir/walls.csv` with columns `step, time`, then for each
     /// mesh wall `NAME_fx, NAME_fy, NAME_fz` (the force on it) and
     /// `NAME_tx, NAME_ty, NAME_tz` (the torque about its load point); `None`
-    /// when no wall is a mesh.
+    /// then for each servo wall `NAME_offset` (m, its displacement along
+    /// its normal), `NAME_speed` (m/s) and `NAME_pressure` (Pa; 2D N/m,
+    /// measured at the last force evaluation); `None` when no wall is a
+    /// mesh or a servo.
     pub(crate) fn create<D: Dim>(dir: &Path, view: &GrainView<D>) -> Result<Option<Self>> {
         let loads = view.mesh_loads();
-        if loads.is_empty() {
+        let servos = view.walls.iter().filter(|w| w.motion.is_servo());
+        if loads.is_empty() && servos.clone().next().is_none() {
             return Ok(None);
         }
         let mut columns = vec!["step".to_string(), "time".to_string()];
@@ -28,6 +33,11 @@ impl WallTable {
             let name = &view.walls[l.wall].name;
             for c in ["fx", "fy", "fz", "tx", "ty", "tz"] {
                 columns.push(format!("{name}_{c}"));
+            }
+        }
+        for w in servos {
+            for c in ["offset", "speed", "pressure"] {
+                columns.push(format!("{}_{c}", w.name));
             }
         }
         let columns: Vec<&str> = columns.iter().map(String::as_str).collect();
@@ -65,6 +75,9 @@ impl WallTable {
         for l in view.mesh_loads() {
             row.extend(l.force.to_array());
             row.extend(l.torque.to_array());
+        }
+        for s in view.walls.iter().filter_map(|w| w.motion.servo_state()) {
+            row.extend(s.to_array());
         }
         self.writer.write_row(&row)
     }

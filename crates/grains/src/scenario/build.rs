@@ -356,7 +356,10 @@ fn wall<D: Dim>(k: usize, w: &WallSpec, dom: &Domain<D>, loaded: &Loaded) -> Res
         },
         ShapeSpec::Mesh { .. } => super::mesh_wall::shape::<D>(&key, &w.shape, loaded)?,
     };
-    let motion = motion::<D>(&key, &w.motion, dom)?;
+    let motion = match &w.motion {
+        MotionSpec::Servo { .. } => super::servo::motion(&key, &w.motion, &shape, dom)?,
+        _ => motion::<D>(&key, &w.motion, dom)?,
+    };
     let mut wall = Wall::new(w.name.clone(), shape, motion)
         .map_err(|e| Error::input(format!("{key}: {e}")))?;
     if let MotionSpec::Vibrate { surface, .. } = &w.motion {
@@ -409,6 +412,12 @@ pub fn motion<D: Dim>(key: &str, spec: &MotionSpec, dom: &Domain<D>) -> Result<M
         MotionSpec::Translate { velocity } => Motion::Translate {
             velocity: vector::<D>(&format!("{key}.motion.velocity"), velocity)?,
         },
+        // Its area comes from its wall's shape: built with the wall.
+        MotionSpec::Servo { .. } => {
+            return Err(Error::input(format!(
+                "{key}.motion: type \"servo\" is a motion of MD walls only"
+            )))
+        }
     })
 }
 

@@ -16,6 +16,7 @@ pub mod placement;
 pub mod resolve;
 pub mod restart;
 pub mod schema;
+mod servo;
 pub mod shear;
 pub mod sizes;
 pub mod sweep;

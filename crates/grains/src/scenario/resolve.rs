@@ -160,6 +160,7 @@ fn max_wall_speed(s: &Scenario) -> f64 {
             MotionSpec::Translate { velocity } => {
                 velocity.iter().map(|a| a * a).sum::<f64>().sqrt()
             }
+            MotionSpec::Servo { max_speed, .. } => *max_speed,
             _ => 0.0,
         })
         .fold(0.0, f64::max)

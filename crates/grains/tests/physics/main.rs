@@ -19,4 +19,5 @@ mod pressure;
 mod rebuild_springs;
 mod rolling;
 mod rotation;
+mod servo;
 mod shear;

@@ -13,6 +13,7 @@ mod inlet_sizes;
 mod inlets;
 mod mesh_discharge;
 mod repose;
+mod servo;
 mod shear;
 mod shipped_check;
 mod size_distributions;

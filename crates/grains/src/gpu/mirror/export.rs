@@ -130,6 +130,8 @@ impl Mirror {
             // is that of the last force evaluation, as the CPU engine's.
             mesh_springs: Vec::new(),
             wall_loads: (Vec::new(), self.time),
+            // The device runs fixed walls only.
+            servo: Vec::new(),
             rebuilds_since_sort: self.rebuilds_since_sort,
             contacts: self.stats.contacts,
             max_overlap,

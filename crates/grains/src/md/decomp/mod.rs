@@ -120,6 +120,15 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
                 w.name
             )));
         }
+        let servo = full.walls.iter().find(|w| w.motion.is_servo());
+        if let (Some(w), true) = (servo, comm.size() > 1) {
+            // Its load would need a sum over the ranks at every step.
+            return Err(Error::input(format!(
+                "wall '{}' has motion type \"servo\": servo walls do not run over several \
+                 ranks (mpirun) yet; run on one process (--threads N)",
+                w.name
+            )));
+        }
         if full.domain.shear.is_some() {
             // Ghost shells do not slide with the Lees–Edwards images.
             return Err(Error::input(

@@ -100,4 +100,18 @@ pub enum MotionSpec {
     Rotate { center: Vec<f64>, omega: Vec<f64> },
     /// Constant velocity (m/s).
     Translate { velocity: Vec<f64> },
+    /// A plane moved along its normal to hold the normal stress `pressure`
+    /// (Pa; 2D N/m): speed `gain` × (pressure − measured), m/(s·Pa), at
+    /// most `max_speed` (m/s), from `start` (s); `area` (m²; 2D m) the
+    /// load is divided by, by default the box's cross-section across the
+    /// normal (docs/servo-walls.md).
+    Servo {
+        pressure: f64,
+        gain: f64,
+        max_speed: f64,
+        #[serde(default)]
+        area: Option<f64>,
+        #[serde(default)]
+        start: f64,
+    },
 }
