@@ -58,6 +58,7 @@ pub fn run<D: Dim>(
     progress: &mut dyn Progress,
     comm: &dyn Comm,
 ) -> Result<Value> {
+    refuse_outlets(loaded)?;
     let root = comm.rank() == 0;
     if root {
         prepare_fresh(opts)?;
@@ -93,6 +94,7 @@ pub(super) fn resume<D: Dim>(
     comm: &dyn Comm,
 ) -> Result<Value> {
     let loaded = found.loaded();
+    refuse_outlets(loaded)?;
     let r = found.restore::<D>(steps)?;
     let root = comm.rank() == 0;
     let (mirror, outputs) = match root {
@@ -107,6 +109,16 @@ pub(super) fn resume<D: Dim>(
     let engines = (r.md, mirror);
     start(
         loaded, opts, engines, r.resolved, outputs, r.plan, restored, progress, comm,
+    )
+}
+
+/// Outlets and sensors run on one process only (every rank refuses alike).
+fn refuse_outlets(loaded: &Loaded) -> Result<()> {
+    crate::scenario::outlet::refuse_on(
+        &loaded.scenario,
+        "under mpirun",
+        "a removal would have to drop each grain on the rank that owns it, in \
+         its halo copies and in rank 0's mirror, in one order on every rank",
     )
 }
 
@@ -285,9 +297,9 @@ impl<D: Dim> MdView for DistMd<'_, D> {
     /// several grains fall below the sink in one step, they draw their new
     /// spots in another order than the serial run does (the same spots,
     /// other grains).
-    fn flow_events(&mut self, flow: Option<&mut FlowRun<D>>) {
+    fn flow_events(&mut self, flow: Option<&mut FlowRun<D>>) -> Result<()> {
         if self.sink.is_none() && !self.events {
-            return;
+            return Ok(());
         }
         let v = D::vertical();
         let p = &self.dec.md.particles;
@@ -303,7 +315,7 @@ impl<D: Dim> MdView for DistMd<'_, D> {
             self.gathered();
         } else if !self.events {
             // Recycling alone changes nothing while no grain is below the sink.
-            return;
+            return Ok(());
         }
         let (time, step) = (self.dec.md.time, self.dec.md.step);
         let mut w = Writer::default();
@@ -341,6 +353,7 @@ impl<D: Dim> MdView for DistMd<'_, D> {
                 }
             }
         }
+        Ok(())
     }
     fn summarize(&mut self, summary: &mut Map<String, Value>, _: f64) {
         let mut ghosts = [self.dec.n_ghosts() as u64];

@@ -48,6 +48,12 @@ pub fn check_device(loaded: &Loaded) -> Result<()> {
     if s.run.events.is_some() {
         return refuse("run.events (they change walls and gravity on the host)");
     }
+    if !s.outlets.is_empty() || !s.sensors.is_empty() {
+        return refuse(
+            "[[outlets]]/[[sensors]] (removing grains would need the device's arrays compacted \
+             and its list rebuilt; sensors would read the grains every step)",
+        );
+    }
     let (md, _) = super::build_md::<D3>(loaded)?;
     gpu::check_supported(&md)?;
     Ok(())

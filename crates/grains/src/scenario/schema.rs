@@ -8,6 +8,7 @@ mod contact;
 mod fields;
 mod flow;
 mod measure;
+mod outlet;
 mod run;
 mod size;
 mod walls;
@@ -19,6 +20,7 @@ pub use measure::{
     ConvectionSpec, FlowFieldSpec, MeasureSpec, PhasesSpec, ProfilesSpec, SpacetimeSpec,
     SurfaceSpec, TracerSpec, TrajectoriesSpec,
 };
+pub use outlet::{BoxSpec, CylinderSpec, OutflowSpec, OutletSpec, PlaneSpec, SensorSpec};
 pub use run::{Device, FramesLayout, OutputSpec, RunSpec, TimeStep};
 pub use size::{SizeDistribution, SizeSpec, SizeWeight};
 pub use walls::{MotionSpec, ShapeSpec, WallSpec};
@@ -67,6 +69,15 @@ pub struct Scenario {
     /// A silo generated from a few numbers (`hopper.outlet` is the outlet width).
     #[serde(default)]
     pub hopper: Option<HopperSpec>,
+    /// Regions and planes that take grains out of the run (`scenario/outlet.rs`).
+    #[serde(default)]
+    pub outlets: Vec<OutletSpec>,
+    /// Planes that count the grains crossing them.
+    #[serde(default)]
+    pub sensors: Vec<SensorSpec>,
+    /// Size classes of outflow.csv and the steady-discharge judgement.
+    #[serde(default)]
+    pub outflow: OutflowSpec,
     /// How a distributed (MPI) MD run splits the box over its ranks.
     #[serde(default)]
     pub parallel: crate::settings::ParallelSpec,

@@ -6,7 +6,7 @@ use grains::runner::check;
 use grains::scenario::load_file;
 use std::path::PathBuf;
 
-const SCENARIOS: [&str; 12] = [
+const SCENARIOS: [&str; 14] = [
     "repose-2d",
     "repose-3d",
     "repose-3d-sand",
@@ -19,6 +19,8 @@ const SCENARIOS: [&str; 12] = [
     "drum-2d",
     "segregation-3d",
     "pour-3d-psd",
+    "silo-2d",
+    "silo-3d-glass",
 ];
 
 fn path(name: &str) -> PathBuf {

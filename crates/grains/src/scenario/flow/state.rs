@@ -51,8 +51,8 @@ fn same_parts(what: &str, saved: bool, here: bool) -> DecResult<()> {
 impl<D: Dim> FlowRun<D> {
     /// The whole state (the scenario's keys aside, which the checkpoint
     /// carries): stage, gravity before and after the tilt, counters, the
-    /// recycler's generator and exits, the drum's angles and the
-    /// space–time rows.
+    /// recycler's generator and exits, the drum's angles, the
+    /// space–time rows and the outlets' and sensors' counts.
     pub fn save(&self) -> Vec<u8> {
         let mut e = Enc::default();
         match self.stage {
@@ -100,6 +100,10 @@ impl<D: Dim> FlowRun<D> {
         e.bool(self.spacetime.is_some());
         if let Some(s) = &self.spacetime {
             s.save(&mut e);
+        }
+        e.bool(self.outlets.is_some());
+        if let Some(o) = &self.outlets {
+            o.save(&mut e);
         }
         e.buf
     }
@@ -155,6 +159,11 @@ impl<D: Dim> FlowRun<D> {
         if let Some(s) = &mut self.spacetime {
             s.load(&mut d)?;
         }
+        let outlets = d.bool("outlets")?;
+        same_parts("[[outlets]]/[[sensors]]", outlets, self.outlets.is_some())?;
+        if let Some(o) = &mut self.outlets {
+            o.load(&mut d)?;
+        }
         if d.remaining() != 0 {
             return Err(format!(
                 "{} unexpected bytes after the flow state",
@@ -198,7 +207,11 @@ impl<D: Dim> FlowRun<D> {
             // A Python session's checkpoint has no flow section: its
             // scenario has no events, and its flow measurements begin here.
             let s = &loaded.scenario;
-            if s.hopper.is_some() || s.run.events.is_some() {
+            if s.hopper.is_some()
+                || s.run.events.is_some()
+                || !s.outlets.is_empty()
+                || !s.sensors.is_empty()
+            {
                 return Err(Error::input(format!(
                     "checkpoint {origin}: an MD state without its flow state"
                 )));
