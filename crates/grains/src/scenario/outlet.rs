@@ -411,6 +411,11 @@ impl<D: Dim> Outlets<D> {
         }
     }
 
+    /// The ids of the grains removed so far.
+    pub fn removed_ids(&self) -> Vec<u64> {
+        self.removed.iter().map(|r| r.id).collect()
+    }
+
     /// outflow.csv and sensors.csv in `dir`; the discharge rate, the
     /// sensors' counts and the mass balance into `summary`.
     pub fn finish(

@@ -274,7 +274,7 @@ fn removing_grains_leaves_the_others_moving_as_physics_implies() {
         for r in records {
             p.push_record(r);
         }
-        let domain = Domain::new(DVec2::splat(-10.0), DVec2::splat(60.0), [false; 2]);
+        let domain = Domain::new(DVec2::splat(-10.0), DVec2::splat(60.0), [false; 3]);
         // LAMMPS chute's Hooke-with-history coefficients, m = 1: a contact
         // lasts about 5 ms, 50 steps.
         let law = ContactLaw {

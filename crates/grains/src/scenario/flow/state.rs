@@ -175,8 +175,10 @@ impl<D: Dim> FlowRun<D> {
 
     /// What the flow run has changed in the engine, put into `md`: the
     /// gravity of the tilt and the removal time of the removed wall (set
-    /// when settling ended), as [`FlowRun::after_step`] set them.
-    fn apply(&self, md: &mut Md<D>) {
+    /// when settling ended), as [`FlowRun::after_step`] set them, and the
+    /// grains the outlets took out (so that the engine's state, which
+    /// lacks them, fits).
+    fn apply(&self, md: &mut Md<D>) -> Result<()> {
         if let Some(g) = self.gravity {
             md.settings.gravity = g;
         }
@@ -186,6 +188,10 @@ impl<D: Dim> FlowRun<D> {
                 w.remove_at = Some(t);
             }
         }
+        if let Some(o) = &self.outlets {
+            md.remove_grains(&o.removed_ids())?;
+        }
+        Ok(())
     }
 
     /// The flow run of a resumed run: begun on `md` freshly built from the
@@ -220,7 +226,8 @@ impl<D: Dim> FlowRun<D> {
         };
         flow.load(bytes)
             .map_err(|e| Error::input(format!("checkpoint {origin}: {e}")))?;
-        flow.apply(md);
+        flow.apply(md)
+            .map_err(|e| Error::input(format!("checkpoint {origin}: {e}")))?;
         Ok(flow)
     }
 }

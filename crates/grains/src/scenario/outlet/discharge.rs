@@ -1,13 +1,12 @@
 //! The discharge rate over the steady part of an outflow, and the files
 //! outflow.csv and sensors.csv.
 //!
-//! Steadiness is judged on the running rate: the time from the removal
-//! that brings the cumulative mass to a tenth of the total to the one that
-//! brings it to nine tenths (the start of the flow and a silo's slow
-//! emptying left out) is cut into bins of equal width, each bin's rate is
+//! Steadiness is judged on the running rate: the time from the first to
+//! the last removal is cut into bins of equal width, each bin's rate is
 //! its removed mass over the width, and the steady window is the longest
-//! run of consecutive bins whose rate lies within a tolerance of the
-//! median bin rate. The rate is the least-squares slope of the cumulative
+//! run of consecutive bins whose rates all lie within a tolerance of their
+//! own median (so the start of the flow and a silo's slow emptying, which
+//! may take most of the time, fall outside it). The rate is the least-squares slope of the cumulative
 //! mass against time over the removals in that window, its error the
 //! slope's standard error (the scatter of the grains' exits about the
 //! line; it does not include the slow drift a silo's emptying can add).
@@ -22,9 +21,8 @@ use std::path::Path;
 /// Fewest removals and steady bins a rate is given for.
 const MIN_REMOVALS: usize = 10;
 const MIN_BINS: usize = 3;
-/// Bins over the span from a tenth to nine tenths of the removed mass
-/// unless `outflow.bin` is given.
-const DEFAULT_BINS: usize = 10;
+/// Bins over the removals' span unless `outflow.bin` is given.
+const DEFAULT_BINS: usize = 20;
 
 /// The steady discharge, or why there is none.
 #[derive(Clone, Debug, PartialEq)]
@@ -57,13 +55,13 @@ impl SteadyRate {
         m.insert(
             "discharge_steadiness".into(),
             json!({
-                "rule": "bins from 10 % to 90 % of the removed mass; the longest run of bins \
-                         whose rate lies within tolerance of their median; least-squares slope \
-                         of the cumulative mass over that window",
+                "rule": "bins from the first to the last removal; the longest run of bins \
+                         whose rates all lie within tolerance of their median; least-squares \
+                         slope of the cumulative mass over that window",
                 "bin_s": self.bin,
                 "bins": self.bins,
                 "steady_bins": self.steady_bins,
-                "median_bin_rate": self.median,
+                "window_median_rate": self.median,
                 "tolerance": self.tolerance,
                 "note": self.reason,
             }),
@@ -88,19 +86,8 @@ pub(crate) fn steady_rate(removed: &[Removal], bin: Option<f64>, tolerance: f64)
         out.reason = "fewer than 10 grains removed: no rate";
         return out;
     }
-    let total: f64 = removed.iter().map(|r| r.mass).sum();
-    let at = |share: f64| {
-        let mut cum = 0.0;
-        removed
-            .iter()
-            .find(|r| {
-                cum += r.mass;
-                cum >= share * total
-            })
-            .map_or(0.0, |r| r.time)
-    };
-    let t0 = at(0.1);
-    let span = at(0.9) - t0;
+    let t0 = removed[0].time;
+    let span = removed[removed.len() - 1].time - t0;
     let w = bin.unwrap_or(span / DEFAULT_BINS as f64);
     let nb = if w > 0.0 {
         (span / w).floor() as usize
@@ -114,41 +101,29 @@ pub(crate) fn steady_rate(removed: &[Removal], bin: Option<f64>, tolerance: f64)
         return out;
     }
     let mut mass = vec![0.0; nb];
-    for r in removed.iter().filter(|r| r.time >= t0) {
+    for r in removed {
         let b = ((r.time - t0) / w).floor() as usize;
         if b < nb {
             mass[b] += r.mass;
         }
     }
     let rates: Vec<f64> = mass.iter().map(|m| m / w).collect();
-    let mut sorted = rates.clone();
-    sorted.sort_by(f64::total_cmp);
-    let median = if nb % 2 == 1 {
-        sorted[nb / 2]
-    } else {
-        0.5 * (sorted[nb / 2 - 1] + sorted[nb / 2])
-    };
-    out.median = median;
-    let steady = |r: f64| (r - median).abs() <= tolerance * median;
-    // The longest run of steady bins (the earliest of equal ones).
-    let (mut best, mut run_start) = ((0, 0), None);
-    for (b, &r) in rates.iter().enumerate() {
-        match (steady(r), run_start) {
-            (true, None) => run_start = Some(b),
-            (false, Some(s)) => {
-                if b - s > best.1 - best.0 {
-                    best = (s, b);
-                }
-                run_start = None;
+    // The longest run of bins within tolerance of its own median (the
+    // earliest of equal ones); a few dozen bins, so every run is tried.
+    let mut best = (0, 0, 0.0);
+    for a in 0..nb {
+        for b in (a + MIN_BINS..=nb).rev() {
+            if b - a <= best.1 - best.0 {
+                break;
             }
-            _ => {}
+            let m = median(&rates[a..b]);
+            if m > 0.0 && rates[a..b].iter().all(|r| (r - m).abs() <= tolerance * m) {
+                best = (a, b, m);
+                break;
+            }
         }
     }
-    if let Some(s) = run_start {
-        if nb - s > best.1 - best.0 {
-            best = (s, nb);
-        }
-    }
+    out.median = best.2;
     out.steady_bins = best.1 - best.0;
     if out.steady_bins < MIN_BINS {
         out.reason = "fewer than 3 consecutive steady bins: no rate";
@@ -172,6 +147,17 @@ pub(crate) fn steady_rate(removed: &[Removal], bin: Option<f64>, tolerance: f64)
     out.rate = Some((slope, se, pts.len() as f64 / (b - a)));
     out.reason = "steady window found";
     out
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        0.5 * (s[n / 2 - 1] + s[n / 2])
+    }
 }
 
 /// Least-squares slope of y on x and its standard error; `None` with
@@ -329,11 +315,8 @@ mod tests {
         assert!(err < 1e-9, "{err}");
         assert!((grains - 100.0).abs() < 1e-6, "{grains}");
         let (a, b) = s.window.unwrap();
-        // From a tenth of the mass (the 21st gram, 0.2 s) on, whole bins.
-        assert!(
-            (a - 0.2).abs() < 1e-9 && b > 1.5 && b <= 1.9 + 1e-9,
-            "{a} {b}"
-        );
+        // The 20 bins of the flow; the trickle's four are a tenth of it.
+        assert!(a == 0.0 && (b - 2.0).abs() < 1e-9, "{a} {b}");
     }
 
     #[test]
