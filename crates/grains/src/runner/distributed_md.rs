@@ -58,7 +58,7 @@ pub fn run<D: Dim>(
     progress: &mut dyn Progress,
     comm: &dyn Comm,
 ) -> Result<Value> {
-    refuse_outlets(loaded)?;
+    crate::scenario::outlet::refuse_under_mpirun(&loaded.scenario)?;
     let root = comm.rank() == 0;
     if root {
         prepare_fresh(opts)?;
@@ -94,7 +94,7 @@ pub(super) fn resume<D: Dim>(
     comm: &dyn Comm,
 ) -> Result<Value> {
     let loaded = found.loaded();
-    refuse_outlets(loaded)?;
+    crate::scenario::outlet::refuse_under_mpirun(&loaded.scenario)?;
     let r = found.restore::<D>(steps)?;
     let root = comm.rank() == 0;
     let (mirror, outputs) = match root {
@@ -109,16 +109,6 @@ pub(super) fn resume<D: Dim>(
     let engines = (r.md, mirror);
     start(
         loaded, opts, engines, r.resolved, outputs, r.plan, restored, progress, comm,
-    )
-}
-
-/// Outlets and sensors run on one process only (every rank refuses alike).
-fn refuse_outlets(loaded: &Loaded) -> Result<()> {
-    crate::scenario::outlet::refuse_on(
-        &loaded.scenario,
-        "under mpirun",
-        "a removal would have to drop each grain on the rank that owns it, in \
-         its halo copies and in rank 0's mirror, in one order on every rank",
     )
 }
 

@@ -566,14 +566,15 @@ impl<D: Dim> Outlets<D> {
     }
 }
 
-/// Why a scenario with outlets or sensors cannot run on `what` (the
-/// distributed and GPU engines), or `Ok` without any.
-pub fn refuse_on(s: &Scenario, what: &str, takes: &str) -> Result<()> {
+/// Outlets and sensors run on one process: under mpirun (every rank
+/// refuses alike) the scenario is refused by name.
+pub fn refuse_under_mpirun(s: &Scenario) -> Result<()> {
     if s.outlets.is_empty() && s.sensors.is_empty() {
         return Ok(());
     }
-    Err(Error::input(format!(
-        "[[outlets]]/[[sensors]] are not supported {what}: {takes}; run it on one \
-         process on the CPU"
-    )))
+    Err(Error::input(
+        "[[outlets]]/[[sensors]] are not supported under mpirun: a removal would have to drop \
+         each grain on the rank that owns it, in its halo copies and in rank 0's mirror, in one \
+         order on every rank; run it on one process",
+    ))
 }

@@ -253,9 +253,10 @@ fn silo_resumed_mid_discharge_gives_the_same_bytes() {
 }
 
 /// Two clusters of touching disks, far apart, without gravity, each
-/// squeezed (so the springs stretch as they rebound): removing the second
-/// at step 200 leaves the first moving as it moves alone, to rounding (the
-/// force sums may run in another order, nothing more).
+/// squeezed and sheared (so the tangential springs stretch while they
+/// rebound): removing the second at step 20, mid-contact, leaves the first
+/// moving as it moves alone, to rounding (the force sums may run in another
+/// order, nothing more).
 #[test]
 fn removing_grains_leaves_the_others_moving_as_physics_implies() {
     let cluster = |first: u64, x0: f64| -> Vec<ParticleRecord<D2>> {
@@ -295,14 +296,14 @@ fn removing_grains_leaves_the_others_moving_as_physics_implies() {
     both.extend(cluster(7, 40.0));
     let mut alone = engine(a);
     let mut pair = engine(both);
-    pair.advance(200).unwrap();
+    pair.advance(20).unwrap();
     let gone = pair.remove_grains(&[7, 8, 9, 10, 11, 12]).unwrap();
     assert_eq!(
         gone.iter().map(|g| g.id).collect::<Vec<_>>(),
         [7, 8, 9, 10, 11, 12]
     );
     assert!(pair.remove_grains(&[7]).is_err(), "a removed id is refused");
-    pair.advance(300).unwrap();
+    pair.advance(480).unwrap();
     alone.advance(500).unwrap();
     let (fa, fp) = (alone.frame(), pair.frame());
     let by_id = |f: &grains::io::Frame| -> Vec<(u64, [f64; 3], [f64; 3])> {
@@ -334,6 +335,33 @@ fn removing_grains_leaves_the_others_moving_as_physics_implies() {
             );
         }
     }
+}
+
+/// Under mpirun (two thread ranks) and on the GPU (its CPU mirror) the
+/// silo is refused by name before it runs.
+#[test]
+fn outlets_are_refused_under_mpirun_and_on_the_gpu() {
+    use grains::comm::{Comm, ThreadComm};
+    let l = silo(&[]);
+    let dir = scratch("mpi");
+    let o = opts(&dir);
+    let errs = ThreadComm::run(2, |c| {
+        grains::runner::distributed::run(&l, &o, &mut Silent, c as &dyn Comm)
+            .unwrap_err()
+            .to_string()
+    });
+    assert!(errs.iter().all(|e| e.contains("under mpirun")), "{errs:?}");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/pour-3d.toml");
+    let sets = [
+        "run.device=\"mirror\"".to_string(),
+        "outlets=[{name=\"low\",plane={point=[0.0,0.0,0.0],normal=[0.0,0.0,-1.0]}}]".into(),
+    ];
+    let gpu = load_file(&path, &sets).unwrap();
+    let e = grains::scenario::device::check_device(&gpu)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("[[outlets]]/[[sensors]]"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Bad keys: a clear error naming the key, never a panic.
