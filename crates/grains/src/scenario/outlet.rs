@@ -256,7 +256,7 @@ fn class_edges(s: &Scenario, diameters: impl Iterator<Item = f64>) -> Result<Vec
     let (lo, hi) = diameters.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| {
         (a.min(d), b.max(d))
     });
-    if !(lo < hi) || n == 1 {
+    if lo >= hi || n == 1 {
         return Ok(Vec::new());
     }
     Ok((1..n)
@@ -439,7 +439,7 @@ impl<D: Dim> Outlets<D> {
             summary.insert("size_class_edges".into(), json!(self.edges));
         }
         if !self.sensors.is_empty() {
-            let rows: Vec<(&str, &[(f64, i8, f64)])> = self
+            let rows: Vec<_> = self
                 .sensors
                 .iter()
                 .map(|s| (s.name.as_str(), s.crossings.as_slice()))

@@ -18,6 +18,9 @@ use serde_json::{json, Map, Value};
 use std::fmt::Write as _;
 use std::path::Path;
 
+/// One crossing of a sensor: time, +1 or −1, mass.
+pub(crate) type Crossing = (f64, i8, f64);
+
 /// Fewest removals and steady bins a rate is given for.
 const MIN_REMOVALS: usize = 10;
 const MIN_BINS: usize = 3;
@@ -247,7 +250,7 @@ pub(crate) fn write_outflow(
 /// mass, the net mass rate and the cumulative net mass.
 pub(crate) fn write_sensors(
     dir: &Path,
-    sensors: &[(&str, &[(f64, i8, f64)])],
+    sensors: &[(&str, &[Crossing])],
     bin: f64,
     end: f64,
 ) -> Result<()> {
