@@ -28,6 +28,7 @@ mod mesh_lists;
 mod pair_forces;
 mod pair_hash;
 pub mod phase_times;
+mod remove;
 pub mod state;
 mod view;
 pub mod wall_contact_list;

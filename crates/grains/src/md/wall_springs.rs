@@ -149,6 +149,30 @@ impl<D: Dim, K: SpringKey> WallSprings<D, K> {
         }
     }
 
+    /// Keeps the springs of the grains at `keep` (ascending old indices),
+    /// renumbered to their place in `keep`; the others' springs go with
+    /// their grains. Key order is kept, as the kept grains keep theirs.
+    pub fn retain_grains(&mut self, keep: &[u32], old_len: usize) {
+        if self.keys.is_empty() {
+            return;
+        }
+        let mut new_index = vec![u32::MAX; old_len];
+        for (k, &o) in keep.iter().enumerate() {
+            new_index[o as usize] = k as u32;
+        }
+        let (keys, springs): (Vec<K>, Vec<D::V>) = self
+            .keys
+            .iter()
+            .zip(&self.springs)
+            .filter_map(|(&k, &s)| {
+                let g = new_index[k.grain() as usize];
+                (g != u32::MAX).then(|| (k.regrain(g), s))
+            })
+            .unzip();
+        self.keys = keys;
+        self.springs = springs;
+    }
+
     /// Follows a reordering of the grains (`order[k]` = old index of new
     /// grain k).
     pub fn permute(&mut self, order: &[u32]) {

@@ -36,7 +36,9 @@ impl<P: Pipeline> MdView for DeviceMd<P> {
     /// Nothing: scenarios whose flow events change the grains (a hopper's
     /// recycling, `run.events`) are refused before the run
     /// ([`crate::scenario::device::check_device`]).
-    fn flow_events(&mut self, _: Option<&mut FlowRun<D3>>) {}
+    fn flow_events(&mut self, _: Option<&mut FlowRun<D3>>) -> Result<()> {
+        Ok(())
+    }
     fn summarize(&mut self, summary: &mut Map<String, Value>, _: f64) {
         summary.insert("neighbor_builds".into(), json!(self.pipe.builds()));
         let mut device = Map::new();

@@ -59,6 +59,7 @@ pub fn run<D: Dim>(
     comm: &dyn Comm,
 ) -> Result<Value> {
     crate::scenario::inlet::refuse_ranks(loaded)?;
+    crate::scenario::outlet::refuse_under_mpirun(&loaded.scenario)?;
     let root = comm.rank() == 0;
     if root {
         prepare_fresh(opts)?;
@@ -95,6 +96,7 @@ pub(super) fn resume<D: Dim>(
 ) -> Result<Value> {
     let loaded = found.loaded();
     crate::scenario::inlet::refuse_ranks(loaded)?;
+    crate::scenario::outlet::refuse_under_mpirun(&loaded.scenario)?;
     let r = found.restore::<D>(steps)?;
     let root = comm.rank() == 0;
     let (mirror, outputs) = match root {
@@ -287,9 +289,9 @@ impl<D: Dim> MdView for DistMd<'_, D> {
     /// several grains fall below the sink in one step, they draw their new
     /// spots in another order than the serial run does (the same spots,
     /// other grains).
-    fn flow_events(&mut self, flow: Option<&mut FlowRun<D>>) {
+    fn flow_events(&mut self, flow: Option<&mut FlowRun<D>>) -> Result<()> {
         if self.sink.is_none() && !self.events {
-            return;
+            return Ok(());
         }
         let v = D::vertical();
         let p = &self.dec.md.particles;
@@ -305,7 +307,7 @@ impl<D: Dim> MdView for DistMd<'_, D> {
             self.gathered();
         } else if !self.events {
             // Recycling alone changes nothing while no grain is below the sink.
-            return;
+            return Ok(());
         }
         let (time, step) = (self.dec.md.time, self.dec.md.step);
         let mut w = Writer::default();
@@ -343,6 +345,7 @@ impl<D: Dim> MdView for DistMd<'_, D> {
                 }
             }
         }
+        Ok(())
     }
     fn summarize(&mut self, summary: &mut Map<String, Value>, _: f64) {
         let mut ghosts = [self.dec.n_ghosts() as u64];

@@ -40,7 +40,7 @@ pub(crate) trait MdView: Engine {
         Ok(())
     }
     /// The flow events after the step now (`flow` on rank 0).
-    fn flow_events(&mut self, flow: Option<&mut FlowRun<Self::D>>);
+    fn flow_events(&mut self, flow: Option<&mut FlowRun<Self::D>>) -> Result<()>;
     /// What the engine adds to summary.json after the common scalars
     /// (every rank calls this).
     fn summarize(&mut self, summary: &mut Map<String, Value>, wall_seconds: f64);
@@ -54,10 +54,12 @@ impl<D: Dim> MdView for Md<D> {
     fn whole_if(&mut self, _: bool) -> Result<Option<&Md<D>>> {
         Ok(Some(self))
     }
-    fn flow_events(&mut self, flow: Option<&mut FlowRun<D>>) {
+    fn flow_events(&mut self, flow: Option<&mut FlowRun<D>>) -> Result<()> {
         if let Some(f) = flow {
             f.after_step(self);
+            f.outflow(self)?;
         }
+        Ok(())
     }
     fn summarize(&mut self, summary: &mut Map<String, Value>, wall_seconds: f64) {
         crate::md::contract::scalars(self, summary, wall_seconds);

@@ -207,7 +207,7 @@ impl<D: Dim, E: MdView<D = D>> Hook<E> for FlowHook<'_, D> {
         }
     }
     fn act(&mut self, engine: &mut E, now: u64) -> Result<Control> {
-        engine.flow_events(self.flow.as_deref_mut());
+        engine.flow_events(self.flow.as_deref_mut())?;
         if self.sample.is_some_and(|s| s.due(now)) {
             if let (Some(md), Some(f)) = (engine.whole()?, self.flow.as_deref_mut()) {
                 f.sample(md);

@@ -54,6 +54,12 @@ pub fn check_device(loaded: &Loaded) -> Result<()> {
              arrays back and upload them grown at every insertion)",
         );
     }
+    if !s.outlets.is_empty() || !s.sensors.is_empty() {
+        return refuse(
+            "[[outlets]]/[[sensors]] (removing grains would need the device's arrays compacted \
+             and its list rebuilt; sensors would read the grains every step)",
+        );
+    }
     let (md, _) = super::build_md::<D3>(loaded)?;
     gpu::check_supported(&md)?;
     Ok(())

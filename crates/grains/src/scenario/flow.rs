@@ -16,6 +16,7 @@ use crate::io::write_atomic;
 use crate::md::Md;
 use crate::measure::{refit_below, surface, Spacetime, SurfaceFit};
 use crate::scenario::inlet::Inlets;
+use crate::scenario::outlet::Outlets;
 use crate::scenario::schema::{EventsSpec, HopperSpec, SurfaceSpec};
 use crate::scenario::Loaded;
 use rand::{Rng, SeedableRng};
@@ -68,6 +69,8 @@ pub struct FlowRun<D: Dim> {
     spacetime: Option<Spacetime>,
     /// `[[inlets]]`: grains arriving during the run.
     inlets: Inlets<D>,
+    /// `[[outlets]]` and `[[sensors]]` (`scenario/outlet.rs`).
+    outlets: Option<Outlets<D>>,
 }
 
 struct Recycler {
@@ -121,7 +124,7 @@ impl<D: Dim> FlowRun<D> {
                 }
             }
         }
-        let hopper = s.hopper.as_ref().map(|h| Recycler {
+        let hopper = s.hopper.as_ref().filter(|h| h.recycle).map(|h| Recycler {
             spec: h.clone(),
             sink: hopper_sink(h, d0),
             rng: Xoshiro256PlusPlus::seed_from_u64(s.seed ^ 0x686f_7070_6572),
@@ -149,6 +152,7 @@ impl<D: Dim> FlowRun<D> {
                 .as_ref()
                 .map(|m| Spacetime::new(&md.view(), m.bin * d0)),
             inlets: Inlets::begin(loaded, md)?,
+            outlets: Outlets::begin(s, md)?,
         })
     }
 
@@ -170,7 +174,22 @@ impl<D: Dim> FlowRun<D> {
             (false, Some(_)) => (now / LOOK_EVERY + 1) * LOOK_EVERY,
             (false, None) => horizon,
         };
-        next.min(horizon).min(self.inlets.next_act(now, horizon))
+        let outlets = self
+            .outlets
+            .as_ref()
+            .map_or(horizon, |o| o.next_due(now, horizon));
+        next.min(horizon)
+            .min(self.inlets.next_act(now, horizon))
+            .min(outlets)
+    }
+
+    /// The outlets and sensors after the step (after [`FlowRun::after_step`]):
+    /// grains counted, grains taken out of `md`.
+    pub fn outflow(&mut self, md: &mut Md<D>) -> Result<()> {
+        match &mut self.outlets {
+            Some(o) => o.after_step(md),
+            None => Ok(()),
+        }
     }
 
     /// Kinetic energy per mobile grain in units of m g d0.
@@ -397,6 +416,9 @@ impl<D: Dim> FlowRun<D> {
         if let Some(h) = &self.hopper {
             h.finish(dir, md.time, summary)?;
         }
+        if let Some(o) = &self.outlets {
+            o.finish(dir, md, summary)?;
+        }
         Ok(())
     }
 }
@@ -416,7 +438,11 @@ fn top_of_pile<D: Dim>(md: &Md<D>) -> f64 {
 /// grain is ever moved. The higher of the two when both are set.
 pub fn sink_height(loaded: &Loaded) -> Option<f64> {
     let s = &loaded.scenario;
-    let hopper = s.hopper.as_ref().map(|h| hopper_sink(h, s.particles.d0));
+    let hopper = s
+        .hopper
+        .as_ref()
+        .filter(|h| h.recycle)
+        .map(|h| hopper_sink(h, s.particles.d0));
     let events = s.run.events.as_ref().and_then(|e| e.sink);
     hopper.into_iter().chain(events).reduce(f64::max)
 }

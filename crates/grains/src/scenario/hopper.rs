@@ -1,6 +1,7 @@
 //! The silo of `[hopper]`: side walls on the domain's faces and a floor
 //! with a centred outlet, added to the scenario's walls before the engine
-//! is built (the runner's flow events recycle the grains that leave).
+//! is built (the runner's flow events recycle the grains that leave, or
+//! an outlet takes them out); with `gate`, a wall closing the orifice.
 
 use super::schema::{Dimension, HopperSpec, MotionSpec, ShapeSpec, WallSpec};
 use super::{Loaded, Scenario};
@@ -12,6 +13,12 @@ pub fn expand(loaded: &Loaded) -> Result<Cow<'_, Loaded>> {
     let Some(h) = &loaded.scenario.hopper else {
         return Ok(Cow::Borrowed(loaded));
     };
+    if !h.recycle && loaded.scenario.outlets.is_empty() {
+        return Err(Error::input(
+            "hopper.recycle = false: the discharged grains must leave the run; add an \
+             [[outlets]] entry below the orifice (e.g. plane = { point, normal } pointing down)",
+        ));
+    }
     let mut out = loaded.clone();
     out.scenario
         .walls
@@ -52,7 +59,7 @@ fn hopper_walls(s: &Scenario, h: &HopperSpec) -> Result<Vec<WallSpec>> {
         point: p,
         normal: n,
     };
-    Ok(match s.dimension {
+    let mut walls = match s.dimension {
         Dimension::Two => vec![
             wall("silo-left", plane(vec![lo[0], f], vec![1.0, 0.0])),
             wall("silo-right", plane(vec![hi[0], f], vec![-1.0, 0.0])),
@@ -129,5 +136,30 @@ fn hopper_walls(s: &Scenario, h: &HopperSpec) -> Result<Vec<WallSpec>> {
                 ),
             ]
         }
-    })
+    };
+    if h.gate {
+        // The gate's edges are seams: the floor's rim edges carry a grain
+        // there, so none is pushed twice by the closed orifice.
+        walls.push(match s.dimension {
+            Dimension::Two => wall(
+                "gate",
+                ShapeSpec::Segment {
+                    a: vec![a, f],
+                    b: vec![b, f],
+                },
+            ),
+            Dimension::Three => {
+                let yc = 0.5 * (lo[1] + hi[1]);
+                let (c, e) = (yc - 0.5 * d, yc + 0.5 * d);
+                wall(
+                    "gate",
+                    ShapeSpec::Polygon {
+                        vertices: vec![vec![a, c, f], vec![b, c, f], vec![b, e, f], vec![a, e, f]],
+                        seams: vec![0, 1, 2, 3],
+                    },
+                )
+            }
+        });
+    }
+    Ok(walls)
 }

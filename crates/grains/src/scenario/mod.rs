@@ -11,6 +11,7 @@ pub mod law_report;
 pub mod materials;
 pub mod memory;
 mod mesh_wall;
+pub mod outlet;
 pub mod overrides;
 pub mod placement;
 pub mod resolve;

@@ -27,6 +27,8 @@ const FIXED: &[&str] = &[
     "particles",
     "hopper",
     "dsmc",
+    "outlets",
+    "sensors",
 ];
 /// Keys under `run` that may not change.
 const FIXED_RUN: &[&str] = &["integrator", "skin", "device"];

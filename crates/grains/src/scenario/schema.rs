@@ -9,6 +9,7 @@ mod fields;
 mod flow;
 mod inlet;
 mod measure;
+mod outlet;
 mod run;
 mod size;
 mod walls;
@@ -21,6 +22,7 @@ pub use measure::{
     ConvectionSpec, FlowFieldSpec, MeasureSpec, PhasesSpec, ProfilesSpec, SpacetimeSpec,
     SurfaceSpec, TracerSpec, TrajectoriesSpec,
 };
+pub use outlet::{BoxSpec, CylinderSpec, OutflowSpec, OutletSpec, PlaneSpec, SensorSpec};
 pub use run::{Device, FramesLayout, OutputSpec, RunSpec, TimeStep};
 pub use size::{SizeDistribution, SizeSpec, SizeWeight};
 pub use walls::{MotionSpec, ShapeSpec, WallSpec};
@@ -72,6 +74,15 @@ pub struct Scenario {
     /// Grains arriving during an MD run (`scenario/inlet.rs`).
     #[serde(default)]
     pub inlets: Vec<InletSpec>,
+    /// Regions and planes that take grains out of the run (`scenario/outlet.rs`).
+    #[serde(default)]
+    pub outlets: Vec<OutletSpec>,
+    /// Planes that count the grains crossing them.
+    #[serde(default)]
+    pub sensors: Vec<SensorSpec>,
+    /// Size classes of outflow.csv and the steady-discharge judgement.
+    #[serde(default)]
+    pub outflow: OutflowSpec,
     /// How a distributed (MPI) MD run splits the box over its ranks.
     #[serde(default)]
     pub parallel: crate::settings::ParallelSpec,

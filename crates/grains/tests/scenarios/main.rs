@@ -1,4 +1,5 @@
-//! The shipped flow scenarios: hopper, repose, mesh discharge, `check`,
+//! The shipped flow scenarios: hopper, repose, mesh discharge, the silo
+//! emptied through an outlet, `check`,
 //! and the engine each is run on.
 //!
 //! One test binary per topic, so that `cargo test` links a few binaries
@@ -16,4 +17,5 @@ mod repose;
 mod servo;
 mod shear;
 mod shipped_check;
+mod silo;
 mod size_distributions;

@@ -6,7 +6,7 @@ use grains::runner::check;
 use grains::scenario::load_file;
 use std::path::PathBuf;
 
-const SCENARIOS: [&str; 13] = [
+const SCENARIOS: [&str; 15] = [
     "repose-2d",
     "repose-3d",
     "repose-3d-sand",
@@ -20,6 +20,8 @@ const SCENARIOS: [&str; 13] = [
     "segregation-3d",
     "pour-3d-psd",
     "pour-inlet-3d",
+    "silo-2d",
+    "silo-3d-glass",
 ];
 
 fn path(name: &str) -> PathBuf {

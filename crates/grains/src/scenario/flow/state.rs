@@ -51,8 +51,8 @@ fn same_parts(what: &str, saved: bool, here: bool) -> DecResult<()> {
 impl<D: Dim> FlowRun<D> {
     /// The whole state (the scenario's keys aside, which the checkpoint
     /// carries): stage, gravity before and after the tilt, counters, the
-    /// recycler's generator and exits, the drum's angles and the
-    /// space–time rows.
+    /// recycler's generator and exits, the drum's angles, the
+    /// space–time rows and the outlets' and sensors' counts.
     pub fn save(&self) -> Vec<u8> {
         let mut e = Enc::default();
         match self.stage {
@@ -102,6 +102,10 @@ impl<D: Dim> FlowRun<D> {
             s.save(&mut e);
         }
         self.inlets.save(&mut e);
+        e.bool(self.outlets.is_some());
+        if let Some(o) = &self.outlets {
+            o.save(&mut e);
+        }
         e.buf
     }
 
@@ -157,6 +161,11 @@ impl<D: Dim> FlowRun<D> {
             s.load(&mut d)?;
         }
         self.inlets.load(&mut d)?;
+        let outlets = d.bool("outlets")?;
+        same_parts("[[outlets]]/[[sensors]]", outlets, self.outlets.is_some())?;
+        if let Some(o) = &mut self.outlets {
+            o.load(&mut d)?;
+        }
         if d.remaining() != 0 {
             return Err(format!(
                 "{} unexpected bytes after the flow state",
@@ -169,7 +178,8 @@ impl<D: Dim> FlowRun<D> {
     /// What the flow run has changed in the engine, put into `md`: the
     /// grains the inlets inserted, the gravity of the tilt and the removal
     /// time of the removed wall (set when settling ended), as
-    /// [`FlowRun::after_step`] set them.
+    /// [`FlowRun::after_step`] set them, and the grains the outlets took
+    /// out (so that the engine's state, which lacks them, fits).
     fn apply(&self, md: &mut Md<D>) -> Result<()> {
         self.inlets.apply(md)?;
         if let Some(g) = self.gravity {
@@ -180,6 +190,9 @@ impl<D: Dim> FlowRun<D> {
             for w in md.walls.iter_mut().filter(|w| &w.name == name) {
                 w.remove_at = Some(t);
             }
+        }
+        if let Some(o) = &self.outlets {
+            md.remove_grains(&o.removed_ids())?;
         }
         Ok(())
     }
@@ -203,7 +216,12 @@ impl<D: Dim> FlowRun<D> {
             // A Python session's checkpoint has no flow section: its
             // scenario has no events, and its flow measurements begin here.
             let s = &loaded.scenario;
-            if s.hopper.is_some() || s.run.events.is_some() || !s.inlets.is_empty() {
+            if s.hopper.is_some()
+                || s.run.events.is_some()
+                || !s.outlets.is_empty()
+                || !s.sensors.is_empty()
+                || !s.inlets.is_empty()
+            {
                 return Err(Error::input(format!(
                     "checkpoint {origin}: an MD state without its flow state"
                 )));
@@ -212,7 +230,8 @@ impl<D: Dim> FlowRun<D> {
         };
         flow.load(bytes)
             .map_err(|e| Error::input(format!("checkpoint {origin}: {e}")))?;
-        flow.apply(md)?;
+        flow.apply(md)
+            .map_err(|e| Error::input(format!("checkpoint {origin}: {e}")))?;
         Ok(flow)
     }
 }

@@ -46,7 +46,7 @@ fn default_fail_energy() -> f64 {
 /// (the floor with a centred outlet). 2D: a slot of width `outlet`; 3D: a
 /// square orifice of side `outlet`. Grains that leave through the outlet and
 /// fall below `sink` are put back at the top (recycled), so discharge is
-/// steady.
+/// steady; or, with `recycle = false`, an outlet takes them out.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct HopperSpec {
@@ -63,4 +63,12 @@ pub struct HopperSpec {
     /// Discharge before the flow rate is measured (s); default 0.
     #[serde(default)]
     pub transient: f64,
+    /// Whether grains below `sink` go back to the top (default true). With
+    /// false an `[[outlets]]` entry must take them out of the run.
+    #[serde(default = "super::yes")]
+    pub recycle: bool,
+    /// A wall named "gate" closing the orifice (default false), for
+    /// `run.events.remove_wall = "gate"` to open once the fill has settled.
+    #[serde(default)]
+    pub gate: bool,
 }
