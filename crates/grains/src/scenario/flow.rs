@@ -417,7 +417,7 @@ impl<D: Dim> FlowRun<D> {
             h.finish(dir, md.time, summary)?;
         }
         if let Some(o) = &self.outlets {
-            o.finish(dir, md, summary)?;
+            o.finish(dir, md, self.inlets.inserted(), summary)?;
         }
         Ok(())
     }

@@ -463,6 +463,14 @@ impl<D: Dim> Inlets<D> {
         self.seconds += clock.elapsed().as_secs_f64();
     }
 
+    /// Grains the inlets have inserted and their mass, summed inlet by
+    /// inlet (the mass balance's supply).
+    pub fn inserted(&self) -> (u64, f64) {
+        (self.list.iter()).fold((0, 0.0), |(n, m), inlet| {
+            (n + inlet.inserted, m + inlet.mass)
+        })
+    }
+
     /// Wall time spent in [`Inlets::act`] (s) and the acts that inserted
     /// grains.
     pub fn cost(&self) -> (f64, u64) {

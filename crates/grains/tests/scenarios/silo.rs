@@ -4,7 +4,7 @@
 //!
 //! What is checked, each against something the code under test does not
 //! compute: the mass balance (initial = present + removed, integers and
-//! the same f64 sums); the outlet removes exactly the grains whose centres
+//! the same f64 sums; with an inlet feeding the silo, initial + inserted); the outlet removes exactly the grains whose centres
 //! a scan of the frames finds beyond its plane; the sensor's crossings
 //! equal those counted from the frames; the same bytes on 1 and 2 threads
 //! and after a resume mid-discharge; and a removal changes nothing of the
@@ -111,6 +111,39 @@ fn silo_mass_balance_is_exact_over_fill_and_discharge() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Fed and emptied at once: an inlet pours grains into the open silo
+/// while the outlet takes them out below. Every grain is accounted for by
+/// count (the inlets' own counters against the grains present and
+/// removed), and the masses agree to the rounding of their sums.
+#[test]
+fn silo_fed_by_an_inlet_balances_inserted_against_present_and_removed() {
+    let dir = scratch("fed");
+    let inlet = "inlets=[{region={shape=\"box\",lo=[0.002,0.024],hi=[0.028,0.034]},\
+                 rate=4000.0,stop=0.1,velocity=[0.0,-0.2]}]";
+    let loaded = silo(&[
+        "hopper.gate=false",
+        "run.events.remove_wall=\"\"",
+        "run.duration=0.2",
+        inlet,
+    ]);
+    let s = run(&loaded, &opts(&dir), &mut Silent).unwrap();
+    let b = &s["mass_balance"];
+    let n = |k: &str| b[k].as_u64().unwrap();
+    // 4000 grains/s for 0.1 s: floor(rate t) = 400, none short.
+    let fed = &s["inlets"][0];
+    assert_eq!(fed["inserted"], 400, "{fed}");
+    assert_eq!(fed["not_inserted"], 0, "{fed}");
+    assert_eq!(n("initial_grains"), 150);
+    assert_eq!(n("inserted_grains"), 400, "{b}");
+    assert_eq!(n("present_grains") + n("removed_grains"), 550, "{b}");
+    assert!(n("removed_grains") >= 50, "the silo discharged: {b}");
+    assert_eq!(b["exact"], true, "{b}");
+    let supplied = b["initial_mass"].as_f64().unwrap() + fed["mass"].as_f64().unwrap();
+    let gap = b["accounted_mass"].as_f64().unwrap() - supplied;
+    assert!(gap.abs() <= 1e-12 * supplied, "{b}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Steps the small silo by hand (gate open from the start): after each
 /// step a scan of the frame finds the grains beyond the outlet's plane
 /// (y < -5 mm) and the grains whose centre crossed the sensor's line
@@ -167,7 +200,7 @@ fn outlet_and_sensor_agree_with_a_scan_of_the_frames() {
     let dir = scratch("scan");
     std::fs::create_dir_all(&dir).unwrap();
     let mut s = Map::new();
-    outlets.finish(&dir, &md, &mut s).unwrap();
+    outlets.finish(&dir, &md, (0, 0.0), &mut s).unwrap();
     let o = &s["sensors"]["orifice"];
     assert_eq!(o["crossings_forward"], forward, "{o}");
     assert_eq!(o["crossings_back"], back, "{o}");
