@@ -8,6 +8,7 @@
 mod common;
 
 mod choose;
+mod chute;
 mod hopper;
 mod mesh_discharge;
 mod repose;
