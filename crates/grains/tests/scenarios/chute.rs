@@ -44,7 +44,9 @@ fn column(dir: &std::path::Path, name: &str) -> Vec<f64> {
 /// - σ_zz against the weight above, g_z times the trapezoid integral of the
 ///   coarse-grained density from z up, within 3 % over the lower half of
 ///   the layer (measured 1.5 %); towards the surface the stress falls up to
-///   4.5 % short of the weight, σ_xz by as much (docs/fields.md, "A chute");
+///   4.5 % short of the weight, σ_xz by as much (docs/fields.md, "A chute").
+///   The ratio alone misses a contact stress scaled as a whole (a halved
+///   branch vector moves it by 1.8 %, the weight by 50 %);
 /// - Bagnold's u(z) = u_s + A (h^{3/2} − (h − z)^{3/2}), h the height of the
 ///   free surface (ν at half its bulk value) above the base, u_s the slip
 ///   over the base, fitted by least squares: its relative RMS residual
