@@ -9,6 +9,7 @@
 mod common;
 
 mod choose;
+mod chute;
 mod hopper;
 mod inlet_sizes;
 mod inlets;
