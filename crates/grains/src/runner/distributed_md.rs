@@ -58,8 +58,7 @@ pub fn run<D: Dim>(
     progress: &mut dyn Progress,
     comm: &dyn Comm,
 ) -> Result<Value> {
-    crate::scenario::inlet::refuse_ranks(loaded)?;
-    crate::scenario::outlet::refuse_under_mpirun(&loaded.scenario)?;
+    crate::scenario::flow::refuse_ranks(loaded)?;
     let root = comm.rank() == 0;
     if root {
         prepare_fresh(opts)?;
@@ -95,8 +94,7 @@ pub(super) fn resume<D: Dim>(
     comm: &dyn Comm,
 ) -> Result<Value> {
     let loaded = found.loaded();
-    crate::scenario::inlet::refuse_ranks(loaded)?;
-    crate::scenario::outlet::refuse_under_mpirun(&loaded.scenario)?;
+    crate::scenario::flow::refuse_ranks(loaded)?;
     let r = found.restore::<D>(steps)?;
     let root = comm.rank() == 0;
     let (mirror, outputs) = match root {

@@ -423,6 +423,13 @@ impl<D: Dim> FlowRun<D> {
     }
 }
 
+/// What a flow run does on one process only, refused by name under
+/// mpirun: inlets and outlets add and remove grains, sensors read them.
+pub fn refuse_ranks(loaded: &Loaded) -> Result<()> {
+    crate::scenario::inlet::refuse_ranks(loaded)?;
+    crate::scenario::outlet::refuse_under_mpirun(&loaded.scenario)
+}
+
 /// Highest grain top among the mobile grains.
 fn top_of_pile<D: Dim>(md: &Md<D>) -> f64 {
     let p = &md.particles;
