@@ -1,6 +1,7 @@
 //! Small builders shared by the physics tests.
 #![allow(dead_code)]
 
+pub mod normal;
 pub mod runs;
 pub mod vtk;
 

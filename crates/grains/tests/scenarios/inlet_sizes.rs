@@ -6,6 +6,7 @@
 //! asymptotic quantile, Smirnov 1948 table). Discrete classes by Pearson's
 //! chi-square at 1 % (2 degrees of freedom: 9.210).
 
+use crate::common::normal::phi_cdf;
 use grains::dim::D3;
 use grains::scenario::flow::FlowRun;
 use grains::scenario::{build_md, load_str};
@@ -69,25 +70,6 @@ fn passes_ks(what: &str, d: Vec<f64>, f: impl Fn(f64) -> f64) {
     );
 }
 
-/// erf by Abramowitz & Stegun 7.1.26 (|error| ≤ 1.5e-7).
-fn erf(x: f64) -> f64 {
-    let t = 1.0 / (1.0 + 0.327_591_1 * x.abs());
-    let poly = t
-        * (0.254_829_592
-            + t * (-0.284_496_736
-                + t * (1.421_413_741 + t * (-1.453_152_027 + t * 1.061_405_429))));
-    let y = 1.0 - poly * (-x * x).exp();
-    if x >= 0.0 {
-        y
-    } else {
-        -y
-    }
-}
-
-fn phi(x: f64) -> f64 {
-    0.5 * (1.0 + erf(x / std::f64::consts::SQRT_2))
-}
-
 /// The CDF of the density `w` (unnormalised) on [a, b]: the trapezoid
 /// rule on 2·10^5 cells (its error, a few 1e-10 on smooth densities and
 /// h·jump at a sieve's kinks, is far below the KS threshold 0.016).
@@ -133,7 +115,7 @@ fn normal_by_number_and_by_mass() {
              min = {a:e}, max = {b:e} }}"
         )
     };
-    let z = |x: f64| phi((x - m) / s);
+    let z = |x: f64| phi_cdf((x - m) / s);
     passes_ks("normal by number", drawn(&spec("number")), |x| {
         (z(x) - z(a)) / (z(b) - z(a))
     });
@@ -154,7 +136,7 @@ fn truncated_lognormal_by_number_and_by_mass() {
              min = {a:e}, max = {b:e} }}"
         )
     };
-    let z = |x: f64| phi((x.ln() - mu) / sigma);
+    let z = |x: f64| phi_cdf((x.ln() - mu) / sigma);
     passes_ks("lognormal by number", drawn(&spec("number")), |x| {
         (z(x) - z(a)) / (z(b) - z(a))
     });

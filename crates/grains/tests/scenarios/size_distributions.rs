@@ -8,6 +8,7 @@
 //! fraction counted (binomial), and the delta method for the ratios that
 //! weight by mass (Σ X / Σ Y: Var(X − R Y) / (N E[Y]²)).
 
+use crate::common::normal::phi_cdf;
 use grains::dim::D3;
 use grains::particles::MassModel;
 use grains::scenario::schema::SizeSpec;
@@ -16,26 +17,6 @@ use grains::scenario::{build_md, load_str, Loaded};
 use std::path::{Path, PathBuf};
 
 const N: usize = 40_000;
-
-/// erf by Abramowitz & Stegun 7.1.26 (|error| ≤ 1.5e-7), for the closed
-/// forms only.
-fn erf(x: f64) -> f64 {
-    let t = 1.0 / (1.0 + 0.327_591_1 * x.abs());
-    let poly = t
-        * (0.254_829_592
-            + t * (-0.284_496_736
-                + t * (1.421_413_741 + t * (-1.453_152_027 + t * 1.061_405_429))));
-    let y = 1.0 - poly * (-x * x).exp();
-    if x >= 0.0 {
-        y
-    } else {
-        -y
-    }
-}
-
-fn phi_cdf(x: f64) -> f64 {
-    0.5 * (1.0 + erf(x / std::f64::consts::SQRT_2))
-}
 
 fn phi_pdf(x: f64) -> f64 {
     (-0.5 * x * x).exp() / (2.0 * std::f64::consts::PI).sqrt()
