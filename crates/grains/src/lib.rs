@@ -24,6 +24,7 @@ pub mod output;
 pub mod parallel;
 pub mod particles;
 pub mod render;
+pub mod rigid;
 pub mod run_dir;
 pub mod runner;
 pub mod scenario;

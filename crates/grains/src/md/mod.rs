@@ -17,6 +17,7 @@
 
 pub mod barostat;
 mod carry;
+mod clumps;
 pub mod codec;
 pub mod contact_list;
 pub mod contract;
