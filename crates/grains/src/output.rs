@@ -266,8 +266,8 @@ impl Outputs {
         let row = [
             md.step as f64,
             md.time,
-            md.particles.kinetic_energy(),
-            md.particles.rotational_energy(),
+            md.kinetic_energy(),
+            md.rotational_energy(),
             granular_temperature(&md.particles),
             md.stats.contacts as f64,
             md.stats.max_overlap,
@@ -386,11 +386,11 @@ pub fn md_summary<D: Dim>(
     );
     summary.insert(
         "kinetic_energy".into(),
-        json!(md.particles.kinetic_energy()),
+        json!(md.kinetic_energy()),
     );
     summary.insert(
         "rotational_energy".into(),
-        json!(md.particles.rotational_energy()),
+        json!(md.rotational_energy()),
     );
     summary.insert(
         "granular_temperature".into(),
