@@ -269,22 +269,24 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
         0 => Ok(None),
         _ => d.u64(what).map(Some),
     };
-    let mut next = word(d, "shear turns or servo tag")?;
-    if let Some(turns) = next.filter(|&w| w != SERVO_TAG) {
+    // A section's tag, as an f64 a NaN: never a shear's turns or length.
+    let untagged = |w: &u64| ![SERVO_TAG, BODY_TAG].contains(w);
+    let mut next = word(d, "shear turns or section tag")?;
+    if let Some(turns) = next.filter(untagged) {
         list.shear = Some([
             f64::from_bits(turns),
             d.f64("shear offset at build")?,
             d.f64("shear offset")?,
         ]);
         // A fixed-pressure box's length is finite, never the tag's NaN.
-        next = word(d, "fixed-pressure box length or servo tag")?;
-        if let Some(length) = next.filter(|&w| w != SERVO_TAG) {
+        next = word(d, "fixed-pressure box length or section tag")?;
+        if let Some(length) = next.filter(untagged) {
             pressure_box = Some([
                 f64::from_bits(length),
                 d.f64("fixed-pressure box slide time")?,
                 d.f64("fixed-pressure box slide offset")?,
             ]);
-            next = word(d, "servo tag")?;
+            next = word(d, "section tag")?;
         }
     }
     // Then tagged sections, each at most once and in this order.
