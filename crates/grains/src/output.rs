@@ -384,14 +384,8 @@ pub fn md_summary<D: Dim>(
         "ns_per_particle_step".into(),
         json!(1e9 * wall_seconds / updates),
     );
-    summary.insert(
-        "kinetic_energy".into(),
-        json!(md.kinetic_energy()),
-    );
-    summary.insert(
-        "rotational_energy".into(),
-        json!(md.rotational_energy()),
-    );
+    summary.insert("kinetic_energy".into(), json!(md.kinetic_energy()));
+    summary.insert("rotational_energy".into(), json!(md.rotational_energy()));
     summary.insert(
         "granular_temperature".into(),
         json!(granular_temperature(&md.particles)),

@@ -53,12 +53,7 @@ fn ang<D: Dim>(a: D::A) -> DVec3 {
 /// A shape in 3D terms, checked: positive mass and moments (in 2D the z
 /// moment, the in-plane ones set to 0 so that bodies turn about z only).
 fn body_shape<D: Dim>(s: Shape<D>) -> Result<BodyShape> {
-    let bad = |what: String| {
-        Err(Error::input(format!(
-            "[[shapes]] \"{}\": {what}",
-            s.name
-        )))
-    };
+    let bad = |what: String| Err(Error::input(format!("[[shapes]] \"{}\": {what}", s.name)));
     if s.spheres.is_empty() {
         return bad("has no spheres".into());
     }
@@ -67,7 +62,11 @@ fn body_shape<D: Dim>(s: Shape<D>) -> Result<BodyShape> {
     } else {
         s.inertia
     };
-    let moments = if D::D == 2 { &inertia[2..] } else { &inertia[..] };
+    let moments = if D::D == 2 {
+        &inertia[2..]
+    } else {
+        &inertia[..]
+    };
     if !(s.mass.is_finite() && s.mass > 0.0) || moments.iter().any(|m| !(m.is_finite() && *m > 0.0))
     {
         return bad(format!(
@@ -110,7 +109,7 @@ fn check_bodies<D: Dim>(
         }
         let q = spec.orientation;
         let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
-        if !((norm - 1.0).abs() < 1e-6) {
+        if norm.is_nan() || (norm - 1.0).abs() >= 1e-6 {
             return bad(format!(
                 "orientation {q:?} is not a unit quaternion (w, x, y, z)"
             ));
@@ -172,7 +171,8 @@ impl<D: Dim> Md<D> {
             for (s, &radius) in shape.radii.iter().enumerate() {
                 let m = shape.mass * radius.powi(3) / volume;
                 let inertia = 0.4 * m * radius * radius;
-                let mut g = ParticleRecord::<D>::new(next_id + s as u64, spec.pos, radius, m, inertia);
+                let mut g =
+                    ParticleRecord::<D>::new(next_id + s as u64, spec.pos, radius, m, inertia);
                 g.kind = spec.kind;
                 clumps.by_id.insert(g.id, (b, s as u32));
                 self.particles.push_record(g);

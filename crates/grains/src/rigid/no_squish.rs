@@ -109,7 +109,11 @@ pub fn omega(q: Quat, l: DVec3, inertia: [f64; 3]) -> DVec3 {
     let r = matrix(q);
     let lb = r.transpose() * l;
     let inv = |m: f64| if m > 0.0 { 1.0 / m } else { 0.0 };
-    r * DVec3::new(lb.x * inv(inertia[0]), lb.y * inv(inertia[1]), lb.z * inv(inertia[2]))
+    r * DVec3::new(
+        lb.x * inv(inertia[0]),
+        lb.y * inv(inertia[1]),
+        lb.z * inv(inertia[2]),
+    )
 }
 
 /// Rotational kinetic energy ½ Σ L_b,k² / I_k.

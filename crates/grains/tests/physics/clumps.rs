@@ -31,7 +31,10 @@ fn sphere_mass() -> f64 {
 /// The dimer along body axis `axis` (0: x, 2: z).
 fn dimer(axis: usize) -> Shape<D3> {
     let ms = sphere_mass();
-    let (along, perp) = (2.0 * 0.4 * ms * R * R, 2.0 * (0.4 * ms * R * R + ms * R * R));
+    let (along, perp) = (
+        2.0 * 0.4 * ms * R * R,
+        2.0 * (0.4 * ms * R * R + ms * R * R),
+    );
     let mut inertia = [perp; 3];
     inertia[axis] = along;
     let c = DVec3::from_array(std::array::from_fn(|a| if a == axis { R } else { 0.0 }));
@@ -155,7 +158,12 @@ fn dimer_precesses_at_the_euler_rate_through_the_engine() {
     let w = b.omega(0);
     for (k, sign) in [(0usize, 1.0), (1, -1.0)] {
         let arm = r * DVec3::new(0.0, 0.0, sign * R);
-        let i = md.particles.id.iter().position(|&id| id == 1 + k as u64).unwrap();
+        let i = md
+            .particles
+            .id
+            .iter()
+            .position(|&id| id == 1 + k as u64)
+            .unwrap();
         assert!((md.particles.pos[i] - (body.pos + arm)).length() < 1e-15);
         let v = body.vel + w.cross(arm);
         assert!((md.particles.vel[i] - v).length() < 1e-12 * v.length());
@@ -222,9 +230,18 @@ fn a_flat_dimer_bounces_without_turning() {
     let m = dimer(0).mass;
     let (v, w, _) = bounce(0.0, v0, kn, gamma_n);
     let e = restitution(2.0 * kn, 2.0 * gamma_n * m, m);
-    eprintln!("flat dimer: v_z = {:.6e} (e v0 = {:.6e}), |ω| = {:e}", v.z, e * v0, w.length());
+    eprintln!(
+        "flat dimer: v_z = {:.6e} (e v0 = {:.6e}), |ω| = {:e}",
+        v.z,
+        e * v0,
+        w.length()
+    );
     assert!(w.length() < 1e-9, "no spin: {w}");
-    assert!((v.z / (e * v0) - 1.0).abs() < 1e-3, "e {} against {e}", v.z / v0);
+    assert!(
+        (v.z / (e * v0) - 1.0).abs() < 1e-3,
+        "e {} against {e}",
+        v.z / v0
+    );
     assert!(v.x.abs() < 1e-12 && v.y.abs() < 1e-12);
 }
 
@@ -261,8 +278,17 @@ fn a_tilted_dimer_leaves_with_the_spin_of_its_impulse() {
          Δθ {turned:.2e}, tol {tol:.1e}",
         v.z, w.y, want_w.y
     );
-    assert!((v.z / want_v - 1.0).abs() < tol, "v_z {} against {want_v}", v.z);
-    assert!((w.y / want_w.y - 1.0).abs() < tol, "ω_y {} against {}", w.y, want_w.y);
+    assert!(
+        (v.z / want_v - 1.0).abs() < tol,
+        "v_z {} against {want_v}",
+        v.z
+    );
+    assert!(
+        (w.y / want_w.y - 1.0).abs() < tol,
+        "ω_y {} against {}",
+        w.y,
+        want_w.y
+    );
     assert!(w.x.abs() < 1e-9 * w.y.abs() && w.z.abs() < 1e-9 * w.y.abs());
 }
 
@@ -294,7 +320,12 @@ fn pile(threads: usize, steps: u64, resume: Option<u64>) -> (Vec<u8>, Md<D3>) {
                     0.0021 + 0.0006 * (k % 3) as f64,
                 );
                 let q = turn(DVec3::new(1.0, k as f64, 0.5).normalize(), 0.3 * k as f64);
-                spec(x, q, DVec3::new(0.0, 0.0, -0.5), DVec3::new(5.0, -3.0, k as f64))
+                spec(
+                    x,
+                    q,
+                    DVec3::new(0.0, 0.0, -0.5),
+                    DVec3::new(5.0, -3.0, k as f64),
+                )
             })
             .collect();
         md.add_bodies(vec![dimer(0)], bodies).unwrap();
@@ -336,10 +367,17 @@ fn clumps_give_the_same_bits_on_any_threads_and_through_a_checkpoint() {
     let (two, _) = pile(2, steps, None);
     let (resumed, _) = pile(1, steps, Some(2500));
     let e = md.kinetic_energy() + md.rotational_energy();
-    eprintln!("pile: {} contacts, kinetic energy {e:e} J", md.stats.contacts);
+    eprintln!(
+        "pile: {} contacts, kinetic energy {e:e} J",
+        md.stats.contacts
+    );
     assert!(one == two, "1 and 2 threads differ");
     assert!(one == resumed, "the resumed run differs");
-    assert!(md.stats.contacts > 8, "the pile touches: {}", md.stats.contacts);
+    assert!(
+        md.stats.contacts > 8,
+        "the pile touches: {}",
+        md.stats.contacts
+    );
     let ties = md.grain_bodies().unwrap();
     let list = md.export_state().unwrap().list;
     for [i, j] in list.pairs {
@@ -357,7 +395,10 @@ fn gear5_with_clumps_is_refused_by_name() {
     let body = spec(DVec3::ZERO, [1.0, 0.0, 0.0, 0.0], DVec3::ZERO, DVec3::ZERO);
     let err = md.add_bodies(vec![dimer(0)], vec![body]).unwrap_err();
     let msg = err.to_string();
-    assert!(msg.contains("run.integrator") && msg.contains("verlet"), "{msg}");
+    assert!(
+        msg.contains("run.integrator") && msg.contains("verlet"),
+        "{msg}"
+    );
 }
 
 /// A symmetric top (I1 = I2 ≠ I3) in free rotation: in the body frame
