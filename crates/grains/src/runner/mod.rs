@@ -26,7 +26,7 @@ pub use options::{prepare, prepare_fresh, Progress, RunOptions, Silent};
 use crate::dim::Dim;
 use crate::dsmc::collide::GasDim;
 use crate::error::Result;
-use crate::scenario::{build_md, Loaded};
+use crate::scenario::{build_md_parts, Loaded};
 use choose::{choose, Runs};
 use serde_json::Value;
 
@@ -38,9 +38,15 @@ pub fn check(loaded: &Loaded) -> Result<Value> {
         type Out = Result<Value>;
         fn md<D: Dim>(self) -> Result<Value> {
             let loaded = &*crate::scenario::hopper::expand(self.0)?;
-            let (md, r) = build_md::<D>(loaded)?;
+            // The bodies are checked and placed, not yet added: what the
+            // engine holds of them is the engine's to check when run.
+            let (md, r, clumps) = build_md_parts::<D>(loaded, &mut |_| {})?;
             crate::scenario::flow::FlowRun::begin(loaded, &md)?;
-            crate::scenario::law_report::md_report(loaded, &md, &r)
+            let mut v = crate::scenario::law_report::md_report(loaded, &md, &r)?;
+            if !clumps.shapes.is_empty() {
+                v["clumps"] = clumps.report(&loaded.scenario);
+            }
+            Ok(v)
         }
         fn gas<D: GasDim>(self) -> Result<Value> {
             let (sim, plan) = dsmc::build::<D>(self.0)?;
