@@ -26,7 +26,7 @@ pub use options::{prepare, prepare_fresh, Progress, RunOptions, Silent};
 use crate::dim::Dim;
 use crate::dsmc::collide::GasDim;
 use crate::error::Result;
-use crate::scenario::{build_md_parts, Loaded};
+use crate::scenario::Loaded;
 use choose::{choose, Runs};
 use serde_json::Value;
 
@@ -37,16 +37,7 @@ pub fn check(loaded: &Loaded) -> Result<Value> {
     impl Runs for Check<'_> {
         type Out = Result<Value>;
         fn md<D: Dim>(self) -> Result<Value> {
-            let loaded = &*crate::scenario::hopper::expand(self.0)?;
-            // The bodies are checked and placed, not yet added: what the
-            // engine holds of them is the engine's to check when run.
-            let (md, r, clumps) = build_md_parts::<D>(loaded, &mut |_| {})?;
-            crate::scenario::flow::FlowRun::begin(loaded, &md)?;
-            let mut v = crate::scenario::law_report::md_report(loaded, &md, &r)?;
-            if !clumps.shapes.is_empty() {
-                v["clumps"] = clumps.report(&loaded.scenario);
-            }
-            Ok(v)
+            crate::scenario::law_report::md_check::<D>(&*crate::scenario::hopper::expand(self.0)?)
         }
         fn gas<D: GasDim>(self) -> Result<Value> {
             let (sim, plan) = dsmc::build::<D>(self.0)?;

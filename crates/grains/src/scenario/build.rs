@@ -5,6 +5,7 @@ use super::placement;
 use super::resolve::{resolve, Resolved};
 use super::schema::{FileFormat, MotionSpec, Placement, Scenario, ShapeSpec, WallSpec};
 use super::clumps::Clumps;
+pub use super::keys::{angular, vector};
 use super::sizes::SizeLaw;
 use super::Loaded;
 use crate::boundary::{Motion, Shape, Wall};
@@ -19,46 +20,6 @@ use crate::particles::{MassModel, ParticleRecord, Particles, SizeBand};
 
 /// Largest initial overlap accepted, as a fraction of the smaller radius.
 pub const INITIAL_OVERLAP_TOLERANCE: f64 = 0.05;
-
-/// Reads a vector of `D::D` numbers from the scenario key `key`.
-pub fn vector<D: Dim>(key: &str, v: &[f64]) -> Result<D::V> {
-    if v.len() != D::D {
-        return Err(Error::input(format!(
-            "{key} has {} components; a {} scenario needs {}",
-            v.len(),
-            D::NAME,
-            D::D
-        )));
-    }
-    if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-        return Err(Error::input(format!("{key} contains {x}: must be finite")));
-    }
-    let mut out = D::zero();
-    for (a, x) in v.iter().enumerate() {
-        D::set(&mut out, a, *x);
-    }
-    Ok(out)
-}
-
-/// Reads an angular velocity from the scenario key `key`: three numbers
-/// in 3D, one (about z) in 2D.
-pub fn angular<D: Dim>(key: &str, v: &[f64]) -> Result<D::A> {
-    let want = if D::D == 2 { 1 } else { 3 };
-    if v.len() != want {
-        return Err(Error::input(format!(
-            "{key} has {} components; an angular velocity in {} has {want}",
-            v.len(),
-            D::NAME
-        )));
-    }
-    let mut xyz = [0.0; 3];
-    if D::D == 2 {
-        xyz[2] = v[0];
-    } else {
-        xyz.copy_from_slice(v);
-    }
-    Ok(D::ang_from_xyz(xyz))
-}
 
 fn domain<D: Dim>(s: &Scenario) -> Result<Domain<D>> {
     let lo = vector::<D>("domain.lo", &s.domain.lo)?;
@@ -488,7 +449,7 @@ fn build_md_inner<D: Dim>(
         .map(|(k, w)| wall::<D>(k, w, &dom, loaded))
         .collect::<Result<Vec<_>>>()?;
     let walls = super::resolve::elastic_walls(&s.contact.elastic_walls, walls)?;
-    let clumps = super::clumps::bodies::<D>(loaded, &dom, &walls, &particles)?;
+    let clumps = super::clumps::bodies::<D>(loaded, &dom, &walls, &particles, INITIAL_OVERLAP_TOLERANCE)?;
     if !clumps.bodies.is_empty() {
         pass(format!("placed {} bodies", clumps.bodies.len()));
     }

@@ -4,7 +4,7 @@
 //! another body, a grain or a wall, and the bodies of `particles.add`.
 //! What a run with bodies does not do is refused here by name.
 
-use super::build::{angular, vector, INITIAL_OVERLAP_TOLERANCE};
+use super::keys::{angular, vector};
 use super::placement::{lattice, stream, velocities, STREAM_POSITIONS};
 use super::schema::{OrientationSpec, Placement, Scenario};
 use super::shapes;
@@ -302,12 +302,14 @@ pub fn assign(mix: &[(usize, f64)], count: usize, seed: u64) -> Vec<usize> {
 }
 
 /// The scenario's shapes and bodies; `grains` are the spheres already
-/// placed and `walls` the run's walls, which no body may overlap.
+/// placed and `walls` the run's walls, which no body may overlap by more
+/// than `tolerance` of the smaller radius (random bodies not at all).
 pub fn bodies<D: Dim>(
     loaded: &Loaded,
     dom: &Domain<D>,
     walls: &[Wall<D>],
     grains: &Particles<D>,
+    tolerance: f64,
 ) -> Result<Clumps<D>> {
     let s = &loaded.scenario;
     let ps = &s.particles;
@@ -394,7 +396,7 @@ pub fn bodies<D: Dim>(
     }
     // Random bodies are clear of everything by construction; lattice and
     // added ones are not: all are checked, in a room of the grains alone.
-    Room::<D>::new(&shapes, grains).check(&shapes, &bodies, walls)?;
+    Room::<D>::new(&shapes, grains).check(&shapes, &bodies, walls, tolerance)?;
     Ok(Clumps {
         shapes,
         props,
@@ -506,9 +508,14 @@ impl<D: Dim> Room<D> {
     }
 
     /// Every body's sub-spheres against the grains, the other bodies and
-    /// the walls, within the initial overlap the engine accepts.
-    fn check(&mut self, shapes: &[Shape<D>], bodies: &[BodySpec<D>], walls: &[Wall<D>]) -> Result<()> {
-        let tol = INITIAL_OVERLAP_TOLERANCE;
+    /// the walls, within `tol` of the smaller radius.
+    fn check(
+        &mut self,
+        shapes: &[Shape<D>],
+        bodies: &[BodySpec<D>],
+        walls: &[Wall<D>],
+        tol: f64,
+    ) -> Result<()> {
         for (b, body) in bodies.iter().enumerate() {
             let q = crate::rigid::shape::quat(body.orientation);
             for s in &shapes[body.shape].spheres {

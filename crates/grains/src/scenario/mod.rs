@@ -8,6 +8,7 @@ pub mod dsmc;
 pub mod flow;
 pub mod hopper;
 pub mod inlet;
+pub mod keys;
 pub mod law_report;
 pub mod materials;
 pub mod memory;

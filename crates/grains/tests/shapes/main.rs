@@ -9,3 +9,4 @@ mod errors;
 mod mass;
 mod orientation;
 mod placement;
+mod shipped;
