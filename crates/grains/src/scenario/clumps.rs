@@ -314,8 +314,15 @@ pub fn bodies<D: Dim>(
     let s = &loaded.scenario;
     let ps = &s.particles;
     let (shapes, props) = shapes::build::<D>(loaded)?;
-    let mut room = Room::<D>::new(&shapes, grains);
     let mut bodies = Vec::new();
+    if !uses_bodies(s) {
+        return Ok(Clumps {
+            shapes,
+            props,
+            bodies,
+        });
+    }
+    let mut room = Room::<D>::new(&shapes, grains);
     if places_bodies(s) && ps.count == 0 {
         return Err(Error::input(
             "particles.count must be at least 1 for lattice or random placement of bodies",

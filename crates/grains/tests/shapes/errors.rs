@@ -60,7 +60,7 @@ fn a_shape_file_is_read_and_its_lines_named() {
     let (_, from_file) = parts::<D3>(&text("rod.csv"), &[]).unwrap();
     let (_, inline) = parts::<D3>(BASE, &[]).unwrap();
     assert_eq!(from_file.shapes[0], inline.shapes[0]);
-    has(&error(&text("bad.csv"), &[]), &["shapes[0] (rod).file", "bad.csv line 2", "3 numbers", "x y z r"]);
+    has(&error(&text("bad.csv"), &[]), &["shapes[0] (rod).file", "bad.csv) line 2", "3 numbers", "x y z r"]);
     std::fs::remove_dir_all(&dir).ok();
 }
 

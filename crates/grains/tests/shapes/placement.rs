@@ -187,7 +187,9 @@ fn added_bodies_take_their_orientation_and_spin() {
          orientation = [0.7071067811865476, 0.7071067811865476, 0.0, 0.0]\nomega = [0.0, 0.0, 3.0]\n\
          velocity = [0.0, 0.0, -1.0]\n"
     );
+    let text = text.replace("placement = \"random\"\ncount = 150\nshape = \"rod\"\n", "placement = \"none\"\n");
     let (_, c) = parts::<D3>(&text, &[]).unwrap();
+    assert_eq!(c.bodies.len(), 1);
     let added = c.bodies.last().unwrap();
     assert_eq!(added.shape, 1);
     assert_eq!(added.omega.z, 3.0);
