@@ -141,7 +141,10 @@ struct Flat;
 impl Pieces for Solid {
     fn ball(&self, r: f64) -> (f64, DMat3) {
         let v = 4.0 / 3.0 * PI * r.powi(3);
-        (v, DMat3::from_diagonal(DVec3::splat(4.0 * PI * r.powi(5) / 15.0)))
+        (
+            v,
+            DMat3::from_diagonal(DVec3::splat(4.0 * PI * r.powi(5) / 15.0)),
+        )
     }
 
     fn cap(&self, r: f64, s: f64) -> [f64; 4] {
@@ -152,7 +155,12 @@ impl Pieces for Solid {
         let fzz = |z: f64| PI * (r2 * z.powi(3) / 3.0 - z.powi(5) / 5.0);
         // A slice's second moment across: π ρ⁴ / 4 with ρ² = r² − z².
         let ftt = |z: f64| PI / 4.0 * (r2 * r2 * z - 2.0 * r2 * z.powi(3) / 3.0 + z.powi(5) / 5.0);
-        [f0(r) - f0(s), f1(r) - f1(s), fzz(r) - fzz(s), ftt(r) - ftt(s)]
+        [
+            f0(r) - f0(s),
+            f1(r) - f1(s),
+            fzz(r) - fzz(s),
+            ftt(r) - ftt(s),
+        ]
     }
 
     fn across(&self, n: DVec3) -> DMat3 {
@@ -192,7 +200,12 @@ impl Pieces for Flat {
         let f1 = |z: f64| -2.0 / 3.0 * w(z).powi(3);
         let fzz = |z: f64| z * (2.0 * z * z - r2) * w(z) / 4.0 + r2 * r2 * th(z) / 4.0;
         let ftt = |z: f64| z * (5.0 * r2 - 2.0 * z * z) * w(z) / 12.0 + r2 * r2 * th(z) / 4.0;
-        [f0(r) - f0(s), f1(r) - f1(s), fzz(r) - fzz(s), ftt(r) - ftt(s)]
+        [
+            f0(r) - f0(s),
+            f1(r) - f1(s),
+            fzz(r) - fzz(s),
+            ftt(r) - ftt(s),
+        ]
     }
 
     fn across(&self, n: DVec3) -> DMat3 {
@@ -310,7 +323,14 @@ fn uncovered(u: DVec3, r: f64, balls: &[Ball], cuts: &mut Vec<(f64, f64)>) -> [f
         }
     }
     cuts.sort_by(|x, y| x.0.total_cmp(&y.0));
-    let pow = |t: f64| [t * t / 2.0, t.powi(3) / 3.0, t.powi(4) / 4.0, t.powi(5) / 5.0];
+    let pow = |t: f64| {
+        [
+            t * t / 2.0,
+            t.powi(3) / 3.0,
+            t.powi(4) / 4.0,
+            t.powi(5) / 5.0,
+        ]
+    };
     let mut out = pow(r);
     let mut end = 0.0f64;
     for &(a, b) in cuts.iter() {
@@ -429,10 +449,16 @@ mod tests {
         let (q, _) = Solid.quadrature(a, &[b]);
         assert!((q.m0 - exact.m0).abs() < 1e-6 * exact.m0, "{q:?} {exact:?}");
         assert!((q.m1 - exact.m1).length() < 1e-6, "{q:?} {exact:?}");
-        let exact2 = Moments::shifted(DVec3::ZERO, PI, DVec3::ZERO, Flat.ball(1.0).1)
-            .sub(lens(a, (b.0 * DVec3::new(1.0, 1.0, 0.0), b.1), &Flat));
+        let exact2 = Moments::shifted(DVec3::ZERO, PI, DVec3::ZERO, Flat.ball(1.0).1).sub(lens(
+            a,
+            (b.0 * DVec3::new(1.0, 1.0, 0.0), b.1),
+            &Flat,
+        ));
         let (q2, _) = Flat.quadrature(a, &[(b.0 * DVec3::new(1.0, 1.0, 0.0), b.1)]);
-        assert!((q2.m0 - exact2.m0).abs() < 1e-6 * exact2.m0, "{q2:?} {exact2:?}");
+        assert!(
+            (q2.m0 - exact2.m0).abs() < 1e-6 * exact2.m0,
+            "{q2:?} {exact2:?}"
+        );
         assert!(max_abs(q2.m2 - exact2.m2) < 1e-6, "{q2:?} {exact2:?}");
     }
 }

@@ -65,7 +65,12 @@ pub fn detached(balls: &[Ball]) -> Option<usize> {
 /// The shape of a clump of `balls` (centres in the input frame, z = 0 in
 /// 2D) of material density `density`; `model` is the grains' mass model,
 /// which only 2D reads.
-pub fn clump<D: Dim>(name: &str, balls: &[Ball], density: f64, model: MassModel) -> (Shape<D>, Props) {
+pub fn clump<D: Dim>(
+    name: &str,
+    balls: &[Ball],
+    density: f64,
+    model: MassModel,
+) -> (Shape<D>, Props) {
     let flat = D::D == 2 && model == MassModel::Disk;
     let union = if flat {
         union_2d(balls)
@@ -75,7 +80,8 @@ pub fn clump<D: Dim>(name: &str, balls: &[Ball], density: f64, model: MassModel)
     let m: Moments = union.moments;
     let com = m.centroid();
     let s = m.central();
-    let inertia = (DMat3::from_diagonal(DVec3::splat(s.x_axis.x + s.y_axis.y + s.z_axis.z)) - s) * density;
+    let inertia =
+        (DMat3::from_diagonal(DVec3::splat(s.x_axis.x + s.y_axis.y + s.z_axis.z)) - s) * density;
     let axes = if D::D == 2 {
         // In the plane: the body x axis along the largest spread.
         let angle = 0.5 * (2.0 * s.y_axis.x).atan2(s.x_axis.x - s.y_axis.y);

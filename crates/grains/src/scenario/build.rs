@@ -1,11 +1,11 @@
 //! Turns a scenario into a ready MD engine: domain, grains, walls, settings.
 
+use super::clumps::Clumps;
+pub use super::keys::{angular, vector};
 use super::memory;
 use super::placement;
 use super::resolve::{resolve, Resolved};
 use super::schema::{FileFormat, MotionSpec, Placement, Scenario, ShapeSpec, WallSpec};
-use super::clumps::Clumps;
-pub use super::keys::{angular, vector};
 use super::sizes::SizeLaw;
 use super::Loaded;
 use crate::boundary::{Motion, Shape, Wall};
@@ -449,7 +449,8 @@ fn build_md_inner<D: Dim>(
         .map(|(k, w)| wall::<D>(k, w, &dom, loaded))
         .collect::<Result<Vec<_>>>()?;
     let walls = super::resolve::elastic_walls(&s.contact.elastic_walls, walls)?;
-    let clumps = super::clumps::bodies::<D>(loaded, &dom, &walls, &particles, INITIAL_OVERLAP_TOLERANCE)?;
+    let clumps =
+        super::clumps::bodies::<D>(loaded, &dom, &walls, &particles, INITIAL_OVERLAP_TOLERANCE)?;
     if !clumps.bodies.is_empty() {
         pass(format!("placed {} bodies", clumps.bodies.len()));
     }

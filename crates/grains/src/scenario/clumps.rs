@@ -104,7 +104,10 @@ pub fn check(s: &Scenario) -> Result<()> {
         )))
     };
     if s.method == crate::settings::Method::Dsmc {
-        return refuse("method = \"dsmc\"", "clumps are grains of the MD engine only");
+        return refuse(
+            "method = \"dsmc\"",
+            "clumps are grains of the MD engine only",
+        );
     }
     if !s.inlets.is_empty() {
         return refuse(
@@ -120,10 +123,16 @@ pub fn check(s: &Scenario) -> Result<()> {
         );
     }
     if !s.outlets.is_empty() {
-        return refuse("[[outlets]]", "they take out grains one by one, not whole bodies");
+        return refuse(
+            "[[outlets]]",
+            "they take out grains one by one, not whole bodies",
+        );
     }
     if s.run.events.as_ref().is_some_and(|e| e.sink.is_some()) {
-        return refuse("run.events.sink", "it parks grains one by one, not whole bodies");
+        return refuse(
+            "run.events.sink",
+            "it parks grains one by one, not whole bodies",
+        );
     }
     if s.domain.shear.is_some() {
         return refuse(
@@ -259,7 +268,9 @@ pub fn orientation(o: &OrientationSpec, axes: usize, key: &str) -> Result<Option
                      ([cos(θ/2), 0, 0, sin(θ/2)] for a turn by θ)"
                 )));
             }
-            Ok(Some(crate::rigid::shape::quat([q[0], q[1], q[2], q[3]]).normalize()))
+            Ok(Some(
+                crate::rigid::shape::quat([q[0], q[1], q[2], q[3]]).normalize(),
+            ))
         }
     }
 }
@@ -291,7 +302,7 @@ pub fn assign(mix: &[(usize, f64)], count: usize, seed: u64) -> Vec<usize> {
         n[i] += 1;
     }
     let mut out: Vec<usize> = (mix.iter().zip(&n))
-        .flat_map(|(m, &k)| std::iter::repeat(m.0).take(k))
+        .flat_map(|(m, &k)| std::iter::repeat_n(m.0, k))
         .collect();
     let mut rng = stream(seed, STREAM_SHAPES);
     for i in (1..out.len()).rev() {
@@ -382,8 +393,12 @@ pub fn bodies<D: Dim>(
         let key = format!("particles.add[{k}]");
         let i = shapes::index(s, name, &format!("{key}.shape"))?;
         let q = match &a.orientation {
-            Some(q) => orientation(&OrientationSpec::Quaternion(q.clone()), D::D, &format!("{key}.orientation"))?
-                .unwrap_or(DQuat::IDENTITY),
+            Some(q) => orientation(
+                &OrientationSpec::Quaternion(q.clone()),
+                D::D,
+                &format!("{key}.orientation"),
+            )?
+            .unwrap_or(DQuat::IDENTITY),
             None => DQuat::IDENTITY,
         };
         bodies.push(BodySpec {

@@ -75,42 +75,43 @@ fn spheres<D: Dim>(loaded: &Loaded, spec: &ClumpSpec, key: &str) -> Result<Vec<B
         ShapeUnits::M => 1.0,
         ShapeUnits::D0 => loaded.scenario.particles.d0,
     } * spec.scale;
-    let (written, origin): (Vec<(String, SphereSpec)>, String) = match (&spec.file, spec.spheres.is_empty()) {
-        (Some(_), false) => {
-            return Err(Error::input(format!(
-                "{key}: give spheres or file, not both"
-            )))
-        }
-        (None, true) => {
-            return Err(Error::input(format!(
-                "{key}: no spheres; give spheres = [{{ center = [x, y, z], radius = r }}, …] \
-                 or file = \"NAME.csv\" (x y z r per line)"
-            )))
-        }
-        (None, false) => (
-            (spec.spheres.iter().enumerate())
-                .map(|(j, s)| (format!("{key}.spheres[{j}]"), s.clone()))
-                .collect(),
-            format!("{key}.spheres"),
-        ),
-        (Some(name), true) => {
-            let path = loaded.path(name);
-            let text = std::fs::read_to_string(&path).map_err(|e| {
-                Error::input(format!(
-                    "{key}.file = \"{name}\": cannot read {}: {e}",
-                    path.display()
-                ))
-            })?;
-            let rows = read_rows(&text, &format!("{key}.file ({})", path.display()))?;
-            if rows.is_empty() {
+    let (written, origin): (Vec<(String, SphereSpec)>, String) =
+        match (&spec.file, spec.spheres.is_empty()) {
+            (Some(_), false) => {
                 return Err(Error::input(format!(
-                    "{key}.file = \"{name}\": {} holds no spheres (x y z r per line)",
-                    path.display()
-                )));
+                    "{key}: give spheres or file, not both"
+                )))
             }
-            (rows, format!("{key}.file"))
-        }
-    };
+            (None, true) => {
+                return Err(Error::input(format!(
+                    "{key}: no spheres; give spheres = [{{ center = [x, y, z], radius = r }}, …] \
+                 or file = \"NAME.csv\" (x y z r per line)"
+                )))
+            }
+            (None, false) => (
+                (spec.spheres.iter().enumerate())
+                    .map(|(j, s)| (format!("{key}.spheres[{j}]"), s.clone()))
+                    .collect(),
+                format!("{key}.spheres"),
+            ),
+            (Some(name), true) => {
+                let path = loaded.path(name);
+                let text = std::fs::read_to_string(&path).map_err(|e| {
+                    Error::input(format!(
+                        "{key}.file = \"{name}\": cannot read {}: {e}",
+                        path.display()
+                    ))
+                })?;
+                let rows = read_rows(&text, &format!("{key}.file ({})", path.display()))?;
+                if rows.is_empty() {
+                    return Err(Error::input(format!(
+                        "{key}.file = \"{name}\": {} holds no spheres (x y z r per line)",
+                        path.display()
+                    )));
+                }
+                (rows, format!("{key}.file"))
+            }
+        };
     let mut balls = Vec::with_capacity(written.len());
     for (at, s) in &written {
         let c = &s.center;
@@ -120,11 +121,17 @@ fn spheres<D: Dim>(loaded: &Loaded, spec: &ClumpSpec, key: &str) -> Result<Vec<B
                 "{at}.center has {} components; a {} shape needs {}",
                 c.len(),
                 D::NAME,
-                if D::D == 2 { "2 (or 3 with z = 0)" } else { "3" }
+                if D::D == 2 {
+                    "2 (or 3 with z = 0)"
+                } else {
+                    "3"
+                }
             )));
         }
         if let Some(x) = c.iter().find(|x| !x.is_finite()) {
-            return Err(Error::input(format!("{at}.center contains {x}: must be finite")));
+            return Err(Error::input(format!(
+                "{at}.center contains {x}: must be finite"
+            )));
         }
         if D::D == 2 && c.len() == 3 && c[2] != 0.0 {
             return Err(Error::input(format!(

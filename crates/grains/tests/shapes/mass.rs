@@ -36,12 +36,23 @@ fn on_x(xs: &[f64], r: f64) -> Vec<Ball> {
 /// Volume, I_axis and I_perp (about the centre, at x = 0 by symmetry of
 /// `xs`) of equal spheres on the x axis, by slices.
 fn slices(xs: &[f64], r: f64) -> (f64, f64, f64) {
-    let (nodes, weights) = ([-(0.6f64).sqrt(), 0.0, (0.6f64).sqrt()], [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0]);
+    let (nodes, weights) = (
+        [-(0.6f64).sqrt(), 0.0, (0.6f64).sqrt()],
+        [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0],
+    );
     let (mut v, mut ia, mut ip) = (0.0, 0.0, 0.0);
     for (k, &c) in xs.iter().enumerate() {
         // The piece nearest to c: to the midpoints with its neighbours.
-        let lo = if k == 0 { c - r } else { (0.5 * (xs[k - 1] + c)).max(c - r) };
-        let hi = if k + 1 == xs.len() { c + r } else { (0.5 * (xs[k + 1] + c)).min(c + r) };
+        let lo = if k == 0 {
+            c - r
+        } else {
+            (0.5 * (xs[k - 1] + c)).max(c - r)
+        };
+        let hi = if k + 1 == xs.len() {
+            c + r
+        } else {
+            (0.5 * (xs[k + 1] + c)).min(c + r)
+        };
         let (a, b) = (lo - c, hi - c);
         for (z, w) in nodes.iter().zip(&weights) {
             let u = 0.5 * (a + b) + 0.5 * (b - a) * z;
@@ -65,7 +76,11 @@ fn touching_dimer_by_the_parallel_axis_theorem() {
     let perp = 2.0 * (0.4 * ms * r * r + ms * r * r);
     assert!(rel(s.mass, 2.0 * ms) < 1e-12, "{} {}", s.mass, 2.0 * ms);
     assert!(rel(s.inertia[0], axis) < 1e-12, "{:?} {axis}", s.inertia);
-    assert!(rel(s.inertia[1], perp) < 1e-12 && rel(s.inertia[2], perp) < 1e-12, "{:?} {perp}", s.inertia);
+    assert!(
+        rel(s.inertia[1], perp) < 1e-12 && rel(s.inertia[2], perp) < 1e-12,
+        "{:?} {perp}",
+        s.inertia
+    );
     assert!(p.exact && p.com.length() < 1e-15);
     assert!((p.bounding_radius - 2.0 * r).abs() < 1e-15);
     // In the principal frame the spheres lie on the body x axis.
@@ -85,9 +100,20 @@ fn overlapping_pair_loses_its_lens_once() {
         assert!(rel(s.mass, RHO * v) < 1e-12);
         assert!(p.com.length() < 1e-12 * r, "{}", p.com);
         let (vs, ia, ip) = slices(&[-d / 2.0, d / 2.0], r);
-        assert!(rel(vs, v) < 1e-12, "the slices agree with the lens formula: {vs} {v}");
-        assert!(rel(s.inertia[0], ia) < 1e-10, "d = {d}: {:?} {ia}", s.inertia);
-        assert!(rel(s.inertia[1], ip) < 1e-10 && rel(s.inertia[2], ip) < 1e-10, "d = {d}: {:?} {ip}", s.inertia);
+        assert!(
+            rel(vs, v) < 1e-12,
+            "the slices agree with the lens formula: {vs} {v}"
+        );
+        assert!(
+            rel(s.inertia[0], ia) < 1e-10,
+            "d = {d}: {:?} {ia}",
+            s.inertia
+        );
+        assert!(
+            rel(s.inertia[1], ip) < 1e-10 && rel(s.inertia[2], ip) < 1e-10,
+            "d = {d}: {:?} {ip}",
+            s.inertia
+        );
     }
 }
 
@@ -112,7 +138,11 @@ fn three_sphere_rods_by_slices() {
         );
         assert!(rel(p.measure, v) < tol, "d = {d}: {} {v}", p.measure);
         assert!(rel(s.inertia[0], ia) < tol, "d = {d}: {:?} {ia}", s.inertia);
-        assert!(rel(s.inertia[1], ip) < tol && rel(s.inertia[2], ip) < tol, "d = {d}: {:?} {ip}", s.inertia);
+        assert!(
+            rel(s.inertia[1], ip) < tol && rel(s.inertia[2], ip) < tol,
+            "d = {d}: {:?} {ip}",
+            s.inertia
+        );
     }
 }
 
@@ -120,7 +150,10 @@ fn three_sphere_rods_by_slices() {
 fn unequal_touching_spheres_shift_the_centre() {
     let (r1, r2) = (1.0e-3, 0.5e-3);
     let (s, p) = shape(&[(DVec3::ZERO, r1), (DVec3::new(r1 + r2, 0.0, 0.0), r2)]);
-    let (m1, m2) = (RHO * 4.0 / 3.0 * PI * r1.powi(3), RHO * 4.0 / 3.0 * PI * r2.powi(3));
+    let (m1, m2) = (
+        RHO * 4.0 / 3.0 * PI * r1.powi(3),
+        RHO * 4.0 / 3.0 * PI * r2.powi(3),
+    );
     let xc = m2 * (r1 + r2) / (m1 + m2);
     let perp = 0.4 * m1 * r1 * r1 + m1 * xc * xc + 0.4 * m2 * r2 * r2 + m2 * (r1 + r2 - xc).powi(2);
     assert!(rel(p.com.x, xc) < 1e-12, "{} {xc}", p.com);
@@ -148,12 +181,22 @@ fn a_turned_shape_has_the_same_principal_frame() {
     let (b, pb) = shape(&moved);
     assert!(!pa.exact && !pb.exact, "the quadrature is what this tests");
     for k in 0..3 {
-        assert!(rel(a.inertia[k], b.inertia[k]) < 1e-6, "{:?} {:?}", a.inertia, b.inertia);
+        assert!(
+            rel(a.inertia[k], b.inertia[k]) < 1e-6,
+            "{:?} {:?}",
+            a.inertia,
+            b.inertia
+        );
     }
     assert!(a.inertia[0] < a.inertia[1] && a.inertia[1] < a.inertia[2]);
     for (sa, sb) in a.spheres.iter().zip(&b.spheres) {
         let (ca, cb) = (sa.center.abs(), sb.center.abs());
-        assert!((ca - cb).abs().max_element() < 1e-6, "{} {}", sa.center, sb.center);
+        assert!(
+            (ca - cb).abs().max_element() < 1e-6,
+            "{} {}",
+            sa.center,
+            sb.center
+        );
     }
     assert!((pb.com - (turn * pa.com + shift)).length() < 1e-6);
     // The principal frame put back gives the spheres as written.
@@ -162,7 +205,8 @@ fn a_turned_shape_has_the_same_principal_frame() {
         assert!((back - c).length() < 1e-12, "{back} {c}");
     }
     // The inertia tensor in the principal frame is diagonal.
-    let body = DMat3::from_quat(pb.to_input).transpose() * pb.inertia * DMat3::from_quat(pb.to_input);
+    let body =
+        DMat3::from_quat(pb.to_input).transpose() * pb.inertia * DMat3::from_quat(pb.to_input);
     assert!(body.y_axis.x.abs() < 1e-9 * a.inertia[2] && body.z_axis.x.abs() < 1e-9 * a.inertia[2]);
 }
 
@@ -172,10 +216,15 @@ fn tetrahedral_clump_is_a_spherical_top() {
     let r = 0.5;
     let e = 0.8; // edge < 2r: every pair overlaps
     let k = e / (2.0 * 2.0f64.sqrt());
-    let balls: Vec<Ball> = [[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]]
-        .iter()
-        .map(|c| (DVec3::from_array(*c) * k, r))
-        .collect();
+    let balls: Vec<Ball> = [
+        [1.0, 1.0, 1.0],
+        [1.0, -1.0, -1.0],
+        [-1.0, 1.0, -1.0],
+        [-1.0, -1.0, 1.0],
+    ]
+    .iter()
+    .map(|c| (DVec3::from_array(*c) * k, r))
+    .collect();
     let (s, p) = shape(&balls);
     assert!(rel(s.inertia[0], s.inertia[2]) < 1e-6, "{:?}", s.inertia);
     assert!(p.com.length() < 1e-6, "{}", p.com);
@@ -202,11 +251,26 @@ fn disk_dimers_in_two_dimensions() {
     let d = 1.2 * r;
     let (_, p) = clump::<D2>("d", &on_x(&[-d / 2.0, d / 2.0], r), RHO, MassModel::Disk);
     let lens = 2.0 * r * r * (d / (2.0 * r)).acos() - 0.5 * d * (4.0 * r * r - d * d).sqrt();
-    assert!(rel(p.measure, 2.0 * PI * r * r - lens) < 1e-12, "{} {}", p.measure, 2.0 * PI * r * r - lens);
+    assert!(
+        rel(p.measure, 2.0 * PI * r * r - lens) < 1e-12,
+        "{} {}",
+        p.measure,
+        2.0 * PI * r * r - lens
+    );
     // Three disks in a row, the third meeting both: the quadrature.
-    let (_, p) = clump::<D2>("d", &on_x(&[-0.8 * r, 0.0, 0.8 * r], r), RHO, MassModel::Disk);
-    let lens = |d: f64| 2.0 * r * r * (d / (2.0 * r)).acos() - 0.5 * d * (4.0 * r * r - d * d).sqrt();
+    let (_, p) = clump::<D2>(
+        "d",
+        &on_x(&[-0.8 * r, 0.0, 0.8 * r], r),
+        RHO,
+        MassModel::Disk,
+    );
+    let lens =
+        |d: f64| 2.0 * r * r * (d / (2.0 * r)).acos() - 0.5 * d * (4.0 * r * r - d * d).sqrt();
     // Inclusion–exclusion: the triple region is the outer pair's lens.
     let area = 3.0 * PI * r * r - 2.0 * lens(0.8 * r) - lens(1.6 * r) + lens(1.6 * r);
-    assert!(!p.exact && rel(p.measure, area) < 1e-6, "{} {area}", p.measure);
+    assert!(
+        !p.exact && rel(p.measure, area) < 1e-6,
+        "{} {area}",
+        p.measure
+    );
 }

@@ -36,7 +36,10 @@ fn critical() -> f64 {
 /// (KS distance of cos θ of the body z axis, KS distance of ψ).
 fn distances(draws: &[DQuat]) -> (f64, f64) {
     let cos: Vec<f64> = draws.iter().map(|q| (*q * DVec3::Z).z).collect();
-    let psi: Vec<f64> = draws.iter().map(|q| 2.0 * q.w.abs().min(1.0).acos()).collect();
+    let psi: Vec<f64> = draws
+        .iter()
+        .map(|q| 2.0 * q.w.abs().min(1.0).acos())
+        .collect();
     (
         ks(cos, |c| (c + 1.0) / 2.0),
         ks(psi, |p| (p - p.sin()) / PI),
@@ -52,7 +55,10 @@ fn shoemake_draws_are_uniform_on_rotations() {
             assert!((q.length() - 1.0).abs() < 1e-12);
         }
         let (dc, dp) = distances(&draws);
-        eprintln!("seed {seed}: KS cos θ {dc:.4}, ψ {dp:.4} (1 % critical {:.4})", critical());
+        eprintln!(
+            "seed {seed}: KS cos θ {dc:.4}, ψ {dp:.4} (1 % critical {:.4})",
+            critical()
+        );
         assert!(dc < critical() && dp < critical(), "seed {seed}: {dc} {dp}");
     }
 }

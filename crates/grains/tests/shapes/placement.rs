@@ -58,7 +58,11 @@ fn spheres<D: Dim>(c: &Clumps<D>) -> Vec<(D::V, f64, usize)> {
     let mut out = Vec::new();
     for (k, b) in c.bodies.iter().enumerate() {
         for s in &c.shapes[b.shape].spheres {
-            out.push((placed::<D>(b.pos, quat(b.orientation), s.center), s.radius, k));
+            out.push((
+                placed::<D>(b.pos, quat(b.orientation), s.center),
+                s.radius,
+                k,
+            ));
         }
     }
     out
@@ -94,9 +98,8 @@ fn deepest<D: Dim>(md: &grains::md::Md<D>, c: &Clumps<D>) -> (f64, f64, f64) {
 
 #[test]
 fn random_bodies_overlap_nothing() {
-    let extra = format!(
-        "{BASE}[[particles.add]]\nposition = [0.006, 0.006, 0.015]\ndiameter = 0.003\n"
-    );
+    let extra =
+        format!("{BASE}[[particles.add]]\nposition = [0.006, 0.006, 0.015]\ndiameter = 0.003\n");
     let (md, c) = parts::<D3>(&extra, &[]).unwrap();
     assert_eq!(c.bodies.len(), 150);
     assert_eq!(md.particles.n_owned(), 1, "the added sphere");
@@ -130,11 +133,19 @@ fn a_mixture_has_the_fractions_counts() {
     );
     for count in [150, 101, 7] {
         let (md, c) = parts::<D3>(&text, &[&format!("particles.count={count}")]).unwrap();
-        let of = |i: usize| c.bodies.iter().filter(|b: &&BodySpec<D3>| b.shape == i).count();
+        let of = |i: usize| {
+            c.bodies
+                .iter()
+                .filter(|b: &&BodySpec<D3>| b.shape == i)
+                .count()
+        };
         let n = [of(0), of(1), of(2)];
         assert_eq!(n.iter().sum::<usize>(), count);
         for (k, f) in [0.5, 0.3, 0.2].iter().enumerate() {
-            assert!((n[k] as f64 - f * count as f64).abs() < 1.0, "count {count}: {n:?}");
+            assert!(
+                (n[k] as f64 - f * count as f64).abs() < 1.0,
+                "count {count}: {n:?}"
+            );
         }
         let (b, _, w) = deepest(&md, &c);
         assert!(b <= 0.0 && w <= 0.0, "{b} {w}");
@@ -187,7 +198,10 @@ fn added_bodies_take_their_orientation_and_spin() {
          orientation = [0.7071067811865476, 0.7071067811865476, 0.0, 0.0]\nomega = [0.0, 0.0, 3.0]\n\
          velocity = [0.0, 0.0, -1.0]\n"
     );
-    let text = text.replace("placement = \"random\"\ncount = 150\nshape = \"rod\"\n", "placement = \"none\"\n");
+    let text = text.replace(
+        "placement = \"random\"\ncount = 150\nshape = \"rod\"\n",
+        "placement = \"none\"\n",
+    );
     let (_, c) = parts::<D3>(&text, &[]).unwrap();
     assert_eq!(c.bodies.len(), 1);
     let added = c.bodies.last().unwrap();
@@ -196,9 +210,16 @@ fn added_bodies_take_their_orientation_and_spin() {
     assert_eq!(added.vel.z, -1.0);
     // The dimer written along z, turned 90° about x: its spheres lie along −y.
     let shape = &c.shapes[1];
-    let ends: Vec<_> = shape.spheres.iter().map(|s| placed::<D3>(added.pos, quat(added.orientation), s.center)).collect();
+    let ends: Vec<_> = shape
+        .spheres
+        .iter()
+        .map(|s| placed::<D3>(added.pos, quat(added.orientation), s.center))
+        .collect();
     let axis = (ends[1] - ends[0]).normalize();
     assert!((axis.y.abs() - 1.0).abs() < 1e-12, "{axis}");
     let mid = (ends[0] + ends[1]) / 2.0;
-    assert!((mid - added.pos).length() < 1e-15, "the position is the centre of mass");
+    assert!(
+        (mid - added.pos).length() < 1e-15,
+        "the position is the centre of mass"
+    );
 }
