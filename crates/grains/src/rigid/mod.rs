@@ -53,3 +53,6 @@ pub struct BodySpec<D: Dim> {
     /// Angular velocity in the space frame (rad/s).
     pub omega: D::A,
 }
+
+pub mod mass;
+pub mod shape;

@@ -26,7 +26,7 @@ pub use options::{prepare, prepare_fresh, Progress, RunOptions, Silent};
 use crate::dim::Dim;
 use crate::dsmc::collide::GasDim;
 use crate::error::Result;
-use crate::scenario::{build_md, Loaded};
+use crate::scenario::Loaded;
 use choose::{choose, Runs};
 use serde_json::Value;
 
@@ -37,10 +37,7 @@ pub fn check(loaded: &Loaded) -> Result<Value> {
     impl Runs for Check<'_> {
         type Out = Result<Value>;
         fn md<D: Dim>(self) -> Result<Value> {
-            let loaded = &*crate::scenario::hopper::expand(self.0)?;
-            let (md, r) = build_md::<D>(loaded)?;
-            crate::scenario::flow::FlowRun::begin(loaded, &md)?;
-            crate::scenario::law_report::md_report(loaded, &md, &r)
+            crate::scenario::law_report::md_check::<D>(&*crate::scenario::hopper::expand(self.0)?)
         }
         fn gas<D: GasDim>(self) -> Result<Value> {
             let (sim, plan) = dsmc::build::<D>(self.0)?;

@@ -1,5 +1,7 @@
 //! Turns a scenario into a ready MD engine: domain, grains, walls, settings.
 
+use super::clumps::Clumps;
+pub use super::keys::{angular, vector};
 use super::memory;
 use super::placement;
 use super::resolve::{resolve, Resolved};
@@ -18,44 +20,6 @@ use crate::particles::{MassModel, ParticleRecord, Particles, SizeBand};
 
 /// Largest initial overlap accepted, as a fraction of the smaller radius.
 pub const INITIAL_OVERLAP_TOLERANCE: f64 = 0.05;
-
-/// Reads a vector of `D::D` numbers from the scenario key `key`.
-pub fn vector<D: Dim>(key: &str, v: &[f64]) -> Result<D::V> {
-    if v.len() != D::D {
-        return Err(Error::input(format!(
-            "{key} has {} components; a {} scenario needs {}",
-            v.len(),
-            D::NAME,
-            D::D
-        )));
-    }
-    if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-        return Err(Error::input(format!("{key} contains {x}: must be finite")));
-    }
-    let mut out = D::zero();
-    for (a, x) in v.iter().enumerate() {
-        D::set(&mut out, a, *x);
-    }
-    Ok(out)
-}
-
-fn angular<D: Dim>(key: &str, v: &[f64]) -> Result<D::A> {
-    let want = if D::D == 2 { 1 } else { 3 };
-    if v.len() != want {
-        return Err(Error::input(format!(
-            "{key} has {} components; an angular velocity in {} has {want}",
-            v.len(),
-            D::NAME
-        )));
-    }
-    let mut xyz = [0.0; 3];
-    if D::D == 2 {
-        xyz[2] = v[0];
-    } else {
-        xyz.copy_from_slice(v);
-    }
-    Ok(D::ang_from_xyz(xyz))
-}
 
 fn domain<D: Dim>(s: &Scenario) -> Result<Domain<D>> {
     let lo = vector::<D>("domain.lo", &s.domain.lo)?;
@@ -147,6 +111,10 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Particles<D>> {
         }
     };
     let mut out = match ps.placement {
+        // Bodies instead of spheres: `clumps::bodies` places them.
+        Placement::Lattice | Placement::Random if super::clumps::places_bodies(s) => {
+            Particles::new()
+        }
         // An empty box that inlets fill.
         Placement::Lattice | Placement::Random if ps.count == 0 && !s.inlets.is_empty() => {
             Particles::new()
@@ -190,7 +158,8 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Particles<D>> {
         Placement::None => Particles::new(),
     };
     let first_id = out.id.iter().copied().max().unwrap_or(0) + 1;
-    for (k, a) in ps.add.iter().enumerate() {
+    // Entries with a shape are bodies, made by `clumps::bodies`.
+    for (k, a) in ps.add.iter().enumerate().filter(|(_, a)| a.shape.is_none()) {
         let key = format!("particles.add[{k}]");
         let pos = vector::<D>(&format!("{key}.position"), &a.position)?;
         let d = a.diameter.unwrap_or(ps.d0);
@@ -204,12 +173,15 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Particles<D>> {
         if let Some(v) = &a.velocity {
             g.vel = vector::<D>(&format!("{key}.velocity"), v)?;
         }
+        if let Some(w) = &a.omega {
+            g.omega = angular::<D>(&format!("{key}.omega"), w)?;
+        }
         g.frozen = a.frozen;
         g.kind = a.kind.unwrap_or(if a.frozen { 2 } else { 1 });
         freeze(&mut g);
         out.push_record(g);
     }
-    if out.is_empty() && s.inlets.is_empty() {
+    if out.is_empty() && s.inlets.is_empty() && !super::clumps::uses_bodies(s) {
         return Err(Error::input(
             "the scenario places no grains: set particles.count, particles.add or [[inlets]]",
         ));
@@ -434,13 +406,28 @@ pub fn build_md_reporting<D: Dim>(
     loaded: &Loaded,
     report: &mut dyn FnMut(&str),
 ) -> Result<(Md<D>, Resolved)> {
+    let (mut md, resolved, clumps) = build_md_parts(loaded, report)?;
+    if !clumps.bodies.is_empty() {
+        md.add_bodies(clumps.shapes, clumps.bodies)
+            .map_err(|e| super::in_scenario(e, &loaded.origin))?;
+    }
+    Ok((md, resolved))
+}
+
+/// The engine of a scenario before its bodies are added, with the numbers
+/// it was resolved to and the shapes and bodies to add (`grains check`
+/// reports them).
+pub fn build_md_parts<D: Dim>(
+    loaded: &Loaded,
+    report: &mut dyn FnMut(&str),
+) -> Result<(Md<D>, Resolved, Clumps<D>)> {
     build_md_inner(loaded, report).map_err(|e| super::in_scenario(e, &loaded.origin))
 }
 
 fn build_md_inner<D: Dim>(
     loaded: &Loaded,
     report: &mut dyn FnMut(&str),
-) -> Result<(Md<D>, Resolved)> {
+) -> Result<(Md<D>, Resolved, Clumps<D>)> {
     let start = std::time::Instant::now();
     let mut pass = |what: String| {
         report(&format!(
@@ -455,10 +442,29 @@ fn build_md_inner<D: Dim>(
         super::shear::start_profile(&mut particles, &dom);
     }
     pass(format!("placed {} grains", particles.len()));
+    let walls = s
+        .walls
+        .iter()
+        .enumerate()
+        .map(|(k, w)| wall::<D>(k, w, &dom, loaded))
+        .collect::<Result<Vec<_>>>()?;
+    let walls = super::resolve::elastic_walls(&s.contact.elastic_walls, walls)?;
+    let clumps =
+        super::clumps::bodies::<D>(loaded, &dom, &walls, &particles, INITIAL_OVERLAP_TOLERANCE)?;
+    if !clumps.bodies.is_empty() {
+        pass(format!("placed {} bodies", clumps.bodies.len()));
+    }
     let lightest = (particles.mass.iter().zip(&particles.frozen))
         .filter(|&(_, &frozen)| !frozen)
         .map(|(&m, _)| m)
         .fold(f64::INFINITY, f64::min);
+    // A body's sub-sphere counts as a grain of its own size for dt: its
+    // contacts are stiffer than the whole body's mass would suggest.
+    let rho = super::materials::density(s, None)?;
+    let lightest = (clumps.bodies.iter())
+        .flat_map(|b| &clumps.shapes[b.shape].spheres)
+        .map(|sub| s.particles.mass_model.mass(rho, 2.0 * sub.radius))
+        .fold(lightest, f64::min);
     // The inlets' grains count as placed ones for dt and the skin.
     let arriving = super::inlet::extent(s, &loaded.base_dir)?;
     let lightest = arriving.map_or(lightest, |(m, _)| lightest.min(m));
@@ -468,16 +474,10 @@ fn build_md_inner<D: Dim>(
         None => 1.0,
     };
     let resolved = resolve(s, lightest)?;
-    let walls = s
-        .walls
-        .iter()
-        .enumerate()
-        .map(|(k, w)| wall::<D>(k, w, &dom, loaded))
-        .collect::<Result<Vec<_>>>()?;
-    let walls = super::resolve::elastic_walls(&s.contact.elastic_walls, walls)?;
     let dmax = arriving
         .map_or(0.0, |(_, d)| d)
-        .max(2.0 * particles.max_radius());
+        .max(2.0 * particles.max_radius())
+        .max(clumps.max_sub_diameter());
     if !(s.run.skin.is_finite() && s.run.skin > 0.0) {
         return Err(Error::input(format!(
             "run.skin = {}: must be positive (units of d0)",
@@ -507,6 +507,7 @@ fn build_md_inner<D: Dim>(
     // with the stand-in the time step came from.
     let mut kinds = particles.kind.clone();
     kinds.extend(s.inlets.iter().map(|i| i.kind.unwrap_or(1)));
+    kinds.extend(clumps.bodies.iter().map(|b| b.kind));
     let hertz = super::materials::hertz_law(s, &kinds)?;
     if let Some(hertz) = hertz {
         settings.law = Law::Materials(MaterialLaw {
@@ -548,7 +549,7 @@ fn build_md_inner<D: Dim>(
         ))
     })?;
     pass("checked the initial overlaps and time step".to_string());
-    Ok((md, resolved))
+    Ok((md, resolved, clumps))
 }
 
 /// A one-grain scenario the tests below change.

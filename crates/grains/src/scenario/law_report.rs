@@ -265,6 +265,20 @@ pub fn memory<D: Dim>(md: &Md<D>) -> Value {
     })
 }
 
+/// What `grains check` prints of an MD scenario: the engine built (its
+/// flow's settings checked) and reported, and its clumps, which are
+/// placed and checked but not added: what the engine makes of them is
+/// its own to check when run.
+pub fn md_check<D: Dim>(loaded: &Loaded) -> Result<Value> {
+    let (md, r, clumps) = super::build::build_md_parts::<D>(loaded, &mut |_| {})?;
+    super::flow::FlowRun::begin(loaded, &md)?;
+    let mut v = md_report(loaded, &md, &r)?;
+    if !clumps.shapes.is_empty() {
+        v["clumps"] = clumps.report(&loaded.scenario);
+    }
+    Ok(v)
+}
+
 /// What `grains check` prints of an MD scenario built as `md` with the
 /// resolved settings `r`.
 pub fn md_report<D: Dim>(loaded: &Loaded, md: &Md<D>, r: &Resolved) -> Result<Value> {

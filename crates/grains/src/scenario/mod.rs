@@ -2,11 +2,13 @@
 //! builders that turn a scenario into a ready MD or DSMC engine.
 
 pub mod build;
+pub mod clumps;
 pub mod device;
 pub mod dsmc;
 pub mod flow;
 pub mod hopper;
 pub mod inlet;
+pub mod keys;
 pub mod law_report;
 pub mod materials;
 pub mod memory;
@@ -18,11 +20,12 @@ pub mod resolve;
 pub mod restart;
 pub mod schema;
 mod servo;
+pub mod shapes;
 pub mod shear;
 pub mod sizes;
 pub mod sweep;
 
-pub use build::{build_md, build_md_reporting};
+pub use build::{build_md, build_md_parts, build_md_reporting};
 pub use dsmc::build_dsmc;
 pub use resolve::Resolved;
 pub use schema::Scenario;
@@ -100,6 +103,7 @@ pub fn load_str(text: &str, origin: &str, base_dir: PathBuf, sets: &[String]) ->
         .validate(origin, scenario.dimension.axes())?;
     sizes::complete(&mut scenario, d0_given, &base_dir).map_err(|e| in_scenario(e, origin))?;
     shear::check(&scenario).map_err(|e| in_scenario(e, origin))?;
+    clumps::check(&scenario).map_err(|e| in_scenario(e, origin))?;
     Ok(Loaded {
         scenario,
         origin: origin.to_string(),

@@ -11,6 +11,7 @@ mod inlet;
 mod measure;
 mod outlet;
 mod run;
+mod shape;
 mod size;
 mod walls;
 
@@ -24,6 +25,7 @@ pub use measure::{
 };
 pub use outlet::{BoxSpec, CylinderSpec, OutflowSpec, OutletSpec, PlaneSpec, SensorSpec};
 pub use run::{Device, FramesLayout, OutputSpec, RunSpec, TimeStep};
+pub use shape::{ClumpSpec, OrientationSpec, ShapeShare, ShapeUnits, SphereSpec};
 pub use size::{SizeDistribution, SizeSpec, SizeWeight};
 pub use walls::{MotionSpec, ShapeSpec, WallSpec};
 
@@ -86,6 +88,9 @@ pub struct Scenario {
     /// How a distributed (MPI) MD run splits the box over its ranks.
     #[serde(default)]
     pub parallel: crate::settings::ParallelSpec,
+    /// Rigid clumps of spheres that bodies are made of (docs/clumps.md).
+    #[serde(default)]
+    pub shapes: Vec<ClumpSpec>,
 }
 
 fn default_seed() -> u64 {
@@ -201,6 +206,16 @@ pub struct ParticlesSpec {
     /// `density`.
     #[serde(default)]
     pub material: Option<String>,
+    /// Lattice and random placement make bodies of this `[[shapes]]` entry
+    /// instead of spheres.
+    #[serde(default)]
+    pub shape: Option<String>,
+    /// A mixture of shapes by number, in place of `shape`.
+    #[serde(default)]
+    pub shapes: Vec<ShapeShare>,
+    /// Orientation of placed bodies: "random" (default) or a quaternion.
+    #[serde(default)]
+    pub orientation: Option<OrientationSpec>,
 }
 
 fn default_d0() -> f64 {
@@ -260,6 +275,16 @@ pub struct GrainSpec {
     /// kind share one material.
     #[serde(default)]
     pub material: Option<String>,
+    /// A body of this `[[shapes]]` entry instead of a sphere; `position`
+    /// is then its centre of mass.
+    #[serde(default)]
+    pub shape: Option<String>,
+    /// A body's orientation, a unit quaternion [w, x, y, z]; default [1, 0, 0, 0].
+    #[serde(default)]
+    pub orientation: Option<Vec<f64>>,
+    /// Angular velocity (rad/s): [wx, wy, wz] in 3D, [wz] in 2D.
+    #[serde(default)]
+    pub omega: Option<Vec<f64>>,
 }
 
 /// `true`, the default of the switches that are on unless turned off.
