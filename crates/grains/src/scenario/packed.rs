@@ -256,8 +256,8 @@ fn pass<D: Dim>(
         worst = worst.max(overlap / (2.0 * r[i].min(r[j])));
         let n = dx * (1.0 / dist);
         let share = size[j] / (size[i] + size[j]);
-        x[i] = x[i] + n * (overlap * share);
-        x[j] = x[j] - n * (overlap * (1.0 - share));
+        x[i] += n * (overlap * share);
+        x[j] -= n * (overlap * (1.0 - share));
     }
     for (p, &ri) in x.iter_mut().zip(r) {
         b.hold(p, ri);
@@ -374,7 +374,7 @@ pub fn grains<D: Dim>(
     let mut volume = 1.0;
     for (a, wrap) in wraps.iter_mut().enumerate().take(D::D) {
         let (l, h) = (D::get(lo, a), D::get(hi, a));
-        if !(h - l > law.max()) {
+        if h - l <= law.max() {
             return Err(Error::input(format!(
                 "particles.region is {:e} m along axis {a}, not wider than the largest grain \
                  ({:e} m): enlarge particles.region",
