@@ -9,8 +9,23 @@ the Beverloo value (3/2 in 2D, 5/2 in 3D). Prints both fits with their rms
 residuals (in log W) so one can see whether the data tell the exponents
 apart, and draws the points with both curves.
 
+With --rho-b (3D): Beverloo's own fit with the exponent 5/2, W^(2/5) a
+straight line in D, W^(2/5) = (C rho_b sqrt(g))^(2/5) (D - k d0): C and k
+from its slope and intercept, with standard errors from the least-squares
+covariance (Beverloo, Leniger & van de Velde 1961). --square takes the
+outlet as a square of side D and fits the circular orifice of the same area,
+D_eq = 2 D / sqrt(pi).
+
+--bed DUMP measures rho_b instead from the last snapshot of a LAMMPS dump
+of the settled bed (id type radius x y z ...): the mass of the grains
+whose centres lie in the central box (2 mm in from the side walls at
+x, y in [0, --width], 2 mm above the floor at z = 0 to 2 mm below the
+surface, the median top of 2 x 2 mm columns) over its volume, the
+grains' density --rho-s.
+
 usage: beverloo_fit.py SWEEP_CSV --dim 2|3 [--d0 1e-3] [--max-outlet M]
-                       [--png out.png]
+                       [--rho-b RHO_B | --bed DUMP [--rho-s 2500] [--width 0.016]]
+                       [--square] [--png out.png]
 """
 import argparse
 import csv
@@ -54,12 +69,56 @@ def best(D, W, d0, n=None):
     return dict(k=k, n=nn, C=np.exp(lc), rms=rms, edge=edge)
 
 
+def beverloo_c_k(D, W, d0, rho_b, g=9.81):
+    """C and k of W = C rho_b sqrt(g) (D - k d0)^(5/2), with standard errors,
+    from the straight line W^(2/5) = a D + b."""
+    y = W ** 0.4
+    (a, b), cov = np.polyfit(D, y, 1, cov=True)
+    k = -b / (a * d0)
+    C = a**2.5 / (rho_b * np.sqrt(g))
+    dk = np.array([b / (a * a * d0), -1.0 / (a * d0)])  # d k / d (a, b)
+    sk = float(np.sqrt(dk @ cov @ dk))
+    sC = 2.5 * a**1.5 * np.sqrt(cov[0, 0]) / (rho_b * np.sqrt(g))
+    res = y - (a * D + b)
+    return dict(C=C, sC=sC, k=k, sk=sk, rms=float(np.sqrt(np.mean(res**2)) / np.mean(y)))
+
+
+def bed_density(path, rho_s, width, margin=2e-3):
+    """Bulk density of the central box of the dump's last snapshot."""
+    snap = open(path).read().split("ITEM: TIMESTEP")[-1].splitlines()
+    head = next(k for k, l in enumerate(snap) if l.startswith("ITEM: ATOMS"))
+    cols = snap[head].split()[2:]
+    a = np.array([[float(v) for v in l.split()] for l in snap[head + 1:] if l.strip()])
+    r, x, y, z = (a[:, cols.index(c)] for c in ("radius", "x", "y", "z"))
+    tops = []
+    for cx in np.arange(1e-3, width, 2e-3):
+        for cy in np.arange(1e-3, width, 2e-3):
+            sel = (abs(x - cx) < 1e-3) & (abs(y - cy) < 1e-3)
+            if sel.any():
+                tops.append((z[sel] + r[sel]).max())
+    top = float(np.median(tops))
+    lo, hi, zl, zh = margin, width - margin, margin, top - margin
+    sel = (x > lo) & (x < hi) & (y > lo) & (y < hi) & (z > zl) & (z < zh)
+    mass = rho_s * 4.0 / 3.0 * np.pi * r[sel] ** 3
+    rho_b = mass.sum() / ((hi - lo) ** 2 * (zh - zl))
+    print(f"bed: surface at {top * 1e3:.2f} mm, {sel.sum()} grains in the central box, "
+          f"rho_b = {rho_b:.0f} kg/m^3 (packing {rho_b / rho_s:.3f})")
+    return rho_b
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("csv")
     ap.add_argument("--dim", type=int, choices=[2, 3], required=True)
     ap.add_argument("--d0", type=float, default=1e-3)
     ap.add_argument("--max-outlet", type=float, default=None)
+    ap.add_argument("--rho-b", type=float, default=None,
+                    help="bulk density of the settled bed (kg/m^3): fit C and k")
+    ap.add_argument("--bed", help="LAMMPS dump of the settled bed: measure rho_b")
+    ap.add_argument("--rho-s", type=float, default=2500.0)
+    ap.add_argument("--width", type=float, default=0.016)
+    ap.add_argument("--square", action="store_true",
+                    help="outlets are squares of side D: fit D_eq = 2 D / sqrt(pi)")
     ap.add_argument("--png")
     a = ap.parse_args()
     pts, clogged = load(a.csv, a.max_outlet)
@@ -75,6 +134,42 @@ def main():
         note = " (k at the edge of its range)" if f["edge"] else ""
         print(f"{name:>8}: n = {f['n']:.2f}, k = {f['k']:.2f}{note}, "
               f"C = {f['C']:.3g}, rms residual in ln W = {f['rms']:.3f}")
+    if a.bed and a.rho_b is None:
+        a.rho_b = bed_density(a.bed, a.rho_s, a.width)
+    if a.rho_b is not None:
+        if a.dim != 3:
+            sys.exit("--rho-b: Beverloo's C is the 3D law's")
+        Deq = D * 2.0 / np.sqrt(np.pi) if a.square else D
+        bev = beverloo_c_k(Deq, W, a.d0, a.rho_b)
+        print("| D (mm) | D_eq (mm) | W (g/s) |")
+        print("|---|---|---|")
+        for d, de, w in zip(D, Deq, W):
+            print(f"| {d * 1e3:.2f} | {de * 1e3:.2f} | {w * 1e3:.3f} |")
+        print(f"Beverloo (n = 5/2, rho_b = {a.rho_b:.0f} kg/m^3"
+              f"{', circular of equal area' if a.square else ''}): "
+              f"C = {bev['C']:.3f} +- {bev['sC']:.3f}, k = {bev['k']:.2f} +- {bev['sk']:.2f}, "
+              f"rms residual of W^(2/5) {100 * bev['rms']:.2f} %")
+        if a.png:
+            import matplotlib
+
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+
+            fig, ax = plt.subplots(figsize=(5, 4))
+            ax.plot(Deq / a.d0, W ** 0.4, "o", label="measured")
+            x = np.linspace(min(Deq.min(), (bev["k"] + 0.5) * a.d0), Deq.max(), 100)
+            line = (bev["C"] * a.rho_b * np.sqrt(9.81)) ** 0.4 * (x - bev["k"] * a.d0)
+            ax.plot(x / a.d0, line, "-",
+                    label=f"C = {bev['C']:.2f} ± {bev['sC']:.2f}, k = {bev['k']:.2f} ± {bev['sk']:.2f}")
+            lit = (0.58 * a.rho_b * np.sqrt(9.81)) ** 0.4 * (x - 1.5 * a.d0)
+            ax.plot(x / a.d0, lit, "--", label="Beverloo 1961: C = 0.58, k = 1.5")
+            ax.set_xlabel("D_eq / d" if a.square else "D / d")
+            ax.set_ylabel("W^(2/5) (kg/s)^(2/5)")
+            ax.set_title("Beverloo, 3D glass silo")
+            ax.legend(fontsize=8)
+            fig.tight_layout()
+            fig.savefig(a.png, dpi=100)
+        return
     if a.png:
         import matplotlib
 

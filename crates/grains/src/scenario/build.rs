@@ -102,6 +102,12 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Particles<D>> {
         ),
         None => (dom.lo, dom.hi),
     };
+    if ps.packing.is_some() && ps.placement != Placement::Packed {
+        return Err(Error::input(
+            "particles.packing is the target of placement = \"packed\": set that placement or \
+             leave packing out",
+        ));
+    }
     let density = super::materials::density(s, None)?;
     // Frozen before they enter the store, which gives a frozen grain no
     // inverse mass or inertia.
@@ -118,6 +124,18 @@ fn grains<D: Dim>(loaded: &Loaded, dom: &Domain<D>) -> Result<Particles<D>> {
         // An empty box that inlets fill.
         Placement::Lattice | Placement::Random if ps.count == 0 && !s.inlets.is_empty() => {
             Particles::new()
+        }
+        Placement::Packed => {
+            let (d, pos) = super::packed::grains::<D>(loaded, dom, rlo, rhi)?;
+            let vel = placement::velocities::<D>(d.len(), ps.random_velocity, s.seed);
+            let mut out = Particles::with_capacity(d.len() + ps.add.len());
+            for k in 0..d.len() {
+                let mut g = grain::<D>(k as u64 + 1, pos[k], d[k], density, ps.mass_model);
+                g.vel = vel[k];
+                freeze(&mut g);
+                out.push_record(g);
+            }
+            out
         }
         Placement::Lattice | Placement::Random => {
             if ps.count == 0 {
@@ -506,7 +524,7 @@ fn build_md_inner<D: Dim>(
     // The one law of the run: the materials' when the scenario has them,
     // with the stand-in the time step came from.
     let mut kinds = particles.kind.clone();
-    kinds.extend(s.inlets.iter().map(|i| i.kind.unwrap_or(1)));
+    kinds.extend(super::inlet::mixture::kinds(s)?);
     kinds.extend(clumps.bodies.iter().map(|b| b.kind));
     let hertz = super::materials::hertz_law(s, &kinds)?;
     if let Some(hertz) = hertz {

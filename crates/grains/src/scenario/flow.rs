@@ -50,6 +50,9 @@ pub struct FlowRun<D: Dim> {
     stage: Stage,
     g0: D::V,
     energy_unit: f64,
+    /// g d0 (d0 without gravity): the energy unit per unit of mass, for
+    /// an engine that starts empty.
+    g_d0: f64,
     tilt: f64,
     parked: usize,
     d0: f64,
@@ -91,6 +94,7 @@ impl<D: Dim> FlowRun<D> {
         let mean_mass = mobile.iter().map(|&i| p.mass[i]).sum::<f64>() / mobile.len().max(1) as f64;
         let g = D::norm(md.settings.gravity);
         let energy_unit = mean_mass * if g > 0.0 { g } else { 1.0 } * d0;
+        let g_d0 = if g > 0.0 { g } else { 1.0 } * d0;
         let mut events = s.run.events.clone();
         if let Some(e) = &mut events {
             if e.remove_wall.as_deref() == Some("") {
@@ -136,6 +140,7 @@ impl<D: Dim> FlowRun<D> {
             stage: Stage::Settling,
             g0: md.settings.gravity,
             energy_unit,
+            g_d0,
             tilt: 0.0,
             parked: 0,
             d0,
@@ -195,7 +200,20 @@ impl<D: Dim> FlowRun<D> {
     /// Kinetic energy per mobile grain in units of m g d0.
     fn energy(&self, md: &Md<D>) -> f64 {
         let n = md.particles.n_mobile().max(1) as f64;
-        md.particles.kinetic_energy() / n / self.energy_unit
+        if self.energy_unit > 0.0 {
+            return md.particles.kinetic_energy() / n / self.energy_unit;
+        }
+        // Started empty (inlets fill it): the mean mass of the mobile
+        // grains there now.
+        let p = &md.particles;
+        let mass: f64 = (0..p.n_owned())
+            .filter(|&i| !p.frozen[i])
+            .map(|i| p.mass[i])
+            .sum();
+        if mass == 0.0 {
+            return f64::INFINITY;
+        }
+        p.kinetic_energy() / n / (mass / n * self.g_d0)
     }
 
     /// The step's events on `md`; returns the grains it moved (id, new

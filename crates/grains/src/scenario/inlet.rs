@@ -12,6 +12,8 @@
 //! Every draw comes from a stream of (seed, purpose, inlet, grain number,
 //! attempt), so the grains are the same on any thread count and after a
 //! resume; the inlets' counters go into the flow run's checkpoint section.
+//! A mixture of materials (`inlet/mixture.rs`) draws each grain's material
+//! from a stream of its own, so an inlet of one kind keeps its bits.
 
 use super::placement::stream;
 use super::schema::{InletRegion, InletSpec, Scenario};
@@ -22,17 +24,20 @@ use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::md::Md;
 use crate::particles::{MassModel, ParticleRecord};
+use mixture::Mixture;
 use rand::Rng;
 use region::{vector, Region};
 use serde_json::{json, Value};
 use std::path::Path;
 
+pub mod mixture;
 mod region;
 
 /// Stream purposes (after placement's 1–3): a grain's size and velocity,
 /// and one attempt's position.
 const STREAM_GRAIN: u64 = 11;
 const STREAM_SPOT: u64 = 12;
+const STREAM_MATERIAL: u64 = 13;
 
 /// Steps between two tries of a grain that found no room.
 pub const RETRY_STEPS: u64 = 100;
@@ -65,10 +70,9 @@ struct Inlet<D: Dim> {
     velocity: D::V,
     spread: f64,
     law: SizeLaw,
-    density: f64,
+    /// The materials: kinds, densities, fractions.
+    mix: Mixture,
     model: MassModel,
-    kind: u32,
-    frozen: bool,
     attempts: u32,
     /// Grains inserted, their mass, the attempts already spent on the
     /// next grain, and the attempts that found no room (all grains).
@@ -174,13 +178,19 @@ impl<D: Dim> Inlet<D> {
                 law.max()
             )));
         }
-        let kind = spec.kind.unwrap_or(1);
-        // Grains of one kind share one material: a `particles.add` entry
-        // of this kind may name it.
-        let entry = ps.add.iter().find(|a| {
-            a.material.is_some() && a.kind.unwrap_or(if a.frozen { 2 } else { 1 }) == kind
-        });
-        let density = super::materials::density(s, entry)?;
+        let mix = match Mixture::new(s, spec, &key)? {
+            Some(mix) => mix,
+            None => {
+                let kind = spec.kind.unwrap_or(1);
+                // Grains of one kind share one material: a
+                // `particles.add` entry of this kind may name it.
+                let entry = ps.add.iter().find(|a| {
+                    a.material.is_some() && a.kind.unwrap_or(if a.frozen { 2 } else { 1 }) == kind
+                });
+                let density = super::materials::density(s, entry)?;
+                Mixture::single(kind, density, ps.frozen_types.contains(&kind))
+            }
+        };
         Ok(Self {
             key,
             region,
@@ -190,10 +200,8 @@ impl<D: Dim> Inlet<D> {
             velocity,
             spread,
             law,
-            density,
+            mix,
             model: ps.mass_model,
-            kind,
-            frozen: ps.frozen_types.contains(&kind),
             attempts: spec.attempts,
             inserted: 0,
             mass: 0.0,
@@ -218,8 +226,9 @@ impl<D: Dim> Inlet<D> {
         }
     }
 
-    /// Grain `k`'s diameter and velocity.
-    fn grain(&self, seed: u64, index: usize, k: u64) -> (f64, D::V) {
+    /// Grain `k`'s diameter, velocity and material (its place in the
+    /// mixture).
+    fn grain(&self, seed: u64, index: usize, k: u64) -> (f64, D::V, usize) {
         let mut rng = stream(mix(mix(seed, index as u64), k), STREAM_GRAIN);
         // The law was checked when built: its draws cannot fail but by an
         // exhausted redraw budget, which a checked law never reaches.
@@ -232,11 +241,16 @@ impl<D: Dim> Inlet<D> {
                 D::set(&mut v, a, now + dv);
             }
         }
-        (d, v)
+        let c = (self.mix).pick(&mut stream(
+            mix(mix(seed, index as u64), k),
+            STREAM_MATERIAL,
+        ));
+        (d, v, c)
     }
 
-    fn grain_mass(&self, d: f64) -> f64 {
-        self.model.mass(self.density, d)
+    /// The mass of a grain of diameter `d` and material `c`.
+    fn grain_mass(&self, d: f64, c: usize) -> f64 {
+        self.model.mass(self.mix.part(c).density, d)
     }
 
     /// Whether grain `k` (the next, with mass `m`) is due at time `t`.
@@ -254,7 +268,8 @@ impl<D: Dim> Inlet<D> {
     fn next_due(&self, seed: u64, index: usize, now: u64, dt: f64) -> u64 {
         let k = self.inserted;
         let m = if self.amount.by_mass {
-            self.grain_mass(self.grain(seed, index, k).0)
+            let (d, _, c) = self.grain(seed, index, k);
+            self.grain_mass(d, c)
         } else {
             0.0
         };
@@ -400,8 +415,8 @@ impl<D: Dim> Inlets<D> {
             let mut nearby: Option<Vec<(D::V, f64)>> = None;
             loop {
                 let k = inlet.inserted;
-                let (d, v) = inlet.grain(self.seed, i, k);
-                let m = inlet.grain_mass(d);
+                let (d, v, c) = inlet.grain(self.seed, i, k);
+                let m = inlet.grain_mass(d, c);
                 if !inlet.due(k, m, t) {
                     break;
                 }
@@ -447,8 +462,9 @@ impl<D: Dim> Inlets<D> {
                 let inertia = inlet.model.inertia(m, r);
                 let mut g = ParticleRecord::new(self.next_id, p, r, m, inertia);
                 g.vel = v;
-                g.kind = inlet.kind;
-                g.frozen = inlet.frozen;
+                let part = inlet.mix.part(c);
+                g.kind = part.kind;
+                g.frozen = part.frozen;
                 self.next_id += 1;
                 added.push(g);
             }
@@ -507,7 +523,8 @@ impl<D: Dim> Inlets<D> {
         // Bounded: a grain's mass is at least the smallest grain's.
         let limit = k + 10_000_000;
         while k < limit {
-            let m = inlet.grain_mass(inlet.grain(self.seed, i, k).0);
+            let (d, _, c) = inlet.grain(self.seed, i, k);
+            let m = inlet.grain_mass(d, c);
             if mass + m > target {
                 break;
             }
@@ -600,11 +617,11 @@ pub fn extent(s: &Scenario, base: &Path) -> Result<Option<(f64, f64)>> {
         let inlet = match s.dimension {
             super::schema::Dimension::Two => {
                 let x = Inlet::<crate::dim::D2>::new(s, base, i, spec)?;
-                (x.grain_mass(x.law.min()), x.law.max())
+                (x.model.mass(x.mix.lightest(), x.law.min()), x.law.max())
             }
             super::schema::Dimension::Three => {
                 let x = Inlet::<crate::dim::D3>::new(s, base, i, spec)?;
-                (x.grain_mass(x.law.min()), x.law.max())
+                (x.model.mass(x.mix.lightest(), x.law.min()), x.law.max())
             }
         };
         out = Some(match out {

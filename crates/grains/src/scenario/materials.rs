@@ -101,6 +101,31 @@ fn find(materials: &[Material], name: &str, key: &str) -> Result<usize> {
         })
 }
 
+/// The materials of the inlets' mixtures: per entry its kind, its
+/// material's index and its key (`inlets[i].materials[j]`). A kind not
+/// given is 1 + the material's place in `[[materials]]`.
+pub fn mixture_kinds(s: &Scenario) -> Result<Vec<(u32, usize, String)>> {
+    let mut out = Vec::new();
+    for (i, inlet) in s.inlets.iter().enumerate() {
+        let Some(mix) = &inlet.materials else {
+            continue;
+        };
+        if !uses_materials(s) {
+            return Err(Error::input(format!(
+                "inlets[{i}].materials needs [[materials]] and contact.model = \"hertz-mindlin\" \
+                 (or contact.preset = \"lammps-granular\"); without them give inlets[{i}].kind"
+            )));
+        }
+        let all = materials(s)?;
+        for (j, m) in mix.iter().enumerate() {
+            let key = format!("inlets[{i}].materials[{j}]");
+            let index = find(&all, &m.name, &format!("{key}.name"))?;
+            out.push((m.kind.unwrap_or(index as u32 + 1), index, key));
+        }
+    }
+    Ok(out)
+}
+
 /// The density of grains of `material` (an entry's, or `particles.material`).
 pub fn density(s: &Scenario, entry: Option<&GrainSpec>) -> Result<f64> {
     let (name, key) = match entry.and_then(|a| a.material.as_ref()) {
@@ -142,6 +167,20 @@ pub fn hertz_law(s: &Scenario, kinds: &[u32]) -> Result<Option<HertzMindlin>> {
                     "{key} = \"{name}\", but {by} gave kind {kind} material \"{}\": grains of one kind \
                      share one material; give this entry its own kind",
                     all[*other].name
+                )));
+            }
+        }
+        of_kind.insert(kind, (m, key));
+        *named.entry(kind).or_insert(0) += 1;
+    }
+    // The inlets' mixtures name a material for each of their kinds.
+    for (kind, m, key) in mixture_kinds(s)? {
+        if let Some((other, by)) = of_kind.get(&kind) {
+            if *other != m {
+                return Err(Error::input(format!(
+                    "{key} makes kind {kind} \"{}\", but {by} gave kind {kind} material \"{}\": \
+                     grains of one kind share one material; give {key}.kind another kind",
+                    all[m].name, all[*other].name
                 )));
             }
         }

@@ -15,6 +15,7 @@ pub mod memory;
 mod mesh_wall;
 pub mod outlet;
 pub mod overrides;
+pub mod packed;
 pub mod placement;
 pub mod resolve;
 pub mod restart;

@@ -18,7 +18,7 @@ mod walls;
 pub use contact::{ContactModelKind, ContactPreset, ContactSpec, MaterialPairSpec, MaterialSpec};
 pub use fields::FieldsSpec;
 pub use flow::{EventsSpec, HopperSpec};
-pub use inlet::{InletRegion, InletSpec};
+pub use inlet::{InletRegion, InletSpec, MixtureSpec};
 pub use measure::{
     ConvectionSpec, FlowFieldSpec, MeasureSpec, PhasesSpec, ProfilesSpec, SpacetimeSpec,
     SurfaceSpec, TracerSpec, TrajectoriesSpec,
@@ -181,7 +181,11 @@ pub struct ParticlesSpec {
     pub density: f64,
     #[serde(default)]
     pub mass_model: MassModel,
-    /// Region to fill (lattice, random); default the whole domain.
+    /// Target packing fraction of placement = "packed" (the count
+    /// follows from it).
+    #[serde(default)]
+    pub packing: Option<f64>,
+    /// Region to fill (lattice, random, packed); default the whole domain.
     #[serde(default)]
     pub region: Option<RegionSpec>,
     /// Lattice spacing in units of the largest diameter (≥ 1); default 1.05.
@@ -237,6 +241,9 @@ pub enum Placement {
     Lattice,
     /// Random non-overlapping positions in the region.
     Random,
+    /// The region filled to `particles.packing` by growing the grains
+    /// from a random placement (`scenario/packed.rs`).
+    Packed,
     /// Read from `particles.file`.
     File,
     /// Only the grains listed in `particles.add`.

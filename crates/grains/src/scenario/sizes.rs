@@ -545,11 +545,14 @@ fn kept_enough(kept: f64, law: &str) -> Result<()> {
     Ok(())
 }
 
-/// The law of a scenario's lattice or random grains: `particles.size`, or
+/// The law of a scenario's lattice, random or packed grains: `particles.size`, or
 /// the band of d0 and width; `None` for grains from a file or `add` only.
 pub fn of_scenario(s: &Scenario, base: &Path) -> Result<Option<SizeLaw>> {
     let ps = &s.particles;
-    if !matches!(ps.placement, Placement::Lattice | Placement::Random) {
+    if !matches!(
+        ps.placement,
+        Placement::Lattice | Placement::Random | Placement::Packed
+    ) {
         return Ok(None);
     }
     Ok(Some(match &ps.size {

@@ -6,7 +6,7 @@ use grains::runner::check;
 use grains::scenario::load_file;
 use std::path::PathBuf;
 
-const SCENARIOS: [&str; 15] = [
+const SCENARIOS: [&str; 16] = [
     "repose-2d",
     "repose-3d",
     "repose-3d-sand",
@@ -22,6 +22,7 @@ const SCENARIOS: [&str; 15] = [
     "pour-inlet-3d",
     "silo-2d",
     "silo-3d-glass",
+    "beverloo-3d-glass",
 ];
 
 fn path(name: &str) -> PathBuf {

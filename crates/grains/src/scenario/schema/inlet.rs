@@ -46,10 +46,28 @@ pub struct InletSpec {
     /// default 1.
     #[serde(default)]
     pub kind: Option<u32>,
+    /// A mixture of `[[materials]]` by number fraction, in place of `kind`
+    /// (`scenario/inlet/mixture.rs`).
+    #[serde(default)]
+    pub materials: Option<Vec<MixtureSpec>>,
     /// Candidate positions tried for one grain at one step before it waits
     /// for the next; default 50.
     #[serde(default = "default_attempts")]
     pub attempts: u32,
+}
+
+/// One material of an inlet's mixture: `{ name, fraction, kind }`.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MixtureSpec {
+    /// A `[[materials]]` name.
+    pub name: String,
+    /// The fraction of the inlet's grains, by number, of this material.
+    pub fraction: f64,
+    /// The type its grains get; default 1 + the material's place in
+    /// `[[materials]]` (grains of one kind share one material).
+    #[serde(default)]
+    pub kind: Option<u32>,
 }
 
 fn default_attempts() -> u32 {
