@@ -155,6 +155,13 @@ pub fn check(s: &Scenario) -> Result<()> {
                      by particles.add",
                 )
             }
+            Placement::Packed => {
+                return refuse(
+                    "particles.placement = \"packed\"",
+                    "the packed fill grows spheres, not bodies; place bodies on a lattice, \
+                     at random or by particles.add",
+                )
+            }
             Placement::None => {
                 return Err(Error::input(
                     "particles.shape: placement = \"none\" places no bodies; \
