@@ -266,8 +266,8 @@ impl Outputs {
         let row = [
             md.step as f64,
             md.time,
-            md.particles.kinetic_energy(),
-            md.particles.rotational_energy(),
+            md.kinetic_energy(),
+            md.rotational_energy(),
             granular_temperature(&md.particles),
             md.stats.contacts as f64,
             md.stats.max_overlap,
@@ -384,14 +384,8 @@ pub fn md_summary<D: Dim>(
         "ns_per_particle_step".into(),
         json!(1e9 * wall_seconds / updates),
     );
-    summary.insert(
-        "kinetic_energy".into(),
-        json!(md.particles.kinetic_energy()),
-    );
-    summary.insert(
-        "rotational_energy".into(),
-        json!(md.particles.rotational_energy()),
-    );
+    summary.insert("kinetic_energy".into(), json!(md.kinetic_energy()));
+    summary.insert("rotational_energy".into(), json!(md.rotational_energy()));
     summary.insert(
         "granular_temperature".into(),
         json!(granular_temperature(&md.particles)),

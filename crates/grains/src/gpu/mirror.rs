@@ -203,6 +203,13 @@ impl Mirror {
     /// [`Self::from_md`] storing the grains in `order` from the first
     /// re-sort on.
     pub fn from_md_in(md: &Md<D3>, order: CellOrder) -> Result<Self> {
+        if md.has_bodies() {
+            return Err(crate::error::Error::input(
+                "run.device = \"gpu\": rigid clumps ([[shapes]]) run on the CPU engine only \
+                 (the device pipeline would need the bodies' integrator and force sums); \
+                 use run.device = \"cpu\"",
+            ));
+        }
         let params = Params::of(md, order)?;
         let s = md.export_state()?;
         let p = &s.particles;

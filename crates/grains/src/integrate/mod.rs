@@ -4,7 +4,8 @@
 //! Both split a step into a part before the forces are computed (`predict`,
 //! or Verlet's first half-kick and drift) and a part after (`correct`, or the
 //! second half-kick); the engine calls them around its force phase. Frozen
-//! grains are never moved.
+//! grains are never moved (nor, by the same mask, the sub-spheres of rigid
+//! clumps, which `md/clumps` moves with their bodies).
 
 pub mod gear5;
 mod tiles;

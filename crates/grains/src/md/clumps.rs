@@ -1,16 +1,469 @@
 //! Rigid clumps in the MD engine: bodies whose sub-spheres are grains.
+//!
+//! Each sub-sphere is a grain of the store (neighbour lists, walls, meshes
+//! and outputs see spheres), tied to its body by its id. Per step, as
+//! LAMMPS's `fix rigid/small`: the bodies' half-kick, drift and NO_SQUISH
+//! rotation, then every sub-sphere put where its body says (position,
+//! v + ω × r, ω) before the grain integrators run, which leave sub-spheres
+//! alone; after the forces, each body sums its sub-spheres' forces and
+//! torques, takes its second half-kick and gives its sub-spheres their new
+//! velocities. Pairs within a body are dropped from the neighbour list.
 
 use super::Md;
 use crate::dim::Dim;
 use crate::error::{Error, Result};
+use crate::integrate::Integrator;
+use crate::particles::ParticleRecord;
+use crate::rigid::bodies::{Bodies, Body, BodyShape};
+use crate::rigid::no_squish;
 use crate::rigid::{BodySpec, Shape};
+use glam::DVec3;
+use std::collections::HashMap;
+
+/// A grain that belongs to no body.
+pub(crate) const NO_BODY: u32 = u32::MAX;
+
+/// The bodies of a run and their ties to the grain store.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Clumps {
+    pub bodies: Bodies,
+    /// Sub-sphere grain id → (body, sub-sphere in shape order).
+    by_id: HashMap<u64, (u32, u32)>,
+    /// Per grain in store order: its body, or [`NO_BODY`].
+    pub grain_body: Vec<u32>,
+    /// Each body's sub-spheres' grain indices, in shape order, body after
+    /// body (body b's from `start[b]`).
+    members: Vec<u32>,
+    start: Vec<usize>,
+    /// Per grain: frozen or a sub-sphere, what the grain integrators leave
+    /// alone (swapped in for `frozen` while they run).
+    pub held: Vec<bool>,
+    /// Per grain: the mass the contact laws see, a sub-sphere's body's.
+    pub contact_mass: Vec<f64>,
+}
+
+fn xyz<D: Dim>(v: D::V) -> DVec3 {
+    DVec3::from_array(D::to_xyz(v))
+}
+
+fn ang<D: Dim>(a: D::A) -> DVec3 {
+    DVec3::from_array(D::ang_to_xyz(a))
+}
+
+/// A shape in 3D terms, checked: positive mass and moments (in 2D the z
+/// moment, the in-plane ones set to 0 so that bodies turn about z only).
+fn body_shape<D: Dim>(s: Shape<D>) -> Result<BodyShape> {
+    let bad = |what: String| Err(Error::input(format!("[[shapes]] \"{}\": {what}", s.name)));
+    if s.spheres.is_empty() {
+        return bad("has no spheres".into());
+    }
+    let inertia = if D::D == 2 {
+        [0.0, 0.0, s.inertia[2]]
+    } else {
+        s.inertia
+    };
+    let moments = if D::D == 2 {
+        &inertia[2..]
+    } else {
+        &inertia[..]
+    };
+    if !(s.mass.is_finite() && s.mass > 0.0) || moments.iter().any(|m| !(m.is_finite() && *m > 0.0))
+    {
+        return bad(format!(
+            "mass {} and principal moments {:?} must be positive and finite",
+            s.mass, s.inertia
+        ));
+    }
+    if let Some(b) = s
+        .spheres
+        .iter()
+        .find(|b| !(b.radius.is_finite() && b.radius > 0.0 && D::is_finite(b.center)))
+    {
+        return bad(format!("a sphere of radius {} is not a sphere", b.radius));
+    }
+    Ok(BodyShape {
+        name: s.name.clone(),
+        centers: s.spheres.iter().map(|b| xyz::<D>(b.center)).collect(),
+        radii: s.spheres.iter().map(|b| b.radius).collect(),
+        mass: s.mass,
+        inertia,
+    })
+}
+
+/// Checks each body against the new shapes: its shape index, a unit
+/// quaternion (normalized), a finite motion; gives each its orientation
+/// and space-frame spin.
+fn check_bodies<D: Dim>(
+    shapes: &[BodyShape],
+    bodies: &[BodySpec<D>],
+) -> Result<Vec<(no_squish::Quat, DVec3)>> {
+    let mut out = Vec::with_capacity(bodies.len());
+    for (k, spec) in bodies.iter().enumerate() {
+        let bad = |what: String| Err(Error::input(format!("body {k}: {what}")));
+        if spec.shape >= shapes.len() {
+            return bad(format!(
+                "shape index {} beyond the {} [[shapes]]",
+                spec.shape,
+                shapes.len()
+            ));
+        }
+        let q = spec.orientation;
+        let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+        if norm.is_nan() || (norm - 1.0).abs() >= 1e-6 {
+            return bad(format!(
+                "orientation {q:?} is not a unit quaternion (w, x, y, z)"
+            ));
+        }
+        let omega = ang::<D>(spec.omega);
+        if !(D::is_finite(spec.pos) && D::is_finite(spec.vel) && omega.is_finite()) {
+            return bad("position, velocity and spin must be finite".into());
+        }
+        out.push((q.map(|c| c / norm), omega));
+    }
+    Ok(out)
+}
 
 impl<D: Dim> Md<D> {
-    /// Adds rigid clumps of the given shapes to the engine.
+    /// Adds rigid clumps of the given shapes to the engine: each body's
+    /// sub-spheres become grains with fresh ids (consecutive per body),
+    /// after the grains already there, moving with their body from now on.
+    /// Fails (input error naming the key) under Gear-5, in a sheared box,
+    /// beside ghosts, on a bad shape, index, quaternion or motion.
     pub fn add_bodies(&mut self, shapes: Vec<Shape<D>>, bodies: Vec<BodySpec<D>>) -> Result<()> {
-        let _ = (shapes, bodies);
-        Err(Error::input(
-            "[[shapes]]: rigid clumps are not supported by this build",
-        ))
+        if self.settings.integrator == Integrator::Gear5 {
+            return Err(Error::input(
+                "run.integrator = \"gear5\": rigid clumps ([[shapes]]) move by velocity Verlet and \
+                 NO_SQUISH only; set run.integrator = \"verlet\"",
+            ));
+        }
+        if self.domain.shear.is_some() {
+            return Err(Error::input(
+                "domain.shear: rigid clumps ([[shapes]]) in a sheared box are not implemented \
+                 (their sub-spheres would cross the sliding images apart from their body)",
+            ));
+        }
+        if self.particles.n_owned() != self.particles.len() {
+            return Err(Error::input(
+                "rigid clumps cannot be added beside ghosts (a distributed run)",
+            ));
+        }
+        let shapes = shapes
+            .into_iter()
+            .map(body_shape)
+            .collect::<Result<Vec<_>>>()?;
+        let made = check_bodies(&shapes, &bodies)?;
+        let mut clumps = self.clumps.take().map(|c| *c).unwrap_or_default();
+        let offset = clumps.bodies.shapes.len();
+        clumps.bodies.shapes.extend(shapes);
+        let mut next_id = self.particles.id.iter().max().map_or(1, |m| m + 1);
+        for (spec, (quat, omega)) in bodies.iter().zip(made) {
+            let shape_index = offset + spec.shape;
+            let shape = &clumps.bodies.shapes[shape_index];
+            // L = R I Rᵀ ω, the spin's angular momentum.
+            let r = no_squish::matrix(quat);
+            let wb = r.transpose() * omega;
+            let [i1, i2, i3] = shape.inertia;
+            let ang_mom = r * DVec3::new(i1 * wb.x, i2 * wb.y, i3 * wb.z);
+            let b = clumps.bodies.bodies.len() as u32;
+            // Each sub-sphere's share of the body's mass, by volume: what
+            // the measurements (densities, temperatures) count it as.
+            let volume: f64 = shape.radii.iter().map(|r| r.powi(3)).sum();
+            for (s, &radius) in shape.radii.iter().enumerate() {
+                let m = shape.mass * radius.powi(3) / volume;
+                let inertia = 0.4 * m * radius * radius;
+                let mut g =
+                    ParticleRecord::<D>::new(next_id + s as u64, spec.pos, radius, m, inertia);
+                g.kind = spec.kind;
+                clumps.by_id.insert(g.id, (b, s as u32));
+                self.particles.push_record(g);
+            }
+            clumps.bodies.bodies.push(Body {
+                shape: shape_index as u32,
+                first_id: next_id,
+                pos: xyz::<D>(spec.pos),
+                quat,
+                vel: xyz::<D>(spec.vel),
+                ang_mom,
+                force: DVec3::ZERO,
+                torque: DVec3::ZERO,
+            });
+            next_id += shape.radii.len() as u64;
+        }
+        if !clumps.bodies.bodies.is_empty() {
+            self.clumps = Some(Box::new(clumps));
+        }
+        self.refresh_clumps();
+        self.place_sub_spheres(true);
+        // As a freshly built engine: the list and the forces of now.
+        self.neighbors.invalidate();
+        self.rebuild_neighbors()?;
+        self.compute_forces(false);
+        Ok(())
+    }
+
+    /// Whether the run has rigid clumps.
+    pub fn has_bodies(&self) -> bool {
+        self.clumps.is_some()
+    }
+
+    /// The body store (none without clumps).
+    pub fn bodies(&self) -> Option<&Bodies> {
+        self.clumps.as_ref().map(|c| &c.bodies)
+    }
+
+    /// Each grain's body in store order (`None` for a free grain), or
+    /// `None` without clumps.
+    pub fn grain_bodies(&self) -> Option<Vec<Option<u32>>> {
+        let c = self.clumps.as_ref()?;
+        Some(
+            c.grain_body
+                .iter()
+                .map(|&b| (b != NO_BODY).then_some(b))
+                .collect(),
+        )
+    }
+
+    /// The masses the contact laws see, per grain: a sub-sphere's body's
+    /// mass, as LAMMPS's granular pair styles take the rigid body's mass
+    /// for a contact of one of its atoms.
+    pub(crate) fn contact_mass(&self) -> &[f64] {
+        match &self.clumps {
+            Some(c) => &c.contact_mass,
+            None => &self.particles.mass,
+        }
+    }
+
+    /// Rebuilds the per-grain ties from the grains' ids, after the store
+    /// was reordered, grown or cut.
+    pub(crate) fn refresh_clumps(&mut self) {
+        let Some(c) = self.clumps.as_deref_mut() else {
+            return;
+        };
+        let p = &self.particles;
+        let n = p.len();
+        c.grain_body.clear();
+        c.grain_body.resize(n, NO_BODY);
+        c.held.clear();
+        c.held.extend_from_slice(&p.frozen);
+        c.contact_mass.clear();
+        c.contact_mass.extend_from_slice(&p.mass);
+        c.start.clear();
+        let mut total = 0;
+        for b in 0..c.bodies.bodies.len() {
+            c.start.push(total);
+            total += c.bodies.shape(b).radii.len();
+        }
+        c.members.clear();
+        c.members.resize(total, u32::MAX);
+        for (i, id) in p.id.iter().enumerate() {
+            if let Some(&(b, s)) = c.by_id.get(id) {
+                c.grain_body[i] = b;
+                c.held[i] = true;
+                c.contact_mass[i] = c.bodies.shape(b as usize).mass;
+                c.members[c.start[b as usize] + s as usize] = i as u32;
+            }
+        }
+    }
+
+    /// Drops the listed pairs of two sub-spheres of one body.
+    pub(crate) fn drop_pairs_within_bodies(&mut self) {
+        if let Some(c) = &self.clumps {
+            let body = &c.grain_body;
+            self.neighbors.retain_pairs(|i, j| {
+                let b = body[i as usize];
+                b == NO_BODY || b != body[j as usize]
+            });
+        }
+    }
+
+    /// Wraps the bodies' centres of mass into a periodic box (the grain
+    /// rebuild wraps the sub-spheres).
+    pub(crate) fn wrap_bodies(&mut self) {
+        if let Some(c) = self.clumps.as_deref_mut() {
+            for b in &mut c.bodies.bodies {
+                b.pos = xyz::<D>(self.domain.wrap(D::from_xyz(b.pos.to_array())));
+            }
+        }
+    }
+
+    /// Puts every sub-sphere where its body says: velocity v + ω × r and
+    /// spin ω, and with `positions` its centre X + R c, in the periodic
+    /// image nearest to where it was (the grains are wrapped at rebuilds
+    /// only, their bodies' centres too).
+    pub(crate) fn place_sub_spheres(&mut self, positions: bool) {
+        let Some(c) = self.clumps.as_deref() else {
+            return;
+        };
+        let p = &mut self.particles;
+        let domain = &self.domain;
+        for (b, body) in c.bodies.bodies.iter().enumerate() {
+            let r = c.bodies.rotation(b);
+            let w = c.bodies.omega(b);
+            let shape = c.bodies.shape(b);
+            let members = &c.members[c.start[b]..c.start[b] + shape.centers.len()];
+            for (&i, &center) in members.iter().zip(&shape.centers) {
+                let i = i as usize;
+                let arm = r * center;
+                if positions {
+                    let mut x = body.pos + arm;
+                    let old = xyz::<D>(p.pos[i]);
+                    for a in 0..D::D {
+                        if domain.is_periodic(a) {
+                            let l = domain.length(a);
+                            let k = ((old[a] - x[a]) / l).round();
+                            if k != 0.0 {
+                                x[a] += k * l;
+                            }
+                        }
+                    }
+                    p.pos[i] = D::from_xyz(x.to_array());
+                }
+                p.vel[i] = D::from_xyz((body.vel + w.cross(arm)).to_array());
+                p.omega[i] = D::ang_from_xyz(w.to_array());
+            }
+        }
+    }
+
+    /// The bodies' part of the step before the forces: half-kick, drift
+    /// and rotation, and their sub-spheres placed.
+    pub(crate) fn predict_bodies(&mut self) {
+        let dt = self.settings.dt;
+        if let Some(c) = self.clumps.as_deref_mut() {
+            c.bodies.kick(0.5 * dt);
+            c.bodies.drift(dt);
+            self.place_sub_spheres(true);
+        }
+    }
+
+    /// The bodies' part after the forces: their forces and torques summed,
+    /// the second half-kick, the sub-spheres' new velocities.
+    pub(crate) fn correct_bodies(&mut self) {
+        let dt = self.settings.dt;
+        if let Some(c) = self.clumps.as_deref_mut() {
+            c.bodies.kick(0.5 * dt);
+            self.place_sub_spheres(false);
+        }
+    }
+
+    /// Each body's force and torque about its centre of mass from its
+    /// sub-spheres' (summed in shape order: the same bits on any threads).
+    /// A sub-sphere's force holds its weight as the field pass gave it,
+    /// with the contact mass (its body's): that is taken off, and the
+    /// body's weight added once at its centre of mass.
+    pub(crate) fn gather_body_forces(&mut self) {
+        let gravity = xyz::<D>(self.settings.gravity);
+        let Some(c) = self.clumps.as_deref_mut() else {
+            return;
+        };
+        let p = &self.particles;
+        let rotation = self.settings.law.rotation();
+        for b in 0..c.bodies.bodies.len() {
+            let r = c.bodies.rotation(b);
+            let shape = &c.bodies.shapes[c.bodies.bodies[b].shape as usize];
+            let weight = gravity * shape.mass;
+            let members = &c.members[c.start[b]..c.start[b] + shape.centers.len()];
+            let (mut force, mut torque) = (DVec3::ZERO, DVec3::ZERO);
+            for (&i, &center) in members.iter().zip(&shape.centers) {
+                let i = i as usize;
+                let f = xyz::<D>(p.force[i]) - weight;
+                force += f;
+                // F at the sphere's centre and T about it are the contact
+                // force at the contact point: about the centre of mass
+                // r × F + T.
+                torque += (r * center).cross(f);
+                if rotation {
+                    torque += ang::<D>(p.torque[i]);
+                }
+            }
+            let body = &mut c.bodies.bodies[b];
+            body.force = force + weight;
+            // A 2D body turns about z only.
+            body.torque = if D::D == 2 {
+                DVec3::new(0.0, 0.0, torque.z)
+            } else {
+                torque
+            };
+        }
+    }
+
+    /// Swaps the integrators' mask in for `frozen` (and back): while the
+    /// grain integrators run, sub-spheres count as frozen, so that they
+    /// skip them with the selection they already make for frozen grains
+    /// (no test added to the free grains' loop).
+    pub(crate) fn swap_held(&mut self) {
+        if let Some(c) = self.clumps.as_deref_mut() {
+            std::mem::swap(&mut self.particles.frozen, &mut c.held);
+        }
+    }
+
+    /// Translational kinetic energy: ½ m v² of the free grains and ½ M V²
+    /// of the bodies.
+    pub fn kinetic_energy(&self) -> f64 {
+        match &self.clumps {
+            None => self.particles.kinetic_energy(),
+            Some(c) => {
+                let p = &self.particles;
+                let free: f64 = (0..p.n_owned())
+                    .filter(|&i| !p.frozen[i] && c.grain_body[i] == NO_BODY)
+                    .map(|i| 0.5 * p.mass[i] * D::norm2(p.vel[i]))
+                    .sum();
+                free + c.bodies.translational_energy()
+            }
+        }
+    }
+
+    /// Rotational kinetic energy: ½ I ω² of the free grains and ½ L·ω of
+    /// the bodies (their full inertia tensor).
+    pub fn rotational_energy(&self) -> f64 {
+        match &self.clumps {
+            None => self.particles.rotational_energy(),
+            Some(c) => {
+                let p = &self.particles;
+                let free: f64 = (0..p.n_owned())
+                    .filter(|&i| !p.frozen[i] && c.grain_body[i] == NO_BODY)
+                    .map(|i| 0.5 * p.inertia[i] * D::ang_dot(p.omega[i], p.omega[i]))
+                    .sum();
+                free + c.bodies.rotational_energy()
+            }
+        }
+    }
+
+    /// Refuses to remove sub-spheres (an outlet): a body leaves whole or
+    /// not at all, which is not implemented.
+    pub(crate) fn refuse_sub_sphere_removal(&self, ids: &[u64]) -> Result<()> {
+        if let Some(c) = &self.clumps {
+            if let Some(id) = ids.iter().find(|id| c.by_id.contains_key(id)) {
+                return Err(Error::input(format!(
+                    "[[outlets]]: grain {id} is a sub-sphere of a rigid clump; removing clumps \
+                     (whole bodies, their springs and state) is not implemented"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks a checkpoint's bodies against the engine's: as many, each of
+    /// the same shape and first grain id.
+    pub(crate) fn check_bodies_state(&self, saved: &[Body]) -> Result<()> {
+        let mine = self.bodies().map_or(&[][..], |b| &b.bodies[..]);
+        let same = |(a, b): (&Body, &Body)| a.shape == b.shape && a.first_id == b.first_id;
+        if saved.len() != mine.len() || !saved.iter().zip(mine).all(same) {
+            return Err(Error::input(format!(
+                "checkpoint state: {} rigid bodies, but the scenario makes {} (or of other \
+                 shapes or grains)",
+                saved.len(),
+                mine.len()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Takes the bodies' states of a checkpoint (checked by
+    /// [`Md::check_bodies_state`]) and ties the grains to them again.
+    pub(crate) fn set_bodies_state(&mut self, saved: Vec<Body>) {
+        if let Some(c) = self.clumps.as_deref_mut() {
+            c.bodies.bodies = saved;
+        }
+        self.refresh_clumps();
     }
 }

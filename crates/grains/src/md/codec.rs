@@ -7,6 +7,7 @@ use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::neighbors::ListState;
 use crate::particles::{ParticleRecord, Particles};
+use crate::rigid::bodies::Body;
 use glam::DVec3;
 
 /// Largest number of Gear derivative arrays a file may declare.
@@ -151,12 +152,57 @@ pub fn encode_md<D: Dim>(e: &mut Enc, s: &MdState<D>) {
         e.len(s.servo.len());
         s.servo.iter().flatten().for_each(|&x| e.f64(x));
     }
+    if !s.bodies.is_empty() {
+        e.u64(BODY_TAG);
+        e.len(s.bodies.len());
+        for b in &s.bodies {
+            e.u32(b.shape);
+            e.u64(b.first_id);
+            let vectors = [b.pos, b.vel, b.ang_mom, b.force, b.torque];
+            b.quat
+                .into_iter()
+                .chain(vectors.iter().flat_map(|v| v.to_array()))
+                .for_each(|x| e.f64(x));
+        }
+    }
+}
+
+/// Bytes of one body in the bodies' section.
+const BODY_BYTES: usize = 4 + 8 + 19 * 8;
+
+/// Reads the rigid bodies' section (after its tag).
+fn decode_bodies(d: &mut Dec) -> DecResult<Vec<Body>> {
+    let n = d.len(BODY_BYTES, "body count")?;
+    let mut out = Vec::with_capacity(n);
+    for _ in 0..n {
+        let shape = d.u32("body shape")?;
+        let first_id = d.u64("body's first grain id")?;
+        let mut x = [0.0; 19];
+        for v in &mut x {
+            *v = d.f64("body state")?;
+        }
+        let v = |k: usize| DVec3::new(x[k], x[k + 1], x[k + 2]);
+        out.push(Body {
+            shape,
+            first_id,
+            quat: [x[0], x[1], x[2], x[3]],
+            pos: v(4),
+            vel: v(7),
+            ang_mom: v(10),
+            force: v(13),
+            torque: v(16),
+        });
+    }
+    Ok(out)
 }
 
 /// Opens the servo walls' section of a state. Read where a sheared box's
 /// image offsets may begin too: as an f64 it is a NaN, which the first
 /// offset (the shear's turns) never is.
 const SERVO_TAG: u64 = 0x7ff8_5345_5256_4f00;
+
+/// Opens the rigid bodies' section, after the servo walls' (a NaN too).
+const BODY_TAG: u64 = 0x7ff8_424f_4459_5300;
 
 /// Reads the state written by [`encode_md`].
 pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
@@ -223,36 +269,50 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
         0 => Ok(None),
         _ => d.u64(what).map(Some),
     };
-    let mut next = word(d, "shear turns or servo tag")?;
-    if let Some(turns) = next.filter(|&w| w != SERVO_TAG) {
+    // A section's tag, as an f64 a NaN: never a shear's turns or length.
+    let untagged = |w: &u64| ![SERVO_TAG, BODY_TAG].contains(w);
+    let mut next = word(d, "shear turns or section tag")?;
+    if let Some(turns) = next.filter(untagged) {
         list.shear = Some([
             f64::from_bits(turns),
             d.f64("shear offset at build")?,
             d.f64("shear offset")?,
         ]);
         // A fixed-pressure box's length is finite, never the tag's NaN.
-        next = word(d, "fixed-pressure box length or servo tag")?;
-        if let Some(length) = next.filter(|&w| w != SERVO_TAG) {
+        next = word(d, "fixed-pressure box length or section tag")?;
+        if let Some(length) = next.filter(untagged) {
             pressure_box = Some([
                 f64::from_bits(length),
                 d.f64("fixed-pressure box slide time")?,
                 d.f64("fixed-pressure box slide offset")?,
             ]);
-            next = word(d, "servo tag")?;
+            next = word(d, "section tag")?;
         }
     }
-    if let Some(tag) = next {
-        if tag != SERVO_TAG {
-            return Err("unexpected bytes where the servo walls' states belong".into());
+    // Then tagged sections, each at most once and in this order.
+    let mut bodies = Vec::new();
+    let mut order = [SERVO_TAG, BODY_TAG].iter();
+    while let Some(tag) = next {
+        if !order.any(|&t| t == tag) {
+            return Err(format!(
+                "unknown or misplaced section tag {tag:#018x} in the MD state (known: the \
+                 servo walls' {SERVO_TAG:#018x}, the rigid bodies' {BODY_TAG:#018x}): a state of \
+                 another engine version?"
+            ));
         }
-        let ns = d.len(24, "servo wall count")?;
-        for _ in 0..ns {
-            servo.push([
-                d.f64("servo offset")?,
-                d.f64("servo speed")?,
-                d.f64("servo pressure")?,
-            ]);
+        if tag == SERVO_TAG {
+            let ns = d.len(24, "servo wall count")?;
+            for _ in 0..ns {
+                servo.push([
+                    d.f64("servo offset")?,
+                    d.f64("servo speed")?,
+                    d.f64("servo pressure")?,
+                ]);
+            }
+        } else {
+            bodies = decode_bodies(d)?;
         }
+        next = word(d, "section tag")?;
     }
     Ok(MdState {
         time,
@@ -272,5 +332,6 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
         max_overlap_fraction,
         worst_pair,
         pressure_box,
+        bodies,
     })
 }

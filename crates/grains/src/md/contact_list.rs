@@ -22,11 +22,12 @@ impl<D: Dim> Md<D> {
     fn contacts_under<L: ContactModel>(&self, law: &L) -> ContactList<D> {
         let p = &self.particles;
         let mut out = ContactList::default();
+        let masses = self.contact_mass();
         let mass = |i: usize| {
             if p.frozen[i] {
                 f64::INFINITY
             } else {
-                p.mass[i]
+                masses[i]
             }
         };
         for (k, &[i, j]) in self.neighbors.pairs.iter().enumerate() {
@@ -71,7 +72,7 @@ impl<D: Dim> Md<D> {
             out.overlap.push(ri + rj - r);
             out.normal.push(n);
             out.branch.push(del);
-            out.force.push(f.force * law.force_factor(p.mass[i]));
+            out.force.push(f.force * law.force_factor(masses[i]));
         }
         out
     }

@@ -65,6 +65,7 @@ impl<D: Dim> Md<D> {
         // The list still holds the old grains only: the next predictor
         // finds it stale and rebuilds it before the forces.
         self.neighbors.invalidate();
+        self.refresh_clumps();
         Ok(())
     }
 }

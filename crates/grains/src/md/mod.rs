@@ -175,6 +175,8 @@ pub struct Md<D: Dim> {
     rebuilds_since_sort: u32,
     /// Runs [`Md::advance`]'s steps on all threads or one, as is faster.
     pub governor: Governor,
+    /// Rigid clumps and their ties to the grains (none without clumps).
+    clumps: Option<Box<clumps::Clumps>>,
 }
 
 impl<D: Dim> Md<D> {
@@ -223,6 +225,7 @@ impl<D: Dim> Md<D> {
             deferred: Deferred::default(),
             rebuilds_since_sort: 0,
             governor: Governor::default(),
+            clumps: None,
         };
         md.rebuild_neighbors()?;
         md.compute_forces(false);
@@ -336,9 +339,12 @@ impl<D: Dim> Md<D> {
     pub fn predict(&mut self) {
         let start = Instant::now();
         let (dt, rot) = (self.settings.dt, self.settings.law.rotation());
+        self.predict_bodies();
+        self.swap_held();
         self.settings
             .integrator
             .predict(&mut self.particles, dt, rot, None);
+        self.swap_held();
         add_since(&mut self.timing.integrate, start);
     }
 
@@ -358,6 +364,7 @@ impl<D: Dim> Md<D> {
         let pass = |p: &mut Particles<D>, skin: Option<SkinCheck<D::V>>| {
             integrator.predict(p, dt, rot, skin)
         };
+        self.predict_bodies();
         self.owned_beyond_skin(pass)
     }
 
@@ -382,6 +389,8 @@ impl<D: Dim> Md<D> {
             non_finite = r.non_finite;
             r.far
         };
+        self.correct_bodies();
+        self.predict_bodies();
         let moved = self.owned_beyond_skin(pass);
         self.finite_or_error(non_finite).map(|()| moved)
     }
@@ -402,6 +411,8 @@ impl<D: Dim> Md<D> {
         pass: impl FnOnce(&mut Particles<D>, Option<SkinCheck<D::V>>) -> bool,
     ) -> bool {
         let start = Instant::now();
+        // Sub-spheres were moved by their bodies: the pass leaves them.
+        self.swap_held();
         let p = &mut self.particles;
         let n = p.n_owned();
         let moved = match self.neighbors.skin_reference(p.len()) {
@@ -417,6 +428,7 @@ impl<D: Dim> Md<D> {
                 pass(p, Some(skin))
             }
         };
+        self.swap_held();
         add_since(&mut self.timing.integrate, start);
         moved
     }
@@ -440,9 +452,12 @@ impl<D: Dim> Md<D> {
     pub fn correct(&mut self) {
         let start = Instant::now();
         let (dt, rot) = (self.settings.dt, self.settings.law.rotation());
+        self.correct_bodies();
+        self.swap_held();
         self.settings
             .integrator
             .correct(&mut self.particles, dt, rot);
+        self.swap_held();
         add_since(&mut self.timing.integrate, start);
     }
 
@@ -476,6 +491,7 @@ impl<D: Dim> Md<D> {
                 .par_iter_mut()
                 .with_min_len(crate::parallel::min_len(1))
                 .for_each(|x| *x = domain.wrap(*x));
+            self.wrap_bodies();
         }
         let saved = self.save_springs();
         let saved_rolling = self.save_rolling();
@@ -489,9 +505,12 @@ impl<D: Dim> Md<D> {
             self.wall_rolling.permute(&order);
         }
         self.rebuilds_since_sort = self.rebuilds_since_sort.wrapping_add(1);
+        self.refresh_clumps();
         let p = &self.particles;
         self.neighbors
             .build_at(&p.pos, &p.radius, &p.frozen, &self.domain, self.time)?;
+        self.drop_pairs_within_bodies();
+        let p = &self.particles;
         self.blocks = PairBlocks::build(&self.neighbors.pairs, p.len());
         self.restore_springs(saved);
         self.restore_rolling(saved_rolling);
@@ -523,6 +542,7 @@ impl<D: Dim> Md<D> {
             update: update_history,
             neighbors: &self.neighbors,
             blocks: &self.blocks,
+            mass: self.clumps.as_ref().map(|c| &c.contact_mass[..]),
         };
         // Each wall's pose (a sine, a rotation) once per evaluation.
         let walls: Vec<_> = self.walls.iter().map(|w| w.at(self.time)).collect();
@@ -557,6 +577,7 @@ impl<D: Dim> Md<D> {
         );
         finish_fields(parts, springs, &mut self.wall_loads.0, &mut self.stats);
         self.wall_loads.1 = self.time;
+        self.gather_body_forces();
         if update_history {
             self.drive_servos();
         }

@@ -123,6 +123,9 @@ pub struct PairInput<'a, D: Dim> {
     pub update: bool,
     pub neighbors: &'a NeighborList<D>,
     pub blocks: &'a PairBlocks,
+    /// The masses the laws see when they are not the grains' own (rigid
+    /// clumps: a sub-sphere's body's mass).
+    pub mass: Option<&'a [f64]>,
 }
 
 /// Statistics of one block, merged in block order.
@@ -238,7 +241,7 @@ pub fn pair_forces<D: Dim>(
         vel: &p.vel,
         omega: &p.omega,
         radius: &p.radius,
-        mass: &p.mass,
+        mass: input.mass.unwrap_or(&p.mass),
         frozen: &p.frozen,
         id: &p.id,
         kind: &p.kind,

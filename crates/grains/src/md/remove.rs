@@ -40,6 +40,7 @@ impl<D: Dim> Md<D> {
                 w[0]
             )));
         }
+        self.refuse_sub_sphere_removal(&wanted)?;
         let id = &self.particles.id[..n];
         let mut gone: Vec<u32> = Vec::with_capacity(wanted.len());
         let mut keep: Vec<u32> = Vec::with_capacity(n.saturating_sub(wanted.len()));

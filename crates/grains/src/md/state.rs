@@ -12,6 +12,7 @@ use crate::error::{Error, Result};
 use crate::integrate::Integrator;
 use crate::neighbors::ListState;
 use crate::particles::Particles;
+use crate::rigid::bodies::Body;
 use glam::DVec3;
 
 /// The complete dynamic state of an [`super::Md`]: with the same scenario
@@ -53,6 +54,9 @@ pub struct MdState<D: Dim> {
     /// A fixed-pressure box along its gradient axis (upper bound, slide
     /// origin t_0 and Δ_0); `None` at constant volume.
     pub pressure_box: Option<[f64; 3]>,
+    /// The rigid bodies' states in body order (empty without clumps); the
+    /// grains' ties to them follow from the ids, as the scenario made them.
+    pub bodies: Vec<Body>,
 }
 
 /// Export and import of the state, beside the state: the engine packs itself.
@@ -101,6 +105,7 @@ impl<D: Dim> Md<D> {
             max_overlap_fraction: self.stats.max_overlap_fraction,
             worst_pair: self.stats.worst_pair,
             pressure_box: self.pressure_box(),
+            bodies: self.bodies().map_or(Vec::new(), |b| b.bodies.clone()),
         })
     }
 
@@ -153,6 +158,7 @@ impl<D: Dim> Md<D> {
                 orders.1
             ));
         }
+        self.check_bodies_state(&s.bodies)?;
         let mut ids = p.id.clone();
         let mut mine = self.particles.id.clone();
         ids.sort_unstable();
@@ -270,6 +276,7 @@ impl<D: Dim> Md<D> {
         if let Some(b) = s.pressure_box {
             self.set_pressure_box(b);
         }
+        self.set_bodies_state(s.bodies);
         Ok(())
     }
 }

@@ -33,7 +33,7 @@ impl<D: Dim> Md<D> {
             if p.frozen[i] {
                 continue;
             }
-            let (x, r, m) = (p.pos[i], p.radius[i], p.mass[i]);
+            let (x, r, m) = (p.pos[i], p.radius[i], self.contact_mass()[i]);
             for (w, wall) in walls.iter().enumerate() {
                 let wall_law = if wall.is_elastic() { elastic } else { law };
                 found.clear();

@@ -315,6 +315,23 @@ impl<D: Dim> NeighborList<D> {
     pub fn builds(&self) -> u64 {
         self.builds
     }
+
+    /// Keeps the pairs `[i, j]` for which `keep(i, j)` holds, in their
+    /// order, with their image codes (the sub-spheres of one rigid body
+    /// never touch each other).
+    pub fn retain_pairs(&mut self, keep: impl Fn(u32, u32) -> bool) {
+        let mut k = 0;
+        for m in 0..self.pairs.len() {
+            let [i, j] = self.pairs[m];
+            if keep(i, j) {
+                self.pairs[k] = self.pairs[m];
+                self.image[k] = self.image[m];
+                k += 1;
+            }
+        }
+        self.pairs.truncate(k);
+        self.image.truncate(k);
+    }
 }
 
 #[cfg(test)]

@@ -10,6 +10,9 @@
 
 use crate::dim::Dim;
 
+pub mod bodies;
+pub mod no_squish;
+
 /// One sphere of a clump, in the clump's principal frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SubSphere<D: Dim> {

@@ -136,8 +136,8 @@ impl<D: Dim> Held for MdEngine<D> {
         vec![
             md.step as f64,
             md.time,
-            md.particles.kinetic_energy(),
-            md.particles.rotational_energy(),
+            md.kinetic_energy(),
+            md.rotational_energy(),
             granular_temperature(&md.particles),
             md.stats.contacts as f64,
             md.stats.max_overlap,
@@ -176,10 +176,10 @@ impl<D: Dim> Held for MdEngine<D> {
         crate::parallel::on_pool(|| md.set_state(pos.as_deref(), vel.as_deref()))
     }
     fn kinetic_energy(&self) -> f64 {
-        self.md.particles.kinetic_energy()
+        self.md.kinetic_energy()
     }
     fn rotational_energy(&self) -> f64 {
-        self.md.particles.rotational_energy()
+        self.md.rotational_energy()
     }
     fn granular_temperature(&self) -> f64 {
         granular_temperature(&self.md.particles)

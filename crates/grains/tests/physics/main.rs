@@ -8,6 +8,7 @@ mod common;
 
 mod binary_collision;
 mod chung_ooi;
+mod clumps;
 mod coarse_grain;
 mod conservation;
 mod friction_and_walls;

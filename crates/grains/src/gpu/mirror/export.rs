@@ -123,6 +123,8 @@ impl Mirror {
             },
             springs,
             wall_springs,
+            // The device runs no rigid clumps (refused when it is built).
+            bodies: Vec::new(),
             // The mirror runs the Hooke law, which keeps no rolling springs.
             rolling: Vec::new(),
             wall_rolling: Vec::new(),

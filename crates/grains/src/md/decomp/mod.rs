@@ -111,6 +111,13 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
 
     /// As [`Self::new`], split as `spec` says.
     pub fn with_spec(full: Md<D>, comm: &'c dyn Comm, spec: &ParallelSpec) -> Result<Self> {
+        if full.has_bodies() {
+            return Err(Error::input(
+                "[[shapes]]: rigid clumps do not run under mpirun: bodies would have to migrate \
+                 whole across ranks (their sub-spheres and state together), which is not \
+                 implemented; run on one process (--threads N)",
+            ));
+        }
         let mesh = full.walls.iter().find(|w| w.shape.kind() == "mesh");
         if let (Some(w), true) = (mesh, comm.size() > 1) {
             // Their springs, keyed by patch, do not migrate between ranks.
