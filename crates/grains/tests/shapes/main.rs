@@ -5,6 +5,7 @@
 //!
 //! One test binary per topic; each module holds the tests of one subject.
 
+mod engine;
 mod errors;
 mod mass;
 mod orientation;
