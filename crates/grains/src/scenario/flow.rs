@@ -195,7 +195,9 @@ impl<D: Dim> FlowRun<D> {
     /// Kinetic energy per mobile grain in units of m g d0.
     fn energy(&self, md: &Md<D>) -> f64 {
         let n = md.particles.n_mobile().max(1) as f64;
-        md.particles.kinetic_energy() / n / self.energy_unit
+        // With bodies, a clump's energy is ½ M V² of its centre of mass, not
+        // the sum over its sub-spheres; without them this is the grains' sum.
+        md.kinetic_energy() / n / self.energy_unit
     }
 
     /// The step's events on `md`; returns the grains it moved (id, new
