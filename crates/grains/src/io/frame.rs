@@ -19,6 +19,10 @@ pub struct Frame {
     pub vel: Vec<[f64; 3]>,
     pub omega: Vec<[f64; 3]>,
     pub radius: Vec<f64>,
+    /// Each grain's rigid body, numbered from 1 (0 for a free sphere), so
+    /// that viewers group a clump's sub-spheres; `None` in a run without
+    /// bodies, whose outputs then keep their columns.
+    pub body: Option<Vec<u64>>,
 }
 
 impl Frame {
@@ -44,6 +48,10 @@ impl Frame {
         ];
         for (name, len) in lens {
             assert_eq!(len, n, "Frame.{name} has {len} entries but pos has {n}");
+        }
+        if let Some(b) = &self.body {
+            let len = b.len();
+            assert_eq!(len, n, "Frame.body has {len} entries but pos has {n}");
         }
     }
 
@@ -82,6 +90,7 @@ pub(crate) mod tests {
             vel: vec![[0.5, -1.0, 0.0], [0.0, 0.0, 0.0], [1e-17, 2.0, 0.0]],
             omega: vec![[0.0, 0.0, 0.25], [0.0, 0.0, -3.0], [0.0, 0.0, 0.0]],
             radius: vec![0.5, 0.6, 0.45],
+            body: None,
         }
     }
 

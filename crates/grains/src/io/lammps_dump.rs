@@ -10,7 +10,8 @@ use std::path::{Path, PathBuf};
 
 /// Writes one snapshot in LAMMPS dump format to `out`.
 ///
-/// Columns: `id type radius x y z vx vy vz`. Box bounds are flagged `pp`
+/// Columns: `id type radius x y z vx vy vz`, then `mol` (the grain's body,
+/// 0 for a free sphere) when the frame has bodies. Box bounds are flagged `pp`
 /// along periodic axes and `ff` otherwise; a 2D frame is written with z
 /// bounds `-0.5 0.5` and flag `pp`, as LAMMPS writes its 2D boxes.
 pub fn write_snapshot(out: &mut impl Write, frame: &Frame) -> std::io::Result<()> {
@@ -34,16 +35,23 @@ pub fn write_snapshot(out: &mut impl Write, frame: &Frame) -> std::io::Result<()
         };
         writeln!(out, "{} {}", Num(lo), Num(hi))?;
     }
-    writeln!(out, "ITEM: ATOMS id type radius x y z vx vy vz")?;
+    // `mol` only with bodies, so dumps of runs without clumps keep their
+    // bytes; OVITO groups atoms of one molecule id into one cluster.
+    let mol = if frame.body.is_some() { " mol" } else { "" };
+    writeln!(out, "ITEM: ATOMS id type radius x y z vx vy vz{mol}")?;
     for i in 0..frame.len() {
         let [x, y, z] = frame.pos[i].map(Num);
         let [vx, vy, vz] = frame.vel[i].map(Num);
         let r = Num(frame.radius[i]);
-        writeln!(
+        write!(
             out,
             "{} {} {r} {x} {y} {z} {vx} {vy} {vz}",
             frame.id[i], frame.kind[i]
         )?;
+        match &frame.body {
+            Some(b) => writeln!(out, " {}", b[i])?,
+            None => writeln!(out)?,
+        }
     }
     Ok(())
 }

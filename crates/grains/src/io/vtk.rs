@@ -55,6 +55,10 @@ pub fn vtp_string(frame: &Frame) -> String {
     array(&mut s, omega, frame.omega.iter().flatten().map(num));
     array(&mut s, id, frame.id.iter());
     array(&mut s, kind, frame.kind.iter());
+    // Only with bodies, so frames of runs without clumps keep their bytes.
+    if let Some(body) = &frame.body {
+        array(&mut s, ("Int64", "body", 1), body.iter());
+    }
     s.push_str("      </PointData>\n");
     s.push_str("      <Points>\n");
     let points = ("Float64", "Points", 3);

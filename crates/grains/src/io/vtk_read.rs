@@ -191,6 +191,7 @@ fn parse_text(path: &Path, text: &str) -> Result<Frame> {
         vel: triples(data_array(path, text, "velocity", 3 * n)?),
         omega: triples(data_array(path, text, "angular_velocity", 3 * n)?),
         pos,
+        body: None,
     })
 }
 

@@ -223,6 +223,15 @@ impl<D: Dim> Md<D> {
         )
     }
 
+    /// The first `n` grains' bodies for a frame, numbered from 1 so that 0
+    /// marks a free sphere (the `mol` convention of a LAMMPS dump), or
+    /// `None` without clumps.
+    pub(crate) fn frame_bodies(&self, n: usize) -> Option<Vec<u64>> {
+        let c = self.clumps.as_ref()?;
+        let number = |&b: &u32| if b == NO_BODY { 0 } else { u64::from(b) + 1 };
+        Some(c.grain_body[..n].iter().map(number).collect())
+    }
+
     /// The masses the contact laws see, per grain: a sub-sphere's body's
     /// mass, as LAMMPS's granular pair styles take the rigid body's mass
     /// for a contact of one of its atoms.

@@ -684,7 +684,9 @@ impl<D: Dim> Md<D> {
     /// A neutral snapshot of the grains for the writers (2D boxes get a unit
     /// z extent, as LAMMPS writes them).
     pub fn frame(&self) -> Frame {
-        self.view().frame()
+        let mut f = self.view().frame();
+        f.body = self.frame_bodies(f.len());
+        f
     }
 
     /// Contact time of two typical grains, for advice on dt.

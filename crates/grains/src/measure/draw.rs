@@ -70,6 +70,10 @@ pub fn in_box(frame: &Frame) -> Frame {
         pos: pick(&frame.pos),
         vel: pick(&frame.vel),
         omega: pick(&frame.omega),
+        body: frame
+            .body
+            .as_ref()
+            .map(|b| keep.iter().map(|&i| b[i]).collect()),
         ..frame.clone()
     }
 }

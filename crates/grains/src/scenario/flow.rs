@@ -200,8 +200,11 @@ impl<D: Dim> FlowRun<D> {
     /// Kinetic energy per mobile grain in units of m g d0.
     fn energy(&self, md: &Md<D>) -> f64 {
         let n = md.particles.n_mobile().max(1) as f64;
+        // With bodies, a clump's energy is ½ M V² of its centre of mass, not
+        // the sum over its sub-spheres; without them this is the grains' sum.
+        let energy = md.kinetic_energy();
         if self.energy_unit > 0.0 {
-            return md.particles.kinetic_energy() / n / self.energy_unit;
+            return energy / n / self.energy_unit;
         }
         // Started empty (inlets fill it): the mean mass of the mobile
         // grains there now.
@@ -213,7 +216,7 @@ impl<D: Dim> FlowRun<D> {
         if mass == 0.0 {
             return f64::INFINITY;
         }
-        p.kinetic_energy() / n / (mass / n * self.g_d0)
+        energy / n / (mass / n * self.g_d0)
     }
 
     /// The step's events on `md`; returns the grains it moved (id, new

@@ -548,3 +548,109 @@ fn a_tilted_disk_dimer_leaves_with_the_spin_of_its_impulse() {
     let got = md.kinetic_energy() + md.rotational_energy();
     assert!((got / energy - 1.0).abs() < 1e-12, "{got} against {energy}");
 }
+
+/// A rod of three touching spheres along body x (centres at −2R, 0, 2R):
+/// M = 3 m_s, I_axis = 3 · (2/5) m_s R², I_perp = 3 · (2/5) m_s R² +
+/// 2 m_s (2R)² (parallel axes).
+fn rod() -> Shape<D3> {
+    let ms = sphere_mass();
+    let along = 3.0 * 0.4 * ms * R * R;
+    let perp = along + 2.0 * ms * 4.0 * R * R;
+    let spheres = [-2.0, 0.0, 2.0]
+        .iter()
+        .map(|&s| SubSphere {
+            center: DVec3::new(s * R, 0.0, 0.0),
+            radius: R,
+        })
+        .collect();
+    Shape {
+        name: "rod".into(),
+        spheres,
+        mass: 3.0 * ms,
+        inertia: [along, perp, perp],
+    }
+}
+
+/// The dump of a few steps of two free spheres and, with `bodies`, three
+/// rods dropped on the floor, with the VTK frame of the same step.
+fn dump_of_a_small_run(bodies: bool) -> (String, String) {
+    let ms = sphere_mass();
+    let mut p = Particles::<D3>::new();
+    for k in 0..2u64 {
+        let x = DVec3::new(-0.01 + 0.02 * k as f64, 0.0, 0.003);
+        p.push_record(ParticleRecord::new(100 + k, x, R, ms, 0.4 * ms * R * R));
+    }
+    let mut s = settings(hooke(1e3, 5000.0), 2e-6);
+    s.gravity = DVec3::new(0.0, 0.0, -9.81);
+    let mut md = Md::new(p, big_box(), floor(), s).unwrap();
+    if bodies {
+        let specs = (0..3)
+            .map(|k| {
+                let x = DVec3::new(-0.006 + 0.006 * k as f64, 0.0, 0.0015 + 0.001 * k as f64);
+                let q = turn(DVec3::new(0.3, k as f64, 1.0).normalize(), 0.7 * k as f64);
+                spec(x, q, DVec3::ZERO, DVec3::new(k as f64, 2.0, -1.0))
+            })
+            .collect();
+        md.add_bodies(vec![rod()], specs).unwrap();
+    }
+    md.run(200).unwrap();
+    let frame = md.frame();
+    let mut buf = Vec::new();
+    grains::io::write_snapshot(&mut buf, &frame).unwrap();
+    (
+        String::from_utf8(buf).unwrap(),
+        grains::io::vtp_string(&frame),
+    )
+}
+
+/// With bodies the dump ends each row with a `mol` column (OVITO's
+/// molecule id): 0 for the two free spheres, and each rod's three
+/// sub-spheres share one id, their centres 2R apart in a line (end to end
+/// 4R, to round-off of the written digits) as the rod's shape puts them.
+/// The VTK frame carries the same ids as a `body` point array. A run
+/// without bodies keeps the dump's columns and the frame's arrays as they
+/// were. Planted: the body numbered from 0 (free spheres then share
+/// body 1's id, fails).
+#[test]
+fn dumps_group_each_clumps_spheres_by_mol() {
+    let (dump, vtp) = dump_of_a_small_run(true);
+    let mut lines = dump.lines().skip_while(|l| !l.starts_with("ITEM: ATOMS"));
+    let header = lines.next().unwrap();
+    assert_eq!(header, "ITEM: ATOMS id type radius x y z vx vy vz mol");
+    let mut groups: std::collections::BTreeMap<u64, Vec<(u64, DVec3)>> = Default::default();
+    for l in lines {
+        let t: Vec<&str> = l.split(' ').collect();
+        assert_eq!(t.len(), 10, "row {l}");
+        let x = DVec3::new(
+            t[3].parse().unwrap(),
+            t[4].parse().unwrap(),
+            t[5].parse().unwrap(),
+        );
+        groups
+            .entry(t[9].parse().unwrap())
+            .or_default()
+            .push((t[0].parse().unwrap(), x));
+    }
+    assert_eq!(groups.keys().copied().collect::<Vec<_>>(), [0, 1, 2, 3]);
+    let mut free: Vec<u64> = groups[&0].iter().map(|g| g.0).collect();
+    free.sort();
+    assert_eq!(free, [100, 101]);
+    for b in 1..=3 {
+        let g = &groups[&b];
+        assert_eq!(g.len(), 3, "body {b}: {g:?}");
+        let mut d: Vec<f64> = [(0, 1), (0, 2), (1, 2)]
+            .iter()
+            .map(|&(i, j)| g[i].1.distance(g[j].1))
+            .collect();
+        d.sort_by(f64::total_cmp);
+        for (got, want) in d.iter().zip([2.0 * R, 2.0 * R, 4.0 * R]) {
+            assert!((got - want).abs() < 1e-9 * R, "body {b}: {d:?}");
+        }
+    }
+    assert!(vtp.contains("Name=\"body\""));
+
+    let (dump, vtp) = dump_of_a_small_run(false);
+    assert!(dump.contains("ITEM: ATOMS id type radius x y z vx vy vz\n"));
+    assert!(!dump.contains("mol"));
+    assert!(!vtp.contains("Name=\"body\""));
+}
