@@ -201,6 +201,7 @@ impl<D: Dim> GrainView<'_, D> {
             vel: p.vel.iter().map(|&x| D::to_xyz(x)).collect(),
             omega: p.omega.iter().map(|&x| D::ang_to_xyz(x)).collect(),
             radius: p.radius.to_vec(),
+            mass: Vec::new(),
         }
     }
 }

@@ -77,6 +77,7 @@ pub fn gas_frame<D: GasDim>(sim: &Dsmc<D>) -> Frame {
         vel: sim.store.p.iter().map(|q| D::to_xyz(q.v)).collect(),
         omega: vec![[0.0; 3]; n],
         radius: vec![0.5 * sim.store.diameter; n],
+        mass: Vec::new(),
     }
 }
 

@@ -19,6 +19,9 @@ pub struct Frame {
     pub vel: Vec<[f64; 3]>,
     pub omega: Vec<[f64; 3]>,
     pub radius: Vec<f64>,
+    /// Each grain's mass where the run saves it (`output.contacts`, for
+    /// `grains cg`); empty otherwise.
+    pub mass: Vec<f64>,
 }
 
 impl Frame {
@@ -45,6 +48,11 @@ impl Frame {
         for (name, len) in lens {
             assert_eq!(len, n, "Frame.{name} has {len} entries but pos has {n}");
         }
+        let m = self.mass.len();
+        assert!(
+            m == 0 || m == n,
+            "Frame.mass has {m} entries but pos has {n}"
+        );
     }
 
     /// Speed |v| of particle `i`.
@@ -82,6 +90,7 @@ pub(crate) mod tests {
             vel: vec![[0.5, -1.0, 0.0], [0.0, 0.0, 0.0], [1e-17, 2.0, 0.0]],
             omega: vec![[0.0, 0.0, 0.25], [0.0, 0.0, -3.0], [0.0, 0.0, 0.0]],
             radius: vec![0.5, 0.6, 0.45],
+            mass: Vec::new(),
         }
     }
 

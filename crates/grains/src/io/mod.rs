@@ -6,6 +6,7 @@
 pub mod atomic;
 pub mod contact_records;
 pub mod contacts_out;
+pub mod contacts_read;
 pub mod csv_particles;
 pub mod frame;
 pub mod lammps_data;
@@ -30,7 +31,7 @@ pub use picture::{
 };
 pub use thermo::ThermoWriter;
 pub use vtk::{pvtp_string, vtp_string, write_piece, PvdCollection, VtkSeries};
-pub use vtk_read::{read_frame, read_series, FrameEntry};
+pub use vtk_read::{read_collection, read_frame, read_series, FrameEntry};
 
 /// Displays an `f64` with full (round-trip) precision and compactly: plain
 /// decimals for moderate magnitudes, scientific notation (`1e-300`) otherwise.

@@ -55,6 +55,9 @@ pub fn vtp_string(frame: &Frame) -> String {
     array(&mut s, omega, frame.omega.iter().flatten().map(num));
     array(&mut s, id, frame.id.iter());
     array(&mut s, kind, frame.kind.iter());
+    if !frame.mass.is_empty() {
+        array(&mut s, ("Float64", "mass", 1), frame.mass.iter().map(num));
+    }
     s.push_str("      </PointData>\n");
     s.push_str("      <Points>\n");
     let points = ("Float64", "Points", 3);

@@ -249,6 +249,7 @@ fn load_frame(d: &mut Dec) -> DecResult<Frame> {
         vel: Vec::with_capacity(n),
         omega: Vec::with_capacity(n),
         radius: Vec::with_capacity(n),
+        mass: Vec::new(),
     };
     for _ in 0..n {
         f.id.push(d.u64("snapshot id")?);

@@ -211,6 +211,7 @@ impl Mirror {
             vel: (0..self.len()).map(|i| self.vel.get(i)).collect(),
             omega: (0..self.len()).map(|i| self.omega.get(i)).collect(),
             radius: self.radius.clone(),
+            mass: Vec::new(),
         }
     }
 }
