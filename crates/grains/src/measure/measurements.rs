@@ -413,5 +413,5 @@ fn fields_begin<D: Dim>(
 ) -> Result<crate::measure::fields::FieldsMeasure> {
     let b = view.domain;
     let bx = (D::to_xyz(b.lo), D::to_xyz(b.hi), b.periodic);
-    crate::measure::fields::FieldsMeasure::begin(f, d0, D::D, bx)
+    Ok(crate::measure::fields::FieldsMeasure::begin(f, d0, D::D, bx)?.begun_at(view.step))
 }

@@ -10,6 +10,7 @@
 pub mod adapter;
 pub mod cg;
 pub mod kernel;
+pub mod replay;
 pub mod write;
 
 pub use crate::io::contact_records::{ContactRecord, Snapshot, WallRecord};
@@ -24,6 +25,12 @@ use std::path::Path;
 
 /// The fields measurement of a run: the window being summed and those done.
 pub struct FieldsMeasure {
+    /// What `fields.json` records for `grains cg`: the table, d0, the box
+    /// and the step at which the measurement began.
+    spec: FieldsSpec,
+    d0: f64,
+    bx: ([f64; 3], [f64; 3], [bool; 3]),
+    begun: u64,
     every: u64,
     start: f64,
     average: u64,
@@ -98,12 +105,22 @@ impl FieldsMeasure {
             k => Smoothing::Kernel(Kernel::new(shape, spec.width * d0, k)),
         };
         Ok(Self {
+            spec: spec.clone(),
+            d0,
+            bx: (lo, hi, periodic),
+            begun: 0,
             every: spec.every,
             start: spec.start,
             average: spec.average,
             current: CoarseGrainer::new(grid, smoothing),
             done: Vec::new(),
         })
+    }
+
+    /// The measurement began at `step` (samples follow it).
+    pub fn begun_at(mut self, step: u64) -> Self {
+        self.begun = step;
+        self
     }
 
     /// Whether the state after step `step` is sampled (at time `t`).
@@ -136,9 +153,22 @@ impl FieldsMeasure {
     }
 
     /// fields/fields_NNNNN.vti, fields.pvd, and for a profile or the box
-    /// fields/fields_NNNNN.csv.
+    /// fields/fields_NNNNN.csv; fields.json, what `grains cg` needs to
+    /// sample the run's frames again.
     pub fn write(&self, dir: &Path) -> Result<()> {
-        write::write_windows(dir, &self.windows())
+        write::write_windows(dir, &self.windows())?;
+        let (lo, hi, periodic) = self.bx;
+        let settings = json!({
+            "fields": self.spec,
+            "d0": self.d0,
+            "dim": self.current.grid.dim,
+            "lo": lo,
+            "hi": hi,
+            "periodic": periodic,
+            "begin_step": self.begun,
+        });
+        let text = serde_json::to_string_pretty(&settings).expect("plain JSON values");
+        crate::io::write_atomic(&dir.join("fields.json"), text.as_bytes())
     }
 
     /// The last window's means over its points, into summary.json.
