@@ -18,6 +18,7 @@ pub use adapter::snapshot;
 pub use cg::{CoarseGrainer, Fields, Grid, Smoothing};
 pub use kernel::{Kernel, Shape};
 
+use crate::codec::{Dec, DecResult, Enc};
 use crate::error::{Error, Result};
 use crate::scenario::schema::FieldsSpec;
 use serde_json::{json, Map, Value};
@@ -35,7 +36,8 @@ pub struct FieldsMeasure {
     start: f64,
     average: u64,
     current: CoarseGrainer,
-    done: Vec<Fields>,
+    /// The closed windows' sums (their fields are worked out when written).
+    done: Vec<CoarseGrainer>,
 }
 
 impl FieldsMeasure {
@@ -137,19 +139,43 @@ impl FieldsMeasure {
     pub fn sample(&mut self, s: &Snapshot) {
         self.current.add(s);
         if self.average > 0 && self.current.samples() >= self.average {
-            self.done.push(self.current.fields());
-            self.current =
+            let fresh =
                 CoarseGrainer::new(self.current.grid.clone(), self.current.smoothing.clone());
+            self.done.push(std::mem::replace(&mut self.current, fresh));
         }
     }
 
     /// The windows: those closed and the one open, if it has samples.
     pub fn windows(&self) -> Vec<Fields> {
-        let mut out = self.done.clone();
+        let mut out: Vec<Fields> = self.done.iter().map(CoarseGrainer::fields).collect();
         if self.current.samples() > 0 {
             out.push(self.current.fields());
         }
         out
+    }
+
+    /// The step the measurement began at, the closed windows and the open
+    /// one, as checkpoint bytes.
+    pub fn save(&self, e: &mut Enc) {
+        e.u64(self.begun);
+        e.len(self.done.len());
+        self.done.iter().for_each(|w| w.save(e));
+        self.current.save(e);
+    }
+
+    /// This fresh measurement with the windows saved by [`Self::save`].
+    pub fn load(mut self, d: &mut Dec) -> DecResult<Self> {
+        self.begun = d.u64("fields start step")?;
+        let fresh =
+            || CoarseGrainer::new(self.current.grid.clone(), self.current.smoothing.clone());
+        let n = d.len(32, "fields windows")?;
+        let mut done = Vec::with_capacity(n);
+        for _ in 0..n {
+            done.push(fresh().load(d)?);
+        }
+        self.current = fresh().load(d)?;
+        self.done = done;
+        Ok(self)
     }
 
     /// fields/fields_NNNNN.vti, fields.pvd, and for a profile or the box
