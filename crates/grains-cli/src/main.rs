@@ -4,6 +4,7 @@
 
 mod bench;
 mod bench_gpu;
+mod cg;
 mod launch;
 mod movie;
 mod progress;
@@ -53,6 +54,8 @@ enum Command {
     Movie(movie::MovieArgs),
     /// Play a run in the browser: serves a page on 127.0.0.1 (prints its address).
     View(view::ViewArgs),
+    /// Recompute a run's fields from its frames and contacts (another kernel, width or grid).
+    Cg(cg::CgArgs),
 }
 
 #[derive(Args)]
@@ -246,6 +249,7 @@ fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
         Command::Sweep(args) => sweep::run(args).map(|_| ExitCode::SUCCESS),
         Command::Movie(args) => movie::run(args).map(|_| ExitCode::SUCCESS),
         Command::View(args) => view::run(args).map(|_| ExitCode::SUCCESS),
+        Command::Cg(args) => cg::run(args).map(|_| ExitCode::SUCCESS),
     }
 }
 

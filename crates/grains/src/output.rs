@@ -262,7 +262,11 @@ impl Outputs {
     /// One output step of an MD run: its thermo row, frame and dump
     /// snapshot.
     pub fn record_md<D: Dim>(&mut self, md: &Md<D>) -> Result<()> {
-        let frame = md.frame();
+        let mut frame = md.frame();
+        if self.contacts.is_some() {
+            // With the contacts, the frames hold all `grains cg` reads.
+            frame.mass = md.view().grains.mass.to_vec();
+        }
         let row = [
             md.step as f64,
             md.time,

@@ -7,6 +7,7 @@
 mod common;
 
 mod bad_input;
+mod cg;
 mod check_law;
 mod commands;
 mod mesh_input;

@@ -23,6 +23,9 @@ pub struct Frame {
     /// that viewers group a clump's sub-spheres; `None` in a run without
     /// bodies, whose outputs then keep their columns.
     pub body: Option<Vec<u64>>,
+    /// Each grain's mass where the run saves it (`output.contacts`, for
+    /// `grains cg`); empty otherwise.
+    pub mass: Vec<f64>,
 }
 
 impl Frame {
@@ -53,6 +56,11 @@ impl Frame {
             let len = b.len();
             assert_eq!(len, n, "Frame.body has {len} entries but pos has {n}");
         }
+        let m = self.mass.len();
+        assert!(
+            m == 0 || m == n,
+            "Frame.mass has {m} entries but pos has {n}"
+        );
     }
 
     /// Speed |v| of particle `i`.
@@ -91,6 +99,7 @@ pub(crate) mod tests {
             omega: vec![[0.0, 0.0, 0.25], [0.0, 0.0, -3.0], [0.0, 0.0, 0.0]],
             radius: vec![0.5, 0.6, 0.45],
             body: None,
+            mass: Vec::new(),
         }
     }
 

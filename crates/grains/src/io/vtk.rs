@@ -59,6 +59,9 @@ pub fn vtp_string(frame: &Frame) -> String {
     if let Some(body) = &frame.body {
         array(&mut s, ("Int64", "body", 1), body.iter());
     }
+    if !frame.mass.is_empty() {
+        array(&mut s, ("Float64", "mass", 1), frame.mass.iter().map(num));
+    }
     s.push_str("      </PointData>\n");
     s.push_str("      <Points>\n");
     let points = ("Float64", "Points", 3);

@@ -19,12 +19,21 @@ pub struct FrameEntry {
 
 /// The frames listed in `run_dir/frames.pvd`, in the order written.
 pub fn read_series(run_dir: &Path) -> Result<Vec<FrameEntry>> {
-    let pvd = run_dir.join("frames.pvd");
+    read_collection(
+        run_dir,
+        "frames.pvd",
+        "the run wrote no frames (output.frames = false?)",
+    )
+}
+
+/// The entries of the collection `run_dir/name` (a `.pvd`), in the order
+/// written; `missing` says why it may be absent.
+pub fn read_collection(run_dir: &Path, name: &str, missing: &str) -> Result<Vec<FrameEntry>> {
+    let pvd = run_dir.join(name);
     let text = std::fs::read_to_string(&pvd).map_err(|e| match e.kind() {
-        std::io::ErrorKind::NotFound => Error::input(format!(
-            "{}: not found; the run wrote no frames (output.frames = false?)",
-            pvd.display()
-        )),
+        std::io::ErrorKind::NotFound => {
+            Error::input(format!("{}: not found; {missing}", pvd.display()))
+        }
         _ => Error::io(&pvd, e),
     })?;
     if !text.contains("</VTKFile>") {
@@ -66,6 +75,7 @@ pub fn read_frame(path: &Path) -> Result<Frame> {
                     w.vel.extend(piece.vel);
                     w.omega.extend(piece.omega);
                     w.radius.extend(piece.radius);
+                    w.mass.extend(piece.mass);
                     w
                 }
             });
@@ -190,6 +200,11 @@ fn parse_text(path: &Path, text: &str) -> Result<Frame> {
         radius: data_array(path, text, "radius", n)?,
         vel: triples(data_array(path, text, "velocity", 3 * n)?),
         omega: triples(data_array(path, text, "angular_velocity", 3 * n)?),
+        // Saved only by runs that write their contacts (for `grains cg`).
+        mass: match text.contains("Name=\"mass\"") {
+            true => data_array(path, text, "mass", n)?,
+            false => Vec::new(),
+        },
         pos,
         body: None,
     })
@@ -222,6 +237,11 @@ mod tests {
         assert_eq!(back.id, f.id);
         assert_eq!(back.kind, f.kind);
         assert_eq!(back.radius, f.radius);
+        assert!(back.mass.is_empty());
+        f.mass = vec![1.0 / 3.0, 2e-9, 7.0];
+        series.write(&f).unwrap();
+        let last = &read_series(&dir).unwrap()[2];
+        assert_eq!(read_frame(&last.path).unwrap().mass, f.mass);
         assert_eq!((back.step, back.time, back.dim), (f.step, f.time, 2));
     }
 

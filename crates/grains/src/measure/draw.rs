@@ -67,6 +67,10 @@ pub fn in_box(frame: &Frame) -> Frame {
         id: keep.iter().map(|&i| frame.id[i]).collect(),
         kind: keep.iter().map(|&i| frame.kind[i]).collect(),
         radius: keep.iter().map(|&i| frame.radius[i]).collect(),
+        mass: match frame.mass.is_empty() {
+            true => Vec::new(),
+            false => keep.iter().map(|&i| frame.mass[i]).collect(),
+        },
         pos: pick(&frame.pos),
         vel: pick(&frame.vel),
         omega: pick(&frame.omega),

@@ -160,6 +160,26 @@ impl Measurements {
             e.bool(true);
             r.save(&mut e);
         }
+        // Last, the fields' windows, after every flag before them (false
+        // where absent), so that checkpoints without them are unchanged.
+        if let Some(f) = &self.fields {
+            if self.rheology.is_none() {
+                if t0.is_none() {
+                    if self.flow_field.is_none() && self.impact.is_none() {
+                        e.bool(false);
+                    }
+                    if self.impact.is_none() {
+                        e.bool(false);
+                    }
+                    if self.displacement.is_some() {
+                        e.f64(f64::NAN);
+                    }
+                }
+                e.bool(false);
+            }
+            e.bool(true);
+            f.save(&mut e);
+        }
         e.buf
     }
 
@@ -212,7 +232,7 @@ impl Measurements {
             )?,
             flow_field: None,
             impact: None,
-            // Not in the checkpoint: a resumed run opens a fresh window.
+            // Fresh here; its windows follow the rheology's.
             fields: m
                 .fields
                 .as_ref()
@@ -278,6 +298,18 @@ impl Measurements {
         }
         if has_rheology {
             out.rheology = Some(Rheology::load(&mut d)?);
+        }
+        // A checkpoint from before the fields were saved opens a fresh
+        // window.
+        if d.remaining() > 0 && d.bool("fields")? {
+            let Some(fresh) = out.fields.take() else {
+                return Err(
+                    "measurement fields: present in the checkpoint but not asked for in the \
+                     scenario"
+                        .into(),
+                );
+            };
+            out.fields = Some(fresh.load(&mut d)?);
         }
         if d.remaining() != 0 {
             return Err(format!(
@@ -413,5 +445,5 @@ fn fields_begin<D: Dim>(
 ) -> Result<crate::measure::fields::FieldsMeasure> {
     let b = view.domain;
     let bx = (D::to_xyz(b.lo), D::to_xyz(b.hi), b.periodic);
-    crate::measure::fields::FieldsMeasure::begin(f, d0, D::D, bx)
+    Ok(crate::measure::fields::FieldsMeasure::begin(f, d0, D::D, bx)?.begun_at(view.step))
 }

@@ -5,6 +5,7 @@
 //! rather than one per file; each module holds the tests of one subject.
 
 mod dsmc;
+mod fields;
 mod flow;
 mod fuzz;
 mod md;

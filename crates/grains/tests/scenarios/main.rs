@@ -8,6 +8,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod cg_replay;
 mod choose;
 mod chute;
 mod hopper;

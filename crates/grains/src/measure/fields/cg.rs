@@ -14,6 +14,7 @@
 //! totals exactly. Everything here reads plain data ([`Snapshot`]).
 
 use super::kernel::Kernel;
+use crate::codec::{Dec, DecResult, Enc};
 use crate::io::contact_records::{add_outer, Snapshot};
 
 /// How grains are spread over the grid's points.
@@ -337,6 +338,32 @@ impl CoarseGrainer {
         }
         self.times.1 = s.time;
         self.samples += 1;
+    }
+
+    /// The window's running sums as checkpoint bytes.
+    pub fn save(&self, e: &mut Enc) {
+        e.u64(self.samples);
+        e.f64(self.times.0);
+        e.f64(self.times.1);
+        e.f64s(&self.sums);
+    }
+
+    /// The sums saved by [`Self::save`], into this fresh window over the
+    /// same grid.
+    pub fn load(mut self, d: &mut Dec) -> DecResult<Self> {
+        self.samples = d.u64("fields samples")?;
+        self.times = (d.f64("fields first time")?, d.f64("fields last time")?);
+        let sums = d.f64s("fields sums")?;
+        if sums.len() != self.sums.len() {
+            return Err(format!(
+                "measurement fields: the checkpoint's window holds {} sums, the scenario's grid \
+                 {} (measure.fields.axes or cells changed)",
+                sums.len(),
+                self.sums.len()
+            ));
+        }
+        self.sums = sums;
+        Ok(self)
     }
 
     /// The fields averaged over the samples so far.

@@ -10,6 +10,7 @@
 pub mod adapter;
 pub mod cg;
 pub mod kernel;
+pub mod replay;
 pub mod write;
 
 pub use crate::io::contact_records::{ContactRecord, Snapshot, WallRecord};
@@ -17,6 +18,7 @@ pub use adapter::snapshot;
 pub use cg::{CoarseGrainer, Fields, Grid, Smoothing};
 pub use kernel::{Kernel, Shape};
 
+use crate::codec::{Dec, DecResult, Enc};
 use crate::error::{Error, Result};
 use crate::scenario::schema::FieldsSpec;
 use serde_json::{json, Map, Value};
@@ -24,11 +26,18 @@ use std::path::Path;
 
 /// The fields measurement of a run: the window being summed and those done.
 pub struct FieldsMeasure {
+    /// What `fields.json` records for `grains cg`: the table, d0, the box
+    /// and the step at which the measurement began.
+    spec: FieldsSpec,
+    d0: f64,
+    bx: ([f64; 3], [f64; 3], [bool; 3]),
+    begun: u64,
     every: u64,
     start: f64,
     average: u64,
     current: CoarseGrainer,
-    done: Vec<Fields>,
+    /// The closed windows' sums (their fields are worked out when written).
+    done: Vec<CoarseGrainer>,
 }
 
 impl FieldsMeasure {
@@ -98,12 +107,22 @@ impl FieldsMeasure {
             k => Smoothing::Kernel(Kernel::new(shape, spec.width * d0, k)),
         };
         Ok(Self {
+            spec: spec.clone(),
+            d0,
+            bx: (lo, hi, periodic),
+            begun: 0,
             every: spec.every,
             start: spec.start,
             average: spec.average,
             current: CoarseGrainer::new(grid, smoothing),
             done: Vec::new(),
         })
+    }
+
+    /// The measurement began at `step` (samples follow it).
+    pub fn begun_at(mut self, step: u64) -> Self {
+        self.begun = step;
+        self
     }
 
     /// Whether the state after step `step` is sampled (at time `t`).
@@ -120,25 +139,62 @@ impl FieldsMeasure {
     pub fn sample(&mut self, s: &Snapshot) {
         self.current.add(s);
         if self.average > 0 && self.current.samples() >= self.average {
-            self.done.push(self.current.fields());
-            self.current =
+            let fresh =
                 CoarseGrainer::new(self.current.grid.clone(), self.current.smoothing.clone());
+            self.done.push(std::mem::replace(&mut self.current, fresh));
         }
     }
 
     /// The windows: those closed and the one open, if it has samples.
     pub fn windows(&self) -> Vec<Fields> {
-        let mut out = self.done.clone();
+        let mut out: Vec<Fields> = self.done.iter().map(CoarseGrainer::fields).collect();
         if self.current.samples() > 0 {
             out.push(self.current.fields());
         }
         out
     }
 
+    /// The step the measurement began at, the closed windows and the open
+    /// one, as checkpoint bytes.
+    pub fn save(&self, e: &mut Enc) {
+        e.u64(self.begun);
+        e.len(self.done.len());
+        self.done.iter().for_each(|w| w.save(e));
+        self.current.save(e);
+    }
+
+    /// This fresh measurement with the windows saved by [`Self::save`].
+    pub fn load(mut self, d: &mut Dec) -> DecResult<Self> {
+        self.begun = d.u64("fields start step")?;
+        let fresh =
+            || CoarseGrainer::new(self.current.grid.clone(), self.current.smoothing.clone());
+        let n = d.len(32, "fields windows")?;
+        let mut done = Vec::with_capacity(n);
+        for _ in 0..n {
+            done.push(fresh().load(d)?);
+        }
+        self.current = fresh().load(d)?;
+        self.done = done;
+        Ok(self)
+    }
+
     /// fields/fields_NNNNN.vti, fields.pvd, and for a profile or the box
-    /// fields/fields_NNNNN.csv.
+    /// fields/fields_NNNNN.csv; fields.json, what `grains cg` needs to
+    /// sample the run's frames again.
     pub fn write(&self, dir: &Path) -> Result<()> {
-        write::write_windows(dir, &self.windows())
+        write::write_windows(dir, &self.windows())?;
+        let (lo, hi, periodic) = self.bx;
+        let settings = json!({
+            "fields": self.spec,
+            "d0": self.d0,
+            "dim": self.current.grid.dim,
+            "lo": lo,
+            "hi": hi,
+            "periodic": periodic,
+            "begin_step": self.begun,
+        });
+        let text = serde_json::to_string_pretty(&settings).expect("plain JSON values");
+        crate::io::write_atomic(&dir.join("fields.json"), text.as_bytes())
     }
 
     /// The last window's means over its points, into summary.json.
