@@ -64,7 +64,16 @@ done
 python3 - "$work/ref" "$work/new" <<'PY'
 import json, os, sys
 ref, new = sys.argv[1], sys.argv[2]
-TIMINGS = {"wall_seconds", "ns_per_particle_step", "phase_seconds", "threads"}
+TIMINGS = {"ns_per_particle_step", "threads"}
+
+def drop_timings(x):
+    """Removes wall-clock keys (every `*_seconds` and the rates) at any depth."""
+    if isinstance(x, dict):
+        return {k: drop_timings(v) for k, v in x.items()
+                if k not in TIMINGS and not k.endswith("_seconds")}
+    if isinstance(x, list):
+        return [drop_timings(v) for v in x]
+    return x
 
 def files(top):
     out = set()
@@ -77,10 +86,7 @@ def content(path):
     with open(path, "rb") as f:
         data = f.read()
     if os.path.basename(path) == "summary.json":
-        doc = json.loads(data)
-        for k in TIMINGS:
-            doc.pop(k, None)
-        return json.dumps(doc, sort_keys=True).encode()
+        return json.dumps(drop_timings(json.loads(data)), sort_keys=True).encode()
     return data
 
 a, b = files(ref), files(new)
