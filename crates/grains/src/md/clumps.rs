@@ -347,11 +347,21 @@ impl<D: Dim> Md<D> {
     /// The bodies' part after the forces: their forces and torques summed,
     /// the second half-kick, the sub-spheres' new velocities.
     pub(crate) fn correct_bodies(&mut self) {
-        let dt = self.settings.dt;
-        if let Some(c) = self.clumps.as_deref_mut() {
-            c.bodies.kick(0.5 * dt);
+        if self.kick_bodies() {
             self.place_sub_spheres(false);
         }
+    }
+
+    /// The bodies' second half-kick alone (false without bodies): in the
+    /// fused step the sub-spheres are placed once, by the prediction that
+    /// follows at once.
+    pub(crate) fn kick_bodies(&mut self) -> bool {
+        let dt = self.settings.dt;
+        let Some(c) = self.clumps.as_deref_mut() else {
+            return false;
+        };
+        c.bodies.kick(0.5 * dt);
+        true
     }
 
     /// Each body's force and torque about its centre of mass from its

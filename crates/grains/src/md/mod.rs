@@ -389,7 +389,7 @@ impl<D: Dim> Md<D> {
             non_finite = r.non_finite;
             r.far
         };
-        self.correct_bodies();
+        self.kick_bodies();
         self.predict_bodies();
         let moved = self.owned_beyond_skin(pass);
         self.finite_or_error(non_finite).map(|()| moved)

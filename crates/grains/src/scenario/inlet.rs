@@ -15,6 +15,7 @@
 //! A mixture of materials (`inlet/mixture.rs`) draws each grain's material
 //! from a stream of its own, so an inlet of one kind keeps its bits.
 
+use super::keys::vector;
 use super::placement::stream;
 use super::schema::{InletRegion, InletSpec, Scenario};
 use super::sizes::SizeLaw;
@@ -26,7 +27,7 @@ use crate::md::Md;
 use crate::particles::{MassModel, ParticleRecord};
 use mixture::Mixture;
 use rand::Rng;
-use region::{vector, Region};
+use region::Region;
 use serde_json::{json, Value};
 use std::path::Path;
 

@@ -11,6 +11,7 @@ use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::md::Md;
+use crate::scenario::keys;
 use crate::scenario::schema::{OutletSpec, PlaneSpec, Scenario, SensorSpec};
 use serde_json::{json, Map, Value};
 use std::time::Instant;
@@ -88,21 +89,8 @@ pub struct Outlets<D: Dim> {
     seconds: (f64, f64),
 }
 
-fn vector<D: Dim>(v: &[f64], key: &str) -> Result<D::V> {
-    if v.len() != D::D || v.iter().any(|x| !x.is_finite()) {
-        return Err(Error::input(format!(
-            "{key} = {v:?}: must be {} finite numbers (one per axis of a {} scenario)",
-            D::D,
-            D::NAME
-        )));
-    }
-    let mut x = [0.0; 3];
-    x[..D::D].copy_from_slice(v);
-    Ok(D::from_xyz(x))
-}
-
 fn unit<D: Dim>(v: &[f64], key: &str) -> Result<D::V> {
-    let n = vector::<D>(v, key)?;
+    let n = keys::vector::<D>(key, v)?;
     let len = D::norm(n);
     if len == 0.0 {
         return Err(Error::input(format!("{key}: must not be the zero vector")));
@@ -112,7 +100,7 @@ fn unit<D: Dim>(v: &[f64], key: &str) -> Result<D::V> {
 
 fn plane<D: Dim>(p: &PlaneSpec, key: &str) -> Result<(D::V, D::V)> {
     Ok((
-        vector::<D>(&p.point, &format!("{key}.point"))?,
+        keys::vector::<D>(&format!("{key}.point"), &p.point)?,
         unit::<D>(&p.normal, &format!("{key}.normal"))?,
     ))
 }
@@ -161,8 +149,8 @@ fn outlet<D: Dim>(k: usize, o: &OutletSpec) -> Result<Outlet<D>> {
         let (point, normal) = plane::<D>(p, &format!("{key}.plane"))?;
         Region::Plane { point, normal }
     } else if let Some(b) = &o.region_box {
-        let lo = vector::<D>(&b.lo, &format!("{key}.box.lo"))?;
-        let hi = vector::<D>(&b.hi, &format!("{key}.box.hi"))?;
+        let lo = keys::vector::<D>(&format!("{key}.box.lo"), &b.lo)?;
+        let hi = keys::vector::<D>(&format!("{key}.box.hi"), &b.hi)?;
         if (0..D::D).any(|k| D::get(lo, k) >= D::get(hi, k)) {
             return Err(Error::input(format!(
                 "{key}.box: lo must be below hi on every axis"
@@ -177,12 +165,12 @@ fn outlet<D: Dim>(k: usize, o: &OutletSpec) -> Result<Outlet<D>> {
                 c.radius
             )));
         }
-        let a = vector::<D>(&c.a, &format!("{key}.cylinder.a"))?;
+        let a = keys::vector::<D>(&format!("{key}.cylinder.a"), &c.a)?;
         // In 2D a disk about a: no axis, every point at s = 0.
         let (axis, length) = match (&c.b, D::D) {
             (_, 2) => (D::zero(), 0.0),
             (Some(b), _) => {
-                let b = vector::<D>(b, &format!("{key}.cylinder.b"))?;
+                let b = keys::vector::<D>(&format!("{key}.cylinder.b"), b)?;
                 let l = D::norm(b - a);
                 if l == 0.0 {
                     return Err(Error::input(format!(
@@ -219,7 +207,7 @@ fn outlet<D: Dim>(k: usize, o: &OutletSpec) -> Result<Outlet<D>> {
 
 fn sensor<D: Dim>(k: usize, s: &SensorSpec) -> Result<Sensor<D>> {
     let key = format!("sensors[{k}] (\"{}\")", s.name);
-    let point = vector::<D>(&s.point, &format!("{key}.point"))?;
+    let point = keys::vector::<D>(&format!("{key}.point"), &s.point)?;
     let normal = unit::<D>(&s.normal, &format!("{key}.normal"))?;
     if s.every == 0 {
         return Err(Error::input(format!(
@@ -389,11 +377,11 @@ impl<D: Dim> Outlets<D> {
     /// notes where each grain is).
     fn check_sensors(&mut self, md: &Md<D>, first: bool) {
         let p = &md.particles;
+        let top = p.id[..p.n_owned()].iter().copied().max().unwrap_or(0);
         for s in &mut self.sensors {
             if !first && !md.step.is_multiple_of(s.every) {
                 continue;
             }
-            let top = p.id[..p.n_owned()].iter().copied().max().unwrap_or(0);
             if s.side.len() <= top as usize {
                 s.side.resize(top as usize + 1, 0);
             }

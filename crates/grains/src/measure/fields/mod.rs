@@ -32,9 +32,6 @@ pub struct FieldsMeasure {
     d0: f64,
     bx: ([f64; 3], [f64; 3], [bool; 3]),
     begun: u64,
-    every: u64,
-    start: f64,
-    average: u64,
     current: CoarseGrainer,
     /// The closed windows' sums (their fields are worked out when written).
     done: Vec<CoarseGrainer>,
@@ -111,9 +108,6 @@ impl FieldsMeasure {
             d0,
             bx: (lo, hi, periodic),
             begun: 0,
-            every: spec.every,
-            start: spec.start,
-            average: spec.average,
             current: CoarseGrainer::new(grid, smoothing),
             done: Vec::new(),
         })
@@ -127,18 +121,18 @@ impl FieldsMeasure {
 
     /// Whether the state after step `step` is sampled (at time `t`).
     pub fn due(&self, step: u64) -> bool {
-        step.is_multiple_of(self.every)
+        step.is_multiple_of(self.spec.every)
     }
 
     /// Whether a snapshot at `step`, time `t`, is taken.
     pub fn wants(&self, step: u64, t: f64) -> bool {
-        self.due(step) && t >= self.start
+        self.due(step) && t >= self.spec.start
     }
 
     /// Adds one instant; a full window is closed.
     pub fn sample(&mut self, s: &Snapshot) {
         self.current.add(s);
-        if self.average > 0 && self.current.samples() >= self.average {
+        if self.spec.average > 0 && self.current.samples() >= self.spec.average {
             let fresh =
                 CoarseGrainer::new(self.current.grid.clone(), self.current.smoothing.clone());
             self.done.push(std::mem::replace(&mut self.current, fresh));
@@ -152,6 +146,20 @@ impl FieldsMeasure {
             out.push(self.current.fields());
         }
         out
+    }
+
+    /// How many windows [`Self::windows`] gives, without working them out.
+    pub fn window_count(&self) -> usize {
+        self.done.len() + usize::from(self.current.samples() > 0)
+    }
+
+    /// The last of [`Self::windows`]: the open one if it has samples.
+    fn last_window(&self) -> Option<Fields> {
+        if self.current.samples() > 0 {
+            Some(self.current.fields())
+        } else {
+            self.done.last().map(CoarseGrainer::fields)
+        }
     }
 
     /// The step the measurement began at, the closed windows and the open
@@ -199,9 +207,8 @@ impl FieldsMeasure {
 
     /// The last window's means over its points, into summary.json.
     pub fn scalars(&self, summary: &mut Map<String, Value>) {
-        let windows = self.windows();
-        summary.insert("fields_windows".into(), json!(windows.len()));
-        let Some(f) = windows.last() else {
+        summary.insert("fields_windows".into(), json!(self.window_count()));
+        let Some(f) = self.last_window() else {
             return;
         };
         let n = f.points.len().max(1) as f64;

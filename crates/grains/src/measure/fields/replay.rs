@@ -140,7 +140,7 @@ pub fn recompute(run_dir: &Path, out: &Path, r: &Recompute) -> Result<Replayed> 
     }
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     measure.write(out)?;
-    used.windows = measure.windows().len();
+    used.windows = measure.window_count();
     Ok(used)
 }
 

@@ -1,27 +1,11 @@
 //! An inlet's region: a box, or a vertical cylinder (a band in 2D), and
 //! centres drawn uniformly inside it for grains that must fit wholly.
 
+use super::super::keys::vector;
 use super::super::schema::InletRegion;
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use rand::Rng;
-
-/// A vector of `D::D` finite numbers from the key `key` (as the builder
-/// reads them; the builder reads the inlets' extent from here).
-pub(super) fn vector<D: Dim>(key: &str, v: &[f64]) -> Result<D::V> {
-    if v.len() != D::D || v.iter().any(|x| !x.is_finite()) {
-        return Err(Error::input(format!(
-            "{key} = {v:?}: a {} scenario needs {} finite numbers",
-            D::NAME,
-            D::D
-        )));
-    }
-    let mut out = D::zero();
-    for (a, x) in v.iter().enumerate() {
-        D::set(&mut out, a, *x);
-    }
-    Ok(out)
-}
 
 /// Where an inlet's grain centres are drawn.
 #[derive(Clone, Debug)]
