@@ -21,4 +21,5 @@ mod rebuild_springs;
 mod rolling;
 mod rotation;
 mod servo;
+mod shapes;
 mod shear;

@@ -2,8 +2,6 @@
 //! properties against closed forms, random orientations uniform on
 //! rotations, bodies placed without overlaps and in a mixture's numbers,
 //! and the refusals of bad input by key.
-//!
-//! One test binary per topic; each module holds the tests of one subject.
 
 mod engine;
 mod errors;
