@@ -370,6 +370,129 @@ fn a_restart_refuses_what_the_state_is_made_of() {
     );
 }
 
+/// Disks poured by an inlet onto a floor (`walls.0.remove_at` removes it)
+/// above an outlet that takes out what falls through: a restart carries
+/// the grains the inlet added and the outlet took out, and the inlet and
+/// outlet go on where they were.
+const FILL: &str = r#"name = "fill"
+dimension = "2d"
+gravity = [0.0, -9.81]
+seed = 3
+
+[domain]
+lo = [0.0, -0.003]
+hi = [0.01, 0.012]
+periodic = [true, false]
+
+[particles]
+placement = "none"
+d0 = 1.0e-3
+
+[[inlets]]
+region = { shape = "box", lo = [0.0, 0.004], hi = [0.01, 0.011] }
+rate = 3000.0
+stop = 0.045
+velocity = [0.0, -0.5]
+size = { distribution = "uniform", min = 0.8e-3, max = 1.2e-3 }
+
+[[outlets]]
+name = "below"
+plane = { point = [0.0, -0.001], normal = [0.0, -1.0] }
+
+[contact]
+preset = "lammps-hooke-history"
+kn = 2.0e3
+
+[[walls]]
+name = "floor"
+shape = { type = "plane", point = [0.0, 0.0], normal = [0.0, 1.0] }
+
+[run]
+integrator = "verlet"
+dt = 2.0e-6
+duration = 0.05
+
+[output]
+every = 0.001
+picture = false
+"#;
+
+/// `key` of the run's summary.json.
+fn summary_key(dir: &Path, key: &str) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v[key].clone()
+}
+
+#[test]
+fn a_restart_carries_the_grains_of_inlets_and_outlets() {
+    let sb = Sandbox::new("fill");
+    std::fs::write(sb.path("fill.toml"), FILL).unwrap();
+    let g = |args: &[&str]| grains_in(&sb.0, args);
+    let floor_off = "walls.0.remove_at=0.02";
+    ok(&g(&[
+        "run",
+        "fill.toml",
+        "--out",
+        "straight",
+        "--quiet",
+        "--set",
+        floor_off,
+    ]));
+    // Filled for 10000 steps on the floor, then restarted with the floor
+    // removed at that step; that run restarted again at step 20000, once
+    // the outlet has taken grains out.
+    ok(&g(&[
+        "run",
+        "fill.toml",
+        "--out",
+        "kept",
+        "--steps",
+        "10000",
+        "--quiet",
+        "--checkpoint-every",
+        "10000steps",
+    ]));
+    ok(&g(&[
+        "resume",
+        "kept",
+        "--out",
+        "opened",
+        "--steps",
+        "15000",
+        "--quiet",
+        "--checkpoint-every",
+        "5000steps",
+        "--set",
+        floor_off,
+    ]));
+    ok(&g(&[
+        "resume",
+        "opened/checkpoint-000000020000.grck",
+        "--out",
+        "again",
+        "--steps",
+        "5000",
+        "--quiet",
+    ]));
+    let straight = rows_from(&sb.path("straight"), 10000);
+    assert_eq!(straight.len(), 31);
+    assert_eq!(rows_from(&sb.path("opened"), 0), straight);
+    assert_eq!(rows_from(&sb.path("again"), 0), straight[20..]);
+    // The inlet did not start again and the balance spans the three runs:
+    // inserted = present + removed, with grains taken out before the
+    // second restart.
+    let balance = summary_key(&sb.path("again"), "mass_balance");
+    assert_eq!(balance, summary_key(&sb.path("straight"), "mass_balance"));
+    assert_eq!(
+        summary_key(&sb.path("again"), "inlets"),
+        summary_key(&sb.path("straight"), "inlets")
+    );
+    assert_eq!(balance["exact"], true, "{balance}");
+    let removed = balance["removed_grains"].as_u64().unwrap();
+    assert!(removed > 0, "{balance}");
+}
+
 #[test]
 fn a_closed_pipe_ends_the_run_quietly() {
     let sb = Sandbox::new("pipe");

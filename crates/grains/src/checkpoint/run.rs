@@ -169,6 +169,9 @@ pub struct Found {
     /// Set when the state continues under a changed scenario (a restart):
     /// the scenario keys that changed, which may be none.
     pub(crate) restart: Option<Vec<String>>,
+    /// The checkpoint's own scenario when a restart replaced `loaded`: its
+    /// flow state (inlets' and outlets' grains) is read under it.
+    pub(crate) restarted_from: Option<Loaded>,
 }
 
 /// A payload's fields as read, before its scenario is parsed and checked.
@@ -276,6 +279,7 @@ pub fn decode(payload: &[u8], path: &Path) -> Result<Found> {
         measurements,
         flow,
         restart: None,
+        restarted_from: None,
     })
 }
 

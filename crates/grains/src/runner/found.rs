@@ -30,10 +30,12 @@ impl Found {
     }
 
     /// [`Found::restore_md`] with the scenario's resolved run parameters
-    /// from the same build, and (not for a restart) the flow run, whose
-    /// changes to the engine (tilted gravity, removed wall) are in `md`
-    /// before its state is restored and its fingerprint checked.
-    pub(crate) fn restore_built<D: Dim>(&self) -> Result<(Md<D>, Resolved, Option<FlowRun<D>>)> {
+    /// from the same build, and the flow run, whose changes to the engine
+    /// (inserted and removed grains; tilted gravity, removed wall unless
+    /// restarting) are in `md` before its state is restored and its
+    /// fingerprint checked. A restart's flow run begins afresh, its inlets
+    /// and outlets carried over.
+    pub(crate) fn restore_built<D: Dim>(&self) -> Result<(Md<D>, Resolved, FlowRun<D>)> {
         // Refused by name before the scenario is built as MD (a DSMC
         // scenario has no contact law to build).
         if crate::dsmc::contract::is_dsmc(&self.engine) {
@@ -48,12 +50,16 @@ impl Found {
             None => {
                 let flow = FlowRun::restored(&self.loaded, &mut md, self.flow.as_deref(), &origin)?;
                 md.import(&self.engine, &origin)?;
-                Some(flow)
+                flow
             }
             Some(_) => {
+                let old = self.restarted_from.as_ref().unwrap_or(&self.loaded);
+                let carried = FlowRun::carried_grains(old, &mut md, self.flow.as_deref(), &origin)?;
                 crate::md::contract::restore_changed(&mut md, &self.engine)
                     .map_err(|e| Error::input(format!("{origin}: {e}")))?;
-                None
+                let mut flow = FlowRun::begin(&self.loaded, &md)?;
+                flow.carry(carried.as_deref(), &origin)?;
+                flow
             }
         };
         if md.step != self.step {
@@ -74,10 +80,6 @@ impl Found {
     pub(crate) fn restore<D: Dim>(&self, steps: Option<u64>) -> Result<Restored<D>> {
         let loaded = &self.loaded;
         let (md, resolved, flow) = self.restore_built::<D>()?;
-        let flow = match flow {
-            Some(f) => f,
-            None => FlowRun::begin(loaded, &md)?,
-        };
         if self.restart.is_some() {
             let at = md.step;
             let plan = match steps {

@@ -598,14 +598,22 @@ impl<D: Dim> Inlets<D> {
         Ok(())
     }
 
-    /// The inserted grains put back into a freshly built engine (as
-    /// stand-ins, whose state the checkpoint's engine state replaces), so
-    /// that it holds the grains of the engine that wrote the checkpoint.
-    pub fn apply(&self, md: &mut Md<D>) -> Result<()> {
+    /// The inserted grains put back into a freshly built engine, less
+    /// `removed` (sorted ids), so that it holds the grains of the engine that
+    /// wrote the checkpoint. They go in as stand-ins, whose state the
+    /// checkpoint's engine state replaces; inserting builds no neighbour
+    /// list, so their one place and size never meet a search.
+    pub fn apply(&self, md: &mut Md<D>, removed: &[u64]) -> Result<()> {
         let stand_ins = (self.first_id..self.next_id)
+            .filter(|id| removed.binary_search(id).is_err())
             .map(|id| ParticleRecord::new(id, md.domain.lo, 1.0, 1.0, 1.0))
             .collect();
         md.insert_grains(stand_ins)
+    }
+
+    /// The first id the inlets give: ids below it are the scenario's own.
+    pub fn first_id(&self) -> u64 {
+        self.first_id
     }
 }
 

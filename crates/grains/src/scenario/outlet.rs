@@ -81,8 +81,9 @@ pub struct Outlets<D: Dim> {
     edges: Vec<f64>,
     tolerance: f64,
     bin: Option<f64>,
-    /// Grains and their mass (summed in id order) when the run began.
-    initial: (u64, f64),
+    /// Grains and their mass (summed in id order) when the run began (a
+    /// restart carries its checkpoint's).
+    pub(crate) initial: (u64, f64),
     removed: Vec<Removal>,
     /// Wall time spent by the outlets (scan and removal) and by the
     /// sensors in [`Outlets::after_step`] (not checkpointed).

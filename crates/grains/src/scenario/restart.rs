@@ -27,6 +27,7 @@ const FIXED: &[&str] = &[
     "particles",
     "hopper",
     "dsmc",
+    "inlets",
     "outlets",
     "sensors",
 ];
@@ -119,7 +120,7 @@ impl Found {
             )));
         }
         let changed = check_changes(&self.loaded.scenario, &new.scenario, what)?;
-        self.loaded = new;
+        self.restarted_from = Some(std::mem::replace(&mut self.loaded, new));
         self.restart = Some(changed);
         Ok(self)
     }

@@ -181,7 +181,7 @@ impl<D: Dim> FlowRun<D> {
     /// [`FlowRun::after_step`] set them, and the grains the outlets took
     /// out (so that the engine's state, which lacks them, fits).
     fn apply(&self, md: &mut Md<D>) -> Result<()> {
-        self.inlets.apply(md)?;
+        self.put_back_grains(md)?;
         if let Some(g) = self.gravity {
             md.settings.gravity = g;
         }
@@ -191,10 +191,24 @@ impl<D: Dim> FlowRun<D> {
                 w.remove_at = Some(t);
             }
         }
-        if let Some(o) = &self.outlets {
-            md.remove_grains(&o.removed_ids())?;
-        }
         Ok(())
+    }
+
+    /// The grains the inlets inserted and the outlets took out, put into
+    /// `md` freshly built from the scenario. The scenario's own grains that
+    /// left go first, while the store holds real grains only (removal
+    /// rebuilds the neighbour list); the inserted grains still present then
+    /// go in as stand-ins.
+    fn put_back_grains(&self, md: &mut Md<D>) -> Result<()> {
+        let mut removed = self
+            .outlets
+            .as_ref()
+            .map_or(Vec::new(), |o| o.removed_ids());
+        removed.sort_unstable();
+        let first = self.inlets.first_id();
+        let own: Vec<u64> = removed.iter().copied().filter(|&id| id < first).collect();
+        md.remove_grains(&own)?;
+        self.inlets.apply(md, &removed)
     }
 
     /// The flow run of a resumed run: begun on `md` freshly built from the
@@ -233,6 +247,60 @@ impl<D: Dim> FlowRun<D> {
         flow.apply(md)
             .map_err(|e| Error::input(format!("checkpoint {origin}: {e}")))?;
         Ok(flow)
+    }
+}
+
+impl<D: Dim> FlowRun<D> {
+    /// For a restart: the grains the checkpoint's run inserted through its
+    /// inlets and took out through its outlets, put into `md` freshly built
+    /// from the changed scenario (the grains, inlets and outlets cannot
+    /// change, so it holds the checkpoint scenario's grains), so that the
+    /// engine's state fits it. `old` is the checkpoint's own scenario, under
+    /// which the flow section `bytes` was written. Returns the inlets' and
+    /// outlets' state for [`FlowRun::carry`], since they go on where they
+    /// were: a restarted fill must not insert its grains a second time.
+    pub fn carried_grains(
+        old: &Loaded,
+        md: &mut Md<D>,
+        bytes: Option<&[u8]>,
+        origin: &str,
+    ) -> Result<Option<Vec<u8>>> {
+        let Some(bytes) = bytes else {
+            return Ok(None);
+        };
+        let at = |e: String| Error::input(format!("checkpoint {origin}: {e}"));
+        let mut flow = Self::begin(old, md)?;
+        flow.load(bytes).map_err(at)?;
+        flow.put_back_grains(md)?;
+        let mut e = Enc::default();
+        flow.inlets.save(&mut e);
+        if let Some(o) = &flow.outlets {
+            o.save(&mut e);
+            e.u64(o.initial.0);
+            e.f64(o.initial.1);
+        }
+        Ok(Some(e.buf))
+    }
+
+    /// Takes over what [`FlowRun::carried_grains`] returned: the inlets'
+    /// counters and next grain id, the outlets' removals, the grains and
+    /// mass the run began with (the mass balance spans the checkpoint's run
+    /// and the restart) and the sensors' counts. The rest of the flow run (events, recycling, measurements)
+    /// begins afresh at the restart.
+    pub fn carry(&mut self, carried: Option<&[u8]>, origin: &str) -> Result<()> {
+        let Some(bytes) = carried else {
+            return Ok(());
+        };
+        let mut d = Dec::new(bytes);
+        let mut read = || -> DecResult<()> {
+            self.inlets.load(&mut d)?;
+            if let Some(o) = &mut self.outlets {
+                o.load(&mut d)?;
+                o.initial = (d.u64("initial grains")?, d.f64("initial mass")?);
+            }
+            Ok(())
+        };
+        read().map_err(|e| Error::input(format!("checkpoint {origin}: {e}")))
     }
 }
 
