@@ -222,7 +222,7 @@ fn execute(cli: Cli, ranks: &launch::Ranks) -> grains::Result<ExitCode> {
             opts.stop = Some(stop_flag()?);
             let mut progress = progress::for_terminal(args.quiet);
             let summary = checkpointing::resume(found, args.steps, opts, progress.as_mut())?;
-            Ok(finish(&summary, args.quiet, &args.run_dir))
+            Ok(finish(&summary, args.quiet, written(&args)))
         }
         Command::Run(args) => {
             let (loaded, mut opts) = run_set_up(&args, None)?;
@@ -458,7 +458,7 @@ fn from_checkpoint(
 /// checkpoint and keeps its part; rank 0 reports and writes.
 fn resume_distributed(args: &ResumeArgs, comm: &dyn Comm) -> grains::Result<ExitCode> {
     let (found, opts) = resume_set_up(args, Some(comm))?;
-    on_ranks(comm, args.quiet, &args.run_dir, |progress| {
+    on_ranks(comm, args.quiet, written(args), |progress| {
         runner::distributed::resume(found, args.steps, opts, progress, comm)
     })
 }
@@ -478,6 +478,12 @@ fn on_ranks(
         return Ok(ExitCode::SUCCESS);
     }
     Ok(finish(&summary, quiet, dir))
+}
+
+/// The folder a resume writes into: its `--out` (a restart or a branch),
+/// else the run it continues.
+fn written(args: &ResumeArgs) -> &Path {
+    args.out.as_deref().unwrap_or(&args.run_dir)
 }
 
 /// `grains run` as one rank of `mpirun`: rank 0 reports and writes.
