@@ -12,9 +12,16 @@ apart, and draws the points with both curves.
 With --rho-b (3D): Beverloo's own fit with the exponent 5/2, W^(2/5) a
 straight line in D, W^(2/5) = (C rho_b sqrt(g))^(2/5) (D - k d0): C and k
 from its slope and intercept, with standard errors from the least-squares
-covariance (Beverloo, Leniger & van de Velde 1961). --square takes the
-outlet as a square of side D and fits the circular orifice of the same area,
-D_eq = 2 D / sqrt(pi).
+covariance (Beverloo, Leniger & van de Velde 1961); also C with k held at
+the literature's 1.5. --square takes the outlet as a square of side L:
+Beverloo's W = rho_b A_eff v with the orifice shrunk by an empty band
+k d / 2 at its rim and v ~ sqrt(g D_h), D_h = 4 A / P the hydraulic
+diameter of the shrunk orifice, gives (L - k d)^2 and D_h = L - k d for
+the square against (pi/4) (D - k d)^2 and D - k d for the circle, so
+W = (4/pi) C rho_b sqrt(g) (L - k d)^(5/2): the fit with the side, its C
+times pi/4, is the circle's C. The circle of equal area, D_eq = 2 L /
+sqrt(pi), is printed beside it (it takes sqrt(D_eq), not sqrt(L), as the
+velocity scale, and gives a lower C).
 
 --bed DUMP measures rho_b instead from the last snapshot of a LAMMPS dump
 of the settled bed (id type radius x y z ...): the mass of the grains
@@ -83,6 +90,19 @@ def beverloo_c_k(D, W, d0, rho_b, g=9.81):
     return dict(C=C, sC=sC, k=k, sk=sk, rms=float(np.sqrt(np.mean(res**2)) / np.mean(y)))
 
 
+def c_at_k(D, W, d0, rho_b, k, g=9.81):
+    """C of W = C rho_b sqrt(g) (D - k d0)^(5/2) with k held, least squares
+    in W^(2/5) (a line through (k d0, 0)), with its standard error and the
+    rms residual relative to the mean W^(2/5)."""
+    x = D - k * d0
+    y = W ** 0.4
+    a = float(np.sum(x * y) / np.sum(x * x))
+    res = y - a * x
+    sa = float(np.sqrt(np.sum(res**2) / (len(x) - 1) / np.sum(x * x)))
+    rms = float(np.sqrt(np.mean(res**2)) / np.mean(y))
+    return a**2.5 / (rho_b * np.sqrt(g)), 2.5 * a**1.5 * sa / (rho_b * np.sqrt(g)), rms
+
+
 def bed_density(path, rho_s, width, margin=2e-3):
     """Bulk density of the central box of the dump's last snapshot."""
     snap = open(path).read().split("ITEM: TIMESTEP")[-1].splitlines()
@@ -139,16 +159,28 @@ def main():
     if a.rho_b is not None:
         if a.dim != 3:
             sys.exit("--rho-b: Beverloo's C is the 3D law's")
+        # The square's C through the hydraulic diameter is pi/4 of the fit
+        # with the side (see the top); the circle's is the fit itself.
+        shape = np.pi / 4.0 if a.square else 1.0
         Deq = D * 2.0 / np.sqrt(np.pi) if a.square else D
-        bev = beverloo_c_k(Deq, W, a.d0, a.rho_b)
+        bev = beverloo_c_k(D, W, a.d0, a.rho_b)
+        bev["C"] *= shape
+        bev["sC"] *= shape
         print("| D (mm) | D_eq (mm) | W (g/s) |")
         print("|---|---|---|")
         for d, de, w in zip(D, Deq, W):
             print(f"| {d * 1e3:.2f} | {de * 1e3:.2f} | {w * 1e3:.3f} |")
         print(f"Beverloo (n = 5/2, rho_b = {a.rho_b:.0f} kg/m^3"
-              f"{', circular of equal area' if a.square else ''}): "
+              f"{', square through its hydraulic diameter' if a.square else ''}): "
               f"C = {bev['C']:.3f} +- {bev['sC']:.3f}, k = {bev['k']:.2f} +- {bev['sk']:.2f}, "
               f"rms residual of W^(2/5) {100 * bev['rms']:.2f} %")
+        c15, s15, r15 = c_at_k(D, W, a.d0, a.rho_b, 1.5)
+        print(f"  with k held at 1.5: C = {c15 * shape:.3f} +- {s15 * shape:.3f}, "
+              f"rms residual of W^(2/5) {100 * r15:.2f} %")
+        if a.square:
+            eq = beverloo_c_k(Deq, W, a.d0, a.rho_b)
+            print(f"  circle of equal area instead: C = {eq['C']:.3f} +- {eq['sC']:.3f}, "
+                  f"k = {eq['k']:.2f} +- {eq['sk']:.2f}")
         if a.png:
             import matplotlib
 
@@ -156,14 +188,14 @@ def main():
             import matplotlib.pyplot as plt
 
             fig, ax = plt.subplots(figsize=(5, 4))
-            ax.plot(Deq / a.d0, W ** 0.4, "o", label="measured")
-            x = np.linspace(min(Deq.min(), (bev["k"] + 0.5) * a.d0), Deq.max(), 100)
-            line = (bev["C"] * a.rho_b * np.sqrt(9.81)) ** 0.4 * (x - bev["k"] * a.d0)
+            ax.plot(D / a.d0, W ** 0.4, "o", label="measured")
+            x = np.linspace(min(D.min(), (bev["k"] + 0.5) * a.d0), D.max(), 100)
+            line = (bev["C"] / shape * a.rho_b * np.sqrt(9.81)) ** 0.4 * (x - bev["k"] * a.d0)
             ax.plot(x / a.d0, line, "-",
                     label=f"C = {bev['C']:.2f} ± {bev['sC']:.2f}, k = {bev['k']:.2f} ± {bev['sk']:.2f}")
-            lit = (0.58 * a.rho_b * np.sqrt(9.81)) ** 0.4 * (x - 1.5 * a.d0)
+            lit = (0.58 / shape * a.rho_b * np.sqrt(9.81)) ** 0.4 * (x - 1.5 * a.d0)
             ax.plot(x / a.d0, lit, "--", label="Beverloo 1961: C = 0.58, k = 1.5")
-            ax.set_xlabel("D_eq / d" if a.square else "D / d")
+            ax.set_xlabel("L / d (square of side L)" if a.square else "D / d")
             ax.set_ylabel("W^(2/5) (kg/s)^(2/5)")
             ax.set_title("Beverloo, 3D glass silo")
             ax.legend(fontsize=8)
