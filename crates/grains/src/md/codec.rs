@@ -3,6 +3,7 @@
 //! engine field carries them after the fingerprint (`super::contract`).
 
 use super::state::MdState;
+use super::wall_springs::MeshEntry;
 use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::neighbors::ListState;
@@ -167,7 +168,7 @@ pub fn encode_md<D: Dim>(e: &mut Enc, s: &MdState<D>) {
 
 /// Writes keyed mesh springs: their count, then (grain, wall, patch,
 /// spring) each.
-fn encode_mesh_springs<D: Dim>(e: &mut Enc, springs: &[((u32, u32, u32), D::V)]) {
+fn encode_mesh_springs<D: Dim>(e: &mut Enc, springs: &[MeshEntry<D::V>]) {
     e.len(springs.len());
     for &((g, w, patch), v) in springs {
         e.u32(g);
@@ -179,10 +180,7 @@ fn encode_mesh_springs<D: Dim>(e: &mut Enc, springs: &[((u32, u32, u32), D::V)])
 
 /// Reads what [`encode_mesh_springs`] wrote; `names` name its count,
 /// grain, wall, patch and spring in errors.
-fn decode_mesh_springs<D: Dim>(
-    d: &mut Dec,
-    names: [&str; 5],
-) -> DecResult<Vec<((u32, u32, u32), D::V)>> {
+fn decode_mesh_springs<D: Dim>(d: &mut Dec, names: [&str; 5]) -> DecResult<Vec<MeshEntry<D::V>>> {
     let n = d.len(12 + 8 * D::D, names[0])?;
     let mut out = Vec::with_capacity(n);
     for _ in 0..n {

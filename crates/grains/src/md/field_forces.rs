@@ -5,7 +5,7 @@
 //! the threads.
 
 use super::wall_loads::WallLoad;
-use super::wall_springs::{ChunkSprings, MeshKey, WallSprings};
+use super::wall_springs::{ChunkSprings, MeshKey, WallAndMesh, WallSprings};
 use super::MdStats;
 use crate::boundary::{MeshCandidates, MeshScratch, PlacedWall, WallContact};
 use crate::contact::{Contact, ContactModel, Law, RunLaw, Step};
@@ -405,12 +405,7 @@ fn near_walls<D: Dim>(walls: &[PlacedWall<D>], pos: &[D::V], radius: &[f64]) -> 
 /// statistics.
 pub fn finish_fields<D: Dim>(
     parts: Vec<FieldPart<D>>,
-    (wall_springs, mesh_springs, wall_rolling, mesh_rolling): (
-        &mut WallSprings<D>,
-        &mut WallSprings<D, MeshKey>,
-        &mut WallSprings<D>,
-        &mut WallSprings<D, MeshKey>,
-    ),
+    ((wall_springs, mesh_springs), (wall_rolling, mesh_rolling)): (WallAndMesh<D>, WallAndMesh<D>),
     loads: &mut Vec<WallLoad>,
     stats: &mut MdStats,
 ) {

@@ -576,10 +576,8 @@ impl<D: Dim> Md<D> {
             (&fields, &self.wall_springs),
         );
         let springs = (
-            &mut self.wall_springs,
-            &mut self.mesh_springs,
-            &mut self.wall_rolling,
-            &mut self.mesh_rolling,
+            (&mut self.wall_springs, &mut self.mesh_springs),
+            (&mut self.wall_rolling, &mut self.mesh_rolling),
         );
         finish_fields(parts, springs, &mut self.wall_loads.0, &mut self.stats);
         self.wall_loads.1 = self.time;

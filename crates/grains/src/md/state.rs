@@ -4,7 +4,7 @@
 
 use super::pair_forces::{Deferred, PairBlocks};
 use super::wall_loads::WallLoad;
-use super::wall_springs::WallSprings;
+use super::wall_springs::{MeshEntry, WallSprings};
 use super::{Md, MdStats};
 use crate::boundary::ServoState;
 use crate::dim::Dim;
@@ -115,12 +115,7 @@ impl<D: Dim> Md<D> {
 
     /// Checks keyed mesh springs (`what`) of a saved state of `n` grains:
     /// each on a mesh wall's patch, of a grain that exists, in key order.
-    fn check_mesh_keys(
-        &self,
-        what: &str,
-        entries: &[((u32, u32, u32), D::V)],
-        n: usize,
-    ) -> Result<()> {
+    fn check_mesh_keys(&self, what: &str, entries: &[MeshEntry<D::V>], n: usize) -> Result<()> {
         let bad = |m: String| Err(Error::input(format!("checkpoint state: {m}")));
         let mut last = None;
         for &((g, w, patch), _) in entries {
