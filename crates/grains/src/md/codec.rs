@@ -3,6 +3,7 @@
 //! engine field carries them after the fingerprint (`super::contract`).
 
 use super::state::MdState;
+use super::wall_springs::MeshEntry;
 use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
 use crate::neighbors::ListState;
@@ -112,13 +113,7 @@ pub fn encode_md<D: Dim>(e: &mut Enc, s: &MdState<D>) {
     e.vecs::<D>(&s.wall_springs);
     e.vecs::<D>(&s.rolling);
     e.vecs::<D>(&s.wall_rolling);
-    e.len(s.mesh_springs.len());
-    for &((g, w, patch), v) in &s.mesh_springs {
-        e.u32(g);
-        e.u32(w);
-        e.u32(patch);
-        e.vec::<D>(v);
-    }
+    encode_mesh_springs::<D>(e, &s.mesh_springs);
     e.len(s.wall_loads.0.len());
     for load in &s.wall_loads.0 {
         for x in load.iter().flat_map(|v| v.to_array()) {
@@ -165,6 +160,34 @@ pub fn encode_md<D: Dim>(e: &mut Enc, s: &MdState<D>) {
                 .for_each(|x| e.f64(x));
         }
     }
+    if !s.mesh_rolling.is_empty() {
+        e.u64(MESH_ROLLING_TAG);
+        encode_mesh_springs::<D>(e, &s.mesh_rolling);
+    }
+}
+
+/// Writes keyed mesh springs: their count, then (grain, wall, patch,
+/// spring) each.
+fn encode_mesh_springs<D: Dim>(e: &mut Enc, springs: &[MeshEntry<D::V>]) {
+    e.len(springs.len());
+    for &((g, w, patch), v) in springs {
+        e.u32(g);
+        e.u32(w);
+        e.u32(patch);
+        e.vec::<D>(v);
+    }
+}
+
+/// Reads what [`encode_mesh_springs`] wrote; `names` name its count,
+/// grain, wall, patch and spring in errors.
+fn decode_mesh_springs<D: Dim>(d: &mut Dec, names: [&str; 5]) -> DecResult<Vec<MeshEntry<D::V>>> {
+    let n = d.len(12 + 8 * D::D, names[0])?;
+    let mut out = Vec::with_capacity(n);
+    for _ in 0..n {
+        let key = (d.u32(names[1])?, d.u32(names[2])?, d.u32(names[3])?);
+        out.push((key, d.vec::<D>(names[4])?));
+    }
+    Ok(out)
 }
 
 /// Bytes of one body in the bodies' section.
@@ -204,6 +227,9 @@ const SERVO_TAG: u64 = 0x7ff8_5345_5256_4f00;
 /// Opens the rigid bodies' section, after the servo walls' (a NaN too).
 const BODY_TAG: u64 = 0x7ff8_424f_4459_5300;
 
+/// Opens the mesh walls' rolling springs, after the bodies' (a NaN too).
+const MESH_ROLLING_TAG: u64 = 0x7ff8_4d52_4f4c_4c00;
+
 /// Reads the state written by [`encode_md`].
 pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
     let time = d.f64("time")?;
@@ -228,16 +254,16 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
     let wall_springs = d.vecs::<D>("wall springs")?;
     let rolling = d.vecs::<D>("rolling springs")?;
     let wall_rolling = d.vecs::<D>("wall rolling springs")?;
-    let nm = d.len(12 + 8 * D::D, "mesh spring count")?;
-    let mut mesh_springs = Vec::with_capacity(nm);
-    for _ in 0..nm {
-        let key = (
-            d.u32("mesh spring grain")?,
-            d.u32("mesh spring wall")?,
-            d.u32("mesh spring patch")?,
-        );
-        mesh_springs.push((key, d.vec::<D>("mesh spring")?));
-    }
+    let mesh_springs = decode_mesh_springs::<D>(
+        d,
+        [
+            "mesh spring count",
+            "mesh spring grain",
+            "mesh spring wall",
+            "mesh spring patch",
+            "mesh spring",
+        ],
+    )?;
     let nl = d.len(48, "wall load count")?;
     let mut loads = Vec::with_capacity(nl);
     for _ in 0..nl {
@@ -270,7 +296,7 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
         _ => d.u64(what).map(Some),
     };
     // A section's tag, as an f64 a NaN: never a shear's turns or length.
-    let untagged = |w: &u64| ![SERVO_TAG, BODY_TAG].contains(w);
+    let untagged = |w: &u64| ![SERVO_TAG, BODY_TAG, MESH_ROLLING_TAG].contains(w);
     let mut next = word(d, "shear turns or section tag")?;
     if let Some(turns) = next.filter(untagged) {
         list.shear = Some([
@@ -291,13 +317,14 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
     }
     // Then tagged sections, each at most once and in this order.
     let mut bodies = Vec::new();
-    let mut order = [SERVO_TAG, BODY_TAG].iter();
+    let mut mesh_rolling = Vec::new();
+    let mut order = [SERVO_TAG, BODY_TAG, MESH_ROLLING_TAG].iter();
     while let Some(tag) = next {
         if !order.any(|&t| t == tag) {
             return Err(format!(
                 "unknown or misplaced section tag {tag:#018x} in the MD state (known: the \
-                 servo walls' {SERVO_TAG:#018x}, the rigid bodies' {BODY_TAG:#018x}): a state of \
-                 another engine version?"
+                 servo walls' {SERVO_TAG:#018x}, the rigid bodies' {BODY_TAG:#018x}, the mesh \
+                 rolling springs' {MESH_ROLLING_TAG:#018x}): a state of another engine version?"
             ));
         }
         if tag == SERVO_TAG {
@@ -309,8 +336,19 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
                     d.f64("servo pressure")?,
                 ]);
             }
-        } else {
+        } else if tag == BODY_TAG {
             bodies = decode_bodies(d)?;
+        } else {
+            mesh_rolling = decode_mesh_springs::<D>(
+                d,
+                [
+                    "mesh rolling spring count",
+                    "mesh rolling spring grain",
+                    "mesh rolling spring wall",
+                    "mesh rolling spring patch",
+                    "mesh rolling spring",
+                ],
+            )?;
         }
         next = word(d, "section tag")?;
     }
@@ -324,6 +362,7 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
         rolling,
         wall_rolling,
         mesh_springs,
+        mesh_rolling,
         wall_loads,
         servo,
         rebuilds_since_sort,

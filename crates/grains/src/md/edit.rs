@@ -53,6 +53,7 @@ impl<D: Dim> Md<D> {
         self.wall_springs.permute(&order);
         self.mesh_springs.permute(&order);
         self.wall_rolling.permute(&order);
+        self.mesh_rolling.permute(&order);
         if let Some(p) = pos {
             self.particles.pos[..n].copy_from_slice(p);
         }

@@ -5,7 +5,7 @@
 //! the threads.
 
 use super::wall_loads::WallLoad;
-use super::wall_springs::{ChunkSprings, MeshKey, WallSprings};
+use super::wall_springs::{ChunkSprings, MeshKey, WallAndMesh, WallSprings};
 use super::MdStats;
 use crate::boundary::{MeshCandidates, MeshScratch, PlacedWall, WallContact};
 use crate::contact::{Contact, ContactModel, Law, RunLaw, Step};
@@ -24,8 +24,9 @@ pub struct FieldInput<'a, D: Dim> {
     /// mesh walls).
     pub mesh_lists: &'a [Option<MeshCandidates>],
     /// The rolling springs of grain–wall contacts (a law with rolling
-    /// history only; mesh walls keep none).
+    /// history only), and those of mesh walls, keyed as `mesh_springs`.
     pub wall_rolling: &'a WallSprings<D>,
+    pub mesh_rolling: &'a WallSprings<D, MeshKey>,
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -58,6 +59,7 @@ pub struct FieldPart<D: Dim> {
     kept: ChunkSprings<D>,
     mesh_kept: ChunkSprings<D, MeshKey>,
     rolling_kept: ChunkSprings<D>,
+    mesh_rolling_kept: ChunkSprings<D, MeshKey>,
     /// Per wall, what this range's grains push on it (mesh and servo
     /// walls only; empty when there is none).
     loads: Vec<WallLoad>,
@@ -87,6 +89,7 @@ pub fn field_part<D: Dim>(
         kept: ChunkSprings::default(),
         mesh_kept: ChunkSprings::default(),
         rolling_kept: ChunkSprings::default(),
+        mesh_rolling_kept: ChunkSprings::default(),
         loads: Vec::new(),
     };
     let len = force.len().min(g.owned.saturating_sub(first));
@@ -149,6 +152,8 @@ fn wall_contacts<D: Dim, L: ContactModel>(
     let mut mesh = MeshPass {
         springs: input.mesh_springs.cursor(range.clone()),
         kept: ChunkSprings::default(),
+        rolling: input.mesh_rolling.cursor(range.clone()),
+        rolling_kept: ChunkSprings::default(),
         scratch: MeshScratch::default(),
         found: Vec::new(),
         loads: if meshes || servos {
@@ -208,9 +213,20 @@ fn wall_contacts<D: Dim, L: ContactModel>(
                 for &(patch, contact) in &mesh.found {
                     let key = (i as u32, w as u32, patch);
                     let mut spring = mesh.springs.get_key(key);
-                    let springs = (&mut spring, &mut D::zero());
+                    // epsd's rolling spring per patch, as the tangential
+                    // one (JKR, the other law with a second history, is
+                    // refused with mesh walls).
+                    let mut roll = if L::ROLLING_HISTORY {
+                        mesh.rolling.get_key(key)
+                    } else {
+                        D::zero()
+                    };
+                    let springs = (&mut spring, &mut roll);
                     let (f, t) = push(wall_law, step, (&grain, wall, w), &contact, springs);
                     mesh.kept.keep_key(key, spring);
+                    if L::ROLLING_HISTORY {
+                        mesh.rolling_kept.keep_key(key, roll);
+                    }
                     force[k] += f;
                     if rotation {
                         torque[k] -= t;
@@ -264,6 +280,7 @@ fn wall_contacts<D: Dim, L: ContactModel>(
         kept,
         mesh_kept: mesh.kept,
         rolling_kept,
+        mesh_rolling_kept: mesh.rolling_kept,
         loads: mesh.loads,
     }
 }
@@ -309,6 +326,8 @@ struct Grain<D: Dim> {
 struct MeshPass<'a, D: Dim> {
     springs: super::wall_springs::Cursor<'a, D, MeshKey>,
     kept: ChunkSprings<D, MeshKey>,
+    rolling: super::wall_springs::Cursor<'a, D, MeshKey>,
+    rolling_kept: ChunkSprings<D, MeshKey>,
     scratch: MeshScratch,
     found: Vec<(u32, WallContact<D>)>,
     loads: Vec<WallLoad>,
@@ -386,17 +405,14 @@ fn near_walls<D: Dim>(walls: &[PlacedWall<D>], pos: &[D::V], radius: &[f64]) -> 
 /// statistics.
 pub fn finish_fields<D: Dim>(
     parts: Vec<FieldPart<D>>,
-    (wall_springs, mesh_springs, wall_rolling): (
-        &mut WallSprings<D>,
-        &mut WallSprings<D, MeshKey>,
-        &mut WallSprings<D>,
-    ),
+    ((wall_springs, mesh_springs), (wall_rolling, mesh_rolling)): (WallAndMesh<D>, WallAndMesh<D>),
     loads: &mut Vec<WallLoad>,
     stats: &mut MdStats,
 ) {
     let mut part_stats = Vec::with_capacity(parts.len());
     let mut mesh_kept = Vec::new();
     let mut rolling_kept = Vec::new();
+    let mut mesh_rolling_kept = Vec::new();
     // Summed part by part in grain order: the same bits on any threads.
     loads.clear();
     wall_springs.assemble(parts.into_iter().map(|part| {
@@ -410,10 +426,12 @@ pub fn finish_fields<D: Dim>(
         }
         mesh_kept.push(part.mesh_kept);
         rolling_kept.push(part.rolling_kept);
+        mesh_rolling_kept.push(part.mesh_rolling_kept);
         part.kept
     }));
     mesh_springs.assemble(mesh_kept);
     wall_rolling.assemble(rolling_kept);
+    mesh_rolling.assemble(mesh_rolling_kept);
     for s in &part_stats {
         stats.contacts += s.contacts;
         stats.max_overlap = stats.max_overlap.max(s.max_overlap);

@@ -163,9 +163,11 @@ pub struct Md<D: Dim> {
     mesh_lists: MeshLists,
     /// Rolling springs of the listed pairs, aligned like `springs`, and of
     /// the grain–wall contacts; empty unless the rolling resistance keeps
-    /// them (`contact.rolling = "epsd"`).
+    /// them (`contact.rolling = "epsd"`); mesh walls' keyed as their
+    /// tangential springs, by (grain, wall, patch).
     rolling: Vec<D::V>,
     wall_rolling: WallSprings<D>,
+    mesh_rolling: WallSprings<D, MeshKey>,
     /// What the grains put on each wall at the last force evaluation
     /// (empty unless a wall is a mesh or a servo), and its time.
     wall_loads: (Vec<WallLoad>, f64),
@@ -220,6 +222,7 @@ impl<D: Dim> Md<D> {
             mesh_lists: MeshLists::default(),
             rolling: Vec::new(),
             wall_rolling: WallSprings::default(),
+            mesh_rolling: WallSprings::default(),
             wall_loads: (Vec::new(), 0.0),
             blocks: PairBlocks::default(),
             deferred: Deferred::default(),
@@ -503,6 +506,7 @@ impl<D: Dim> Md<D> {
             self.wall_springs.permute(&order);
             self.mesh_springs.permute(&order);
             self.wall_rolling.permute(&order);
+            self.mesh_rolling.permute(&order);
         }
         self.rebuilds_since_sort = self.rebuilds_since_sort.wrapping_add(1);
         self.refresh_clumps();
@@ -560,6 +564,7 @@ impl<D: Dim> Md<D> {
             mesh_springs: &self.mesh_springs,
             mesh_lists: self.mesh_lists.walls(),
             wall_rolling: &self.wall_rolling,
+            mesh_rolling: &self.mesh_rolling,
         };
         // Walls and gravity are added block by block after the contacts.
         let (parts, fields_start) = pair_forces(
@@ -571,9 +576,8 @@ impl<D: Dim> Md<D> {
             (&fields, &self.wall_springs),
         );
         let springs = (
-            &mut self.wall_springs,
-            &mut self.mesh_springs,
-            &mut self.wall_rolling,
+            (&mut self.wall_springs, &mut self.mesh_springs),
+            (&mut self.wall_rolling, &mut self.mesh_rolling),
         );
         finish_fields(parts, springs, &mut self.wall_loads.0, &mut self.stats);
         self.wall_loads.1 = self.time;

@@ -73,6 +73,7 @@ impl<D: Dim> Md<D> {
         self.wall_springs.retain_grains(&keep, n);
         self.mesh_springs.retain_grains(&keep, n);
         self.wall_rolling.retain_grains(&keep, n);
+        self.mesh_rolling.retain_grains(&keep, n);
         // The list indexes the old store: let the rebuild carry no spring.
         self.springs.iter_mut().for_each(|s| *s = D::zero());
         self.rolling.iter_mut().for_each(|s| *s = D::zero());

@@ -4,7 +4,7 @@
 
 use super::pair_forces::{Deferred, PairBlocks};
 use super::wall_loads::WallLoad;
-use super::wall_springs::WallSprings;
+use super::wall_springs::{MeshEntry, WallSprings};
 use super::{Md, MdStats};
 use crate::boundary::ServoState;
 use crate::dim::Dim;
@@ -38,6 +38,9 @@ pub struct MdState<D: Dim> {
     /// Mesh walls' tangential springs, one per (grain in store order,
     /// wall, flat patch) that is stretched, in key order.
     pub mesh_springs: Vec<((u32, u32, u32), D::V)>,
+    /// Mesh walls' rolling springs, keyed and ordered as `mesh_springs`;
+    /// empty unless the law keeps rolling springs (epsd).
+    pub mesh_rolling: Vec<((u32, u32, u32), D::V)>,
     /// Each wall's load (force, moment about the origin) at the last force
     /// evaluation, and that evaluation's time; empty unless a wall is a
     /// mesh (what `walls.csv` reports).
@@ -85,6 +88,7 @@ impl<D: Dim> Md<D> {
                 Vec::new()
             },
             mesh_springs: self.mesh_springs.entries().collect(),
+            mesh_rolling: self.mesh_rolling.entries().collect(),
             wall_loads: (
                 self.wall_loads
                     .0
@@ -107,6 +111,36 @@ impl<D: Dim> Md<D> {
             pressure_box: self.pressure_box(),
             bodies: self.bodies().map_or(Vec::new(), |b| b.bodies.clone()),
         })
+    }
+
+    /// Checks keyed mesh springs (`what`) of a saved state of `n` grains:
+    /// each on a mesh wall's patch, of a grain that exists, in key order.
+    fn check_mesh_keys(&self, what: &str, entries: &[MeshEntry<D::V>], n: usize) -> Result<()> {
+        let bad = |m: String| Err(Error::input(format!("checkpoint state: {m}")));
+        let mut last = None;
+        for &((g, w, patch), _) in entries {
+            let patches = self
+                .walls
+                .get(w as usize)
+                .and_then(|wall| match &wall.shape {
+                    crate::boundary::Shape::Mesh(m) => Some(m.patches()),
+                    _ => None,
+                });
+            let Some(patches) = patches else {
+                return bad(format!("a {what} on wall {w}, which is not a mesh"));
+            };
+            if g as usize >= n || patch as usize >= patches {
+                return bad(format!(
+                    "a {what} of grain {g} on patch {patch} of wall {w}, \
+                     but there are {n} grains and {patches} patches"
+                ));
+            }
+            if last.is_some_and(|l| l >= (g, w, patch)) {
+                return bad(format!("{what}s out of order"));
+            }
+            last = Some((g, w, patch));
+        }
+        Ok(())
     }
 
     /// Replaces the dynamic state by a saved one. The engine must have been
@@ -196,29 +230,15 @@ impl<D: Dim> Md<D> {
                 want(n * nw)
             ));
         }
-        let mut last = None;
-        for &((g, w, patch), _) in &s.mesh_springs {
-            let patches = self
-                .walls
-                .get(w as usize)
-                .and_then(|wall| match &wall.shape {
-                    crate::boundary::Shape::Mesh(m) => Some(m.patches()),
-                    _ => None,
-                });
-            let Some(patches) = patches else {
-                return bad(format!("a mesh spring on wall {w}, which is not a mesh"));
-            };
-            if g as usize >= n || patch as usize >= patches {
-                return bad(format!(
-                    "a mesh spring of grain {g} on patch {patch} of wall {w}, \
-                     but there are {n} grains and {patches} patches"
-                ));
-            }
-            if last.is_some_and(|l| l >= (g, w, patch)) {
-                return bad("mesh springs out of order".into());
-            }
-            last = Some((g, w, patch));
+        self.check_mesh_keys("mesh spring", &s.mesh_springs, n)?;
+        if !history && !s.mesh_rolling.is_empty() {
+            return bad(format!(
+                "{} mesh rolling springs, but contact.rolling = \"{}\" keeps none",
+                s.mesh_rolling.len(),
+                self.rolling_model().name()
+            ));
         }
+        self.check_mesh_keys("mesh rolling spring", &s.mesh_rolling, n)?;
         if !s.wall_loads.0.is_empty() && s.wall_loads.0.len() != self.walls.len() {
             return bad(format!(
                 "{} wall loads for {} walls",
@@ -252,6 +272,7 @@ impl<D: Dim> Md<D> {
         self.rolling = s.rolling;
         self.wall_rolling = WallSprings::from_dense(&s.wall_rolling, nw);
         self.mesh_springs = WallSprings::from_entries(s.mesh_springs);
+        self.mesh_rolling = WallSprings::from_entries(s.mesh_rolling);
         self.wall_loads = (
             s.wall_loads
                 .0

@@ -44,6 +44,12 @@ impl SpringKey for (u32, u32, u32) {
 /// The key of a mesh wall's springs.
 pub type MeshKey = (u32, u32, u32);
 
+/// One mesh spring as states and checkpoints list them: (key, spring).
+pub type MeshEntry<V> = (MeshKey, V);
+
+/// A kind of spring's two stores: plane-like walls' and mesh walls'.
+pub type WallAndMesh<'a, D> = (&'a mut WallSprings<D>, &'a mut WallSprings<D, MeshKey>);
+
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct WallSprings<D: Dim, K = (u32, u32)> {
     /// Keys strictly ascending.

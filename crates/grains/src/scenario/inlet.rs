@@ -669,6 +669,7 @@ pub fn check_report(loaded: &Loaded, duration: f64) -> Result<Value> {
                     "number_mean": size.number.mean,
                     "mass_mean": size.mass.mean,
                 },
+                "mixture": spec.materials.is_some().then(|| x.mix.report()),
             }))
         })
         .collect::<Result<Vec<_>>>()?;

@@ -218,6 +218,7 @@ pub fn forget_rolling_springs(md: &mut Md<D3>) {
     let mut state = md.export_state().unwrap();
     state.rolling.iter_mut().for_each(|s| *s = DVec3::ZERO);
     state.wall_rolling.iter_mut().for_each(|s| *s = DVec3::ZERO);
+    state.mesh_rolling.clear();
     md.import_state(state).unwrap();
 }
 

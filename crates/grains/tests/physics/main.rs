@@ -19,6 +19,7 @@ mod oblique;
 mod pressure;
 mod rebuild_springs;
 mod rolling;
+mod rolling_mesh;
 mod rotation;
 mod servo;
 mod shapes;

@@ -36,6 +36,30 @@ fn material(name: &str, e: f64, rest: f64, mu: f64, mu_r: f64) -> Material {
 /// plane z = 0 at its equilibrium overlap under gravity `g_vec`, moving at
 /// `v0` along x and rolling without slipping.
 fn ball_on_plane(model: RollingModel, mu_r: f64, g_vec: DVec3, v0: f64) -> Md<D3> {
+    let plane = Shape::Plane {
+        point: DVec3::ZERO,
+        normal: DVec3::Z,
+    };
+    let floor = Wall::new("plane", plane, Motion::Fixed).unwrap();
+    ball_on(
+        floor,
+        model,
+        mu_r,
+        g_vec,
+        [DVec3::ZERO, DVec3::new(v0, 0.0, 0.0)],
+    )
+}
+
+/// The ball of [`ball_on_plane`] on `floor` (a wall in the plane z = 0),
+/// its centre above `at` (z ignored), moving at `vel` (horizontal) and
+/// rolling without slipping.
+pub fn ball_on(
+    floor: Wall<D3>,
+    model: RollingModel,
+    mu_r: f64,
+    g_vec: DVec3,
+    [at, vel]: [DVec3; 2],
+) -> Md<D3> {
     let mats = [
         material("ball", 1e7, 0.5, 0.8, mu_r),
         // The rigid plane: its restitution and friction exceed the ball's,
@@ -47,16 +71,14 @@ fn ball_on_plane(model: RollingModel, mu_r: f64, g_vec: DVec3, v0: f64) -> Md<D3
     // Hertz: m g cos θ = (4/3) E* √R ξ^{3/2}.
     let xi = (m * g_vec.z.abs() / (4.0 / 3.0 * e_star * R.sqrt())).powf(2.0 / 3.0);
     let mut p = Particles::<D3>::new();
-    let mut a = ParticleRecord::new(1, DVec3::new(0.0, 0.0, R - xi), R, m, 0.4 * m * R * R);
-    a.vel = DVec3::new(v0, 0.0, 0.0);
-    a.omega = DVec3::new(0.0, v0 / R, 0.0);
+    let at = DVec3::new(at.x, at.y, R - xi);
+    let mut a = ParticleRecord::new(1, at, R, m, 0.4 * m * R * R);
+    a.vel = vel;
+    // v = ω × (R ẑ): the contact point at rest.
+    a.omega = DVec3::Z.cross(vel) / R;
     a.kind = 0;
     p.push_record(a);
-    let plane = Shape::Plane {
-        point: DVec3::ZERO,
-        normal: DVec3::Z,
-    };
-    let walls = vec![Wall::new("plane", plane, Motion::Fixed).unwrap()];
+    let walls = vec![floor];
     let mut law = HertzMindlin::new(&mats, &[], vec![0], vec![1], true);
     law.rolling = model;
     // The contact's period is about 7 ms.

@@ -6,7 +6,7 @@ use grains::runner::check;
 use grains::scenario::load_file;
 use std::path::PathBuf;
 
-const SCENARIOS: [&str; 16] = [
+const SCENARIOS: [&str; 17] = [
     "repose-2d",
     "repose-3d",
     "repose-3d-sand",
@@ -23,6 +23,7 @@ const SCENARIOS: [&str; 16] = [
     "silo-2d",
     "silo-3d-glass",
     "beverloo-3d-glass",
+    "mesh-hopper-3d-glass",
 ];
 
 fn path(name: &str) -> PathBuf {

@@ -131,6 +131,7 @@ impl Mirror {
             // The device runs no mesh walls, so no loads are kept; the time
             // is that of the last force evaluation, as the CPU engine's.
             mesh_springs: Vec::new(),
+            mesh_rolling: Vec::new(),
             wall_loads: (Vec::new(), self.time),
             // The device runs fixed walls only.
             servo: Vec::new(),

@@ -1,33 +1,45 @@
 //! An inlet's mixture of materials: `materials = [{ name, fraction, kind
-//! }, …]`, each grain's material drawn by number fraction.
+//! }, …]`, each grain's material drawn by number or by mass fraction.
 //!
-//! Fractions are by number: a grain is of material c with probability
-//! fraction_c, whatever its size. Each material arrives as its own kind
-//! (grains of one kind share one material), by default 1 + the material's
-//! place in `[[materials]]`.
+//! By number (the default) a grain is of material c with probability
+//! fraction_c, whatever its size. By mass (`materials_weight = "mass"`)
+//! the fractions w_c are shares of the inserted mass: every material's
+//! grains follow the inlet's one size law, so a grain of c weighs ρ_c
+//! times the same mean volume, and drawing c with probability
+//! p_c = (w_c / ρ_c) / Σ_j (w_j / ρ_j) gives the mass fractions w_c in
+//! expectation. Each material arrives as its own kind (grains of one kind
+//! share one material), by default 1 + the material's place in
+//! `[[materials]]`.
 
 use super::super::materials;
-use super::super::schema::{InletSpec, Scenario};
+use super::super::schema::{InletSpec, Scenario, SizeWeight};
 use crate::error::{Error, Result};
 use rand::Rng;
+use serde_json::{json, Value};
 
 /// How far the fractions' sum may stray from 1.
 pub const SUM_TOLERANCE: f64 = 1e-9;
 
 /// One material of the mixture: its kind, density, whether its kind is
-/// frozen, and the running sum of the fractions up to and including it.
+/// frozen, and the running sum of the number fractions up to and
+/// including it.
 #[derive(Clone, Debug)]
 pub struct Component {
     pub kind: u32,
     pub density: f64,
     pub frozen: bool,
     upto: f64,
+    /// Its `[[materials]]` name and fraction as given (`grains check`).
+    name: String,
+    given: f64,
 }
 
 /// The materials an inlet brings (one for an inlet without a mixture).
 #[derive(Clone, Debug)]
 pub struct Mixture {
     parts: Vec<Component>,
+    /// Whether the given fractions are by mass.
+    by_mass: bool,
 }
 
 impl Mixture {
@@ -39,7 +51,10 @@ impl Mixture {
                 density,
                 frozen,
                 upto: 1.0,
+                name: String::new(),
+                given: 1.0,
             }],
+            by_mass: false,
         }
     }
 
@@ -47,6 +62,12 @@ impl Mixture {
     /// `materials`; every fraction, name and kind checked.
     pub fn new(s: &Scenario, spec: &InletSpec, key: &str) -> Result<Option<Self>> {
         let Some(list) = &spec.materials else {
+            if spec.materials_weight.is_some() {
+                return Err(Error::input(format!(
+                    "{key}.materials_weight is the weight of {key}.materials' fractions, but the \
+                     inlet has no materials: give {key}.materials or drop the key"
+                )));
+            }
             return Ok(None);
         };
         if spec.kind.is_some() {
@@ -55,6 +76,7 @@ impl Mixture {
                  material its own kind ({key}.materials[].kind)"
             )));
         }
+        let by_mass = spec.materials_weight == Some(SizeWeight::Mass);
         if list.is_empty() {
             return Err(Error::input(format!(
                 "{key}.materials is empty: name at least one of the [[materials]] with its fraction"
@@ -71,8 +93,9 @@ impl Mixture {
         for (j, (m, (kind, index, entry))) in list.iter().zip(resolved).enumerate() {
             if !(m.fraction.is_finite() && m.fraction > 0.0 && m.fraction <= 1.0) {
                 return Err(Error::input(format!(
-                    "{entry}.fraction = {}: must be in (0, 1] (a fraction by number)",
-                    m.fraction
+                    "{entry}.fraction = {}: must be in (0, 1] (a fraction by {})",
+                    m.fraction,
+                    if by_mass { "mass" } else { "number" }
                 )));
             }
             if let Some(twice) = list[..j].iter().position(|o| o.name == m.name) {
@@ -94,6 +117,8 @@ impl Mixture {
                 density: all[index].density,
                 frozen: s.particles.frozen_types.contains(&kind),
                 upto: sum,
+                name: m.name.clone(),
+                given: m.fraction,
             });
         }
         if (sum - 1.0).abs() > SUM_TOLERANCE {
@@ -102,7 +127,49 @@ impl Mixture {
                  {SUM_TOLERANCE:e})"
             )));
         }
-        Ok(Some(Self { parts }))
+        if by_mass {
+            // Number fractions w_c / ρ_c, normalised, as running sums.
+            let total: f64 = parts.iter().map(|p| p.given / p.density).sum();
+            let mut upto = 0.0;
+            for p in &mut parts {
+                upto += p.given / p.density / total;
+                p.upto = upto;
+            }
+        }
+        Ok(Some(Self { parts, by_mass }))
+    }
+
+    /// What `grains check` prints of a mixture: each material's name,
+    /// kind, density, its fraction as given, and the fractions by number
+    /// and by mass it is drawn with.
+    pub fn report(&self) -> Value {
+        let mut below = 0.0;
+        let number: Vec<f64> = (self.parts.iter())
+            .map(|p| {
+                let n = p.upto - below;
+                below = p.upto;
+                n
+            })
+            .collect();
+        let mass: f64 = self
+            .parts
+            .iter()
+            .zip(&number)
+            .map(|(p, n)| n * p.density)
+            .sum();
+        let parts: Vec<Value> = (self.parts.iter().zip(&number))
+            .map(|(p, &n)| {
+                json!({
+                    "name": p.name,
+                    "kind": p.kind,
+                    "density": p.density,
+                    "fraction": p.given,
+                    "number_fraction": n,
+                    "mass_fraction": n * p.density / mass,
+                })
+            })
+            .collect();
+        json!({ "weight": if self.by_mass { "mass" } else { "number" }, "materials": parts })
     }
 
     /// Which material grain gets: the first whose running sum exceeds a

@@ -181,8 +181,8 @@ fn check_cohesion(s: &Scenario) -> Result<()> {
     Ok(())
 }
 
-/// Rolling resistance needs the material law, rotation, and (with a
-/// rolling spring) walls that keep springs of their own.
+/// Rolling resistance needs the material law and rotation (every wall,
+/// meshes included, keeps epsd's rolling springs).
 fn check_rolling(s: &Scenario) -> Result<()> {
     let model = s.contact.rolling.unwrap_or_default();
     if model == RollingModel::None {
@@ -200,20 +200,6 @@ fn check_rolling(s: &Scenario) -> Result<()> {
             "contact.rolling = \"{name}\" with contact.rotation = false: rolling resistance is a \
              torque; set contact.rotation = true or contact.rolling = \"none\""
         )));
-    }
-    if model.has_history() {
-        if let Some((k, w)) = s
-            .walls
-            .iter()
-            .enumerate()
-            .find(|(_, w)| matches!(w.shape, ShapeSpec::Mesh { .. }))
-        {
-            return Err(Error::input(format!(
-                "contact.rolling = \"epsd\" with the mesh wall walls[{k}] (\"{}\"): mesh walls keep \
-                 no rolling springs yet; use contact.rolling = \"constant\" or \"none\"",
-                w.name
-            )));
-        }
     }
     Ok(())
 }

@@ -2,7 +2,7 @@
 //! a total, with a size distribution and velocities (`scenario/inlet.rs`
 //! checks and runs them).
 
-use super::SizeSpec;
+use super::{SizeSpec, SizeWeight};
 use serde::{Deserialize, Serialize};
 
 /// One inlet. Exactly one of `rate`, `mass_rate`, `count` and `mass` says
@@ -46,10 +46,14 @@ pub struct InletSpec {
     /// default 1.
     #[serde(default)]
     pub kind: Option<u32>,
-    /// A mixture of `[[materials]]` by number fraction, in place of `kind`
+    /// A mixture of `[[materials]]` by fraction, in place of `kind`
     /// (`scenario/inlet/mixture.rs`).
     #[serde(default)]
     pub materials: Option<Vec<MixtureSpec>>,
+    /// Whether `materials[].fraction` is a share of the grains' number or
+    /// of their mass; default "number".
+    #[serde(default)]
+    pub materials_weight: Option<SizeWeight>,
     /// Candidate positions tried for one grain at one step before it waits
     /// for the next; default 50.
     #[serde(default = "default_attempts")]
@@ -62,7 +66,8 @@ pub struct InletSpec {
 pub struct MixtureSpec {
     /// A `[[materials]]` name.
     pub name: String,
-    /// The fraction of the inlet's grains, by number, of this material.
+    /// The fraction of the inlet's grains of this material, by number or
+    /// by mass (the inlet's `materials_weight`).
     pub fraction: f64,
     /// The type its grains get; default 1 + the material's place in
     /// `[[materials]]` (grains of one kind share one material).
