@@ -227,12 +227,12 @@ mod tests {
     /// (planted: the block's momenta shifted by one body, fails).
     #[test]
     fn free_rotations_give_the_bits_of_one_by_one() {
-        let bodies: Vec<(Quat, DVec3, [f64; 3])> = (0..70)
-            .map(|k| {
-                let k = k as f64;
+        let bodies: Vec<(Quat, DVec3, [f64; 3])> = (0..70usize)
+            .map(|j| {
+                let k = j as f64;
                 let q = unit([1.0 + k, 0.3 * k, -0.2, 0.1 * k]);
                 let l = DVec3::new(0.5 - 0.01 * k, 0.3, k * 0.02);
-                let inertia = if k as usize % 5 == 0 {
+                let inertia = if j.is_multiple_of(5) {
                     [0.0, 0.0, 1.0 + k]
                 } else {
                     [1.0, 1.5 + 0.1 * k, 2.0 + k]
