@@ -21,8 +21,8 @@ use std::f64::consts::PI;
 const R: f64 = 1e-3;
 const RHO: f64 = 2500.0;
 
-/// Planted: the field pass weighing sub-spheres with their body's mass
-/// (the body then falls at 3 g, fails).
+/// Planted: sub-spheres weighed in the field pass with their own mass
+/// share as well as the body at its centre (the body falls at 2 g, fails).
 #[test]
 fn a_falling_clump_and_sphere_follow_g_and_keep_their_spin() {
     let law = ContactLaw {
