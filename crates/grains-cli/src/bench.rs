@@ -1,7 +1,9 @@
 //! `grains bench`: time a reference workload and report ns per particle-step.
 //!
 //! `chute` and `vib2d` are the LAMMPS workloads of `bench/` (scenario files
-//! `scenarios/bench-*.toml` reading the same data files); `chute-psd` is
+//! `scenarios/bench-*.toml` reading the same data files); `chute-clumps`
+//! is the chute's flowing grains as rigid three-sphere rods
+//! ([`crate::bench_clumps`], timed per sub-sphere-step); `chute-psd` is
 //! the chute's box with a 5:1 lognormal mix placed at random; `bed3d` is a
 //! synthetic dense bed of N spheres built without a data file, its set-up
 //! reported pass by pass on stderr. Only the stepping loop is timed, as
@@ -27,9 +29,9 @@ use std::time::Instant;
 
 #[derive(Args)]
 pub struct BenchArgs {
-    /// chute, chute-hertz, chute-psd, vib2d, bed3d, gas2d or gas3d.
+    /// chute, chute-hertz, chute-clumps, chute-psd, vib2d, bed3d, gas2d or gas3d.
     pub(crate) workload: String,
-    /// Steps to time [default: chute and chute-hertz 1000, vib2d 10000, bed3d 1000, gas 300].
+    /// Steps to time [default: chute, chute-hertz and chute-clumps 1000, vib2d 10000, bed3d 1000, gas 300].
     #[arg(long)]
     pub(crate) steps: Option<u64>,
     /// Untimed steps of the gas workloads before the timed ones [default:
@@ -160,7 +162,7 @@ fn md_workload(args: &BenchArgs) -> Result<(Loaded, u64)> {
     }
     sets.extend(args.sets.iter().cloned());
     let (loaded, default_steps) = match args.workload.as_str() {
-        "chute" => (load_file(&scenario_path("bench-chute.toml")?, &sets)?, 1000),
+        "chute" | "chute-clumps" => (load_file(&scenario_path("bench-chute.toml")?, &sets)?, 1000),
         "chute-hertz" => (
             load_file(&scenario_path("bench-chute-hertz.toml")?, &sets)?,
             1000,
@@ -185,7 +187,7 @@ fn md_workload(args: &BenchArgs) -> Result<(Loaded, u64)> {
         }
         other => {
             return Err(Error::input(format!(
-            "unknown workload `{other}`: choose chute, chute-hertz, chute-psd, vib2d, bed3d, gas2d or gas3d"
+            "unknown workload `{other}`: choose chute, chute-hertz, chute-clumps, chute-psd, vib2d, bed3d, gas2d or gas3d"
         )))
         }
     };
@@ -204,7 +206,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             "2d" => gas::<grains::D2>(&args),
             "3d" => gas::<grains::D3>(&args),
             _ => Err(Error::input(format!(
-                "unknown workload `{}`: choose chute, chute-hertz, chute-psd, vib2d, bed3d, gas2d or gas3d",
+                "unknown workload `{}`: choose chute, chute-hertz, chute-clumps, chute-psd, vib2d, bed3d, gas2d or gas3d",
                 args.workload
             ))),
         };
@@ -216,7 +218,13 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     let (loaded, default_steps) = md_workload(&args)?;
     let steps = args.steps.unwrap_or(default_steps);
+    let clumps = args.workload == "chute-clumps";
     match args.gpu.device.as_deref() {
+        Some("gpu") | Some("mirror") if clumps => {
+            return Err(Error::input(
+                "--device: chute-clumps runs on the CPU engine only (the GPU engine has no rigid clumps)",
+            ))
+        }
         Some("gpu") | Some("mirror") => {
             return crate::bench_gpu::run(&args.workload, args.json, &args.gpu, &loaded, steps)
         }
@@ -243,32 +251,45 @@ pub fn run(args: BenchArgs) -> Result<()> {
         }
     };
     let setup_start = Instant::now();
-    let (particles, integrator, narrow, setup, (wall, cpu, timing)) =
-        if loaded.scenario.dimension.axes() == 2 {
-            let (mut md, _) = build_md_reporting::<D2>(&loaded, &mut report)?;
-            let setup = setup_start.elapsed().as_secs_f64();
-            let w = time_steps(&mut md, steps)?;
-            let narrow = md.governor.steps_wide_narrow().1;
-            (
-                md.particles.n_mobile(),
-                md.settings.integrator,
-                narrow,
-                setup,
-                w,
-            )
-        } else {
-            let (mut md, _) = build_md_reporting::<D3>(&loaded, &mut report)?;
-            let setup = setup_start.elapsed().as_secs_f64();
-            let w = time_steps(&mut md, steps)?;
-            let narrow = md.governor.steps_wide_narrow().1;
-            (
-                md.particles.n_mobile(),
-                md.settings.integrator,
-                narrow,
-                setup,
-                w,
-            )
-        };
+    let mut bodies = None;
+    let (particles, integrator, narrow, setup, (wall, cpu, timing)) = if clumps {
+        let (mut md, count) = crate::bench_clumps::build(&loaded)?;
+        let setup = setup_start.elapsed().as_secs_f64();
+        let w = time_steps(&mut md, steps)?;
+        bodies = Some(crate::bench_clumps::Report::of(&md, count));
+        let narrow = md.governor.steps_wide_narrow().1;
+        (
+            md.particles.n_mobile(),
+            md.settings.integrator,
+            narrow,
+            setup,
+            w,
+        )
+    } else if loaded.scenario.dimension.axes() == 2 {
+        let (mut md, _) = build_md_reporting::<D2>(&loaded, &mut report)?;
+        let setup = setup_start.elapsed().as_secs_f64();
+        let w = time_steps(&mut md, steps)?;
+        let narrow = md.governor.steps_wide_narrow().1;
+        (
+            md.particles.n_mobile(),
+            md.settings.integrator,
+            narrow,
+            setup,
+            w,
+        )
+    } else {
+        let (mut md, _) = build_md_reporting::<D3>(&loaded, &mut report)?;
+        let setup = setup_start.elapsed().as_secs_f64();
+        let w = time_steps(&mut md, steps)?;
+        let narrow = md.governor.steps_wide_narrow().1;
+        (
+            md.particles.n_mobile(),
+            md.settings.integrator,
+            narrow,
+            setup,
+            w,
+        )
+    };
     let threads = rayon::current_num_threads();
     let dims = loaded.scenario.dimension.axes();
     let updates = steps as f64 * particles.max(1) as f64;
@@ -276,16 +297,17 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let phases = timing.to_json(wall, 1e9 / updates);
     let rss = peak_rss_bytes();
     if args.json {
-        println!(
-            "{}",
-            json!({
-                "workload": args.workload, "particles": particles, "steps": steps, "threads": threads,
-                "integrator": integrator.name(), "wall_seconds": wall, "ns_per_particle_step": ns,
-                "cpu_seconds": cpu, "peak_rss_bytes": rss, "phase_ns_per_particle_step": phases,
-                "estimate_bytes_per_particle": grains::scenario::memory::md_bytes_per_grain(dims, integrator),
-                "steps_on_one_thread": narrow, "setup_seconds": setup,
-            })
-        );
+        let mut out = json!({
+            "workload": args.workload, "particles": particles, "steps": steps, "threads": threads,
+            "integrator": integrator.name(), "wall_seconds": wall, "ns_per_particle_step": ns,
+            "cpu_seconds": cpu, "peak_rss_bytes": rss, "phase_ns_per_particle_step": phases,
+            "estimate_bytes_per_particle": grains::scenario::memory::md_bytes_per_grain(dims, integrator),
+            "steps_on_one_thread": narrow, "setup_seconds": setup,
+        });
+        if let (Some(b), Some(map)) = (&bodies, out.as_object_mut()) {
+            b.write(map);
+        }
+        println!("{out}");
     } else {
         println!(
             "{}: {particles} mobile particles, {steps} steps, {threads} thread(s) ({narrow} steps on one), {}: {wall:.3} s, {ns:.1} ns per particle-step, peak RSS {:.1} MiB, set-up {setup:.2} s",
@@ -294,6 +316,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
             rss as f64 / 1048576.0
         );
         println!("{}", phase_line(&phases));
+        if let Some(b) = &bodies {
+            println!("{}", b.line());
+        }
     }
     Ok(())
 }
@@ -309,6 +334,11 @@ pub fn run_ranks(args: BenchArgs, comm: &dyn Comm) -> Result<()> {
             "`grains bench {}` runs on one process; time a distributed DSMC run with bench/mpi_scaling.sh",
             args.workload
         )));
+    }
+    if args.workload == "chute-clumps" {
+        return Err(Error::input(
+            "`grains bench chute-clumps` runs on one process (rigid clumps are refused under mpirun)",
+        ));
     }
     let (loaded, default_steps) = md_workload(&args)?;
     let steps = args.steps.unwrap_or(default_steps);

@@ -3,6 +3,7 @@
 //! 1 anything else.
 
 mod bench;
+mod bench_clumps;
 mod bench_gpu;
 mod cg;
 mod launch;

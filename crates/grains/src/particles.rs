@@ -350,16 +350,28 @@ impl<D: Dim> Particles<D> {
 
     /// Total translational kinetic energy ½Σmv² of owned particles.
     pub fn kinetic_energy(&self) -> f64 {
+        self.kinetic_energy_of(|i| !self.frozen[i])
+    }
+
+    /// ½Σmv² of the owned particles `i` for which `counted(i)`, in store
+    /// order.
+    pub fn kinetic_energy_of(&self, counted: impl Fn(usize) -> bool) -> f64 {
         (0..self.n_owned)
-            .filter(|&i| !self.frozen[i])
+            .filter(|&i| counted(i))
             .map(|i| 0.5 * self.mass[i] * D::norm2(self.vel[i]))
             .sum()
     }
 
     /// Total rotational kinetic energy ½ΣIω² of owned particles.
     pub fn rotational_energy(&self) -> f64 {
+        self.rotational_energy_of(|i| !self.frozen[i])
+    }
+
+    /// ½ΣIω² of the owned particles `i` for which `counted(i)`, in store
+    /// order.
+    pub fn rotational_energy_of(&self, counted: impl Fn(usize) -> bool) -> f64 {
         (0..self.n_owned)
-            .filter(|&i| !self.frozen[i])
+            .filter(|&i| counted(i))
             .map(|i| 0.5 * self.inertia[i] * D::ang_dot(self.omega[i], self.omega[i]))
             .sum()
     }

@@ -32,7 +32,7 @@ pub(crate) struct Clumps {
     /// Per grain in store order: its body, or [`NO_BODY`].
     pub grain_body: Vec<u32>,
     /// Each body's sub-spheres' grain indices, in shape order, body after
-    /// body (body b's from `start[b]`).
+    /// body (body b's from `start[b]`; `start` ends with the total).
     members: Vec<u32>,
     start: Vec<usize>,
     /// Per grain: frozen or a sub-sphere, what the grain integrators leave
@@ -40,6 +40,9 @@ pub(crate) struct Clumps {
     pub held: Vec<bool>,
     /// Per grain: the mass the contact laws see, a sub-sphere's body's.
     pub contact_mass: Vec<f64>,
+    /// Per grain: the mass gravity weighs in the field pass, 0 for a
+    /// sub-sphere (its body takes M g once, at its centre of mass).
+    pub weight_mass: Vec<f64>,
 }
 
 fn xyz<D: Dim>(v: D::V) -> DVec3 {
@@ -256,12 +259,21 @@ impl<D: Dim> Md<D> {
         c.held.extend_from_slice(&p.frozen);
         c.contact_mass.clear();
         c.contact_mass.extend_from_slice(&p.mass);
-        c.start.clear();
-        let mut total = 0;
-        for b in 0..c.bodies.bodies.len() {
+        c.weight_mass.clear();
+        c.weight_mass.extend_from_slice(&p.mass);
+        // The bodies' offsets change only when bodies are added (a
+        // checkpoint's are checked to be the scenario's): not at every
+        // neighbour rebuild.
+        if c.start.len() != c.bodies.bodies.len() + 1 {
+            c.start.clear();
+            let mut total = 0;
+            for b in 0..c.bodies.bodies.len() {
+                c.start.push(total);
+                total += c.bodies.shape(b).radii.len();
+            }
             c.start.push(total);
-            total += c.bodies.shape(b).radii.len();
         }
+        let total = c.start[c.bodies.bodies.len()];
         c.members.clear();
         c.members.resize(total, u32::MAX);
         for (i, id) in p.id.iter().enumerate() {
@@ -269,6 +281,7 @@ impl<D: Dim> Md<D> {
                 c.grain_body[i] = b;
                 c.held[i] = true;
                 c.contact_mass[i] = c.bodies.shape(b as usize).mass;
+                c.weight_mass[i] = 0.0;
                 c.members[c.start[b as usize] + s as usize] = i as u32;
             }
         }
@@ -304,24 +317,30 @@ impl<D: Dim> Md<D> {
             return;
         };
         let p = &mut self.particles;
-        let domain = &self.domain;
+        // The periodic lengths, looked up once: a sub-sphere is moved by a
+        // period only when its body's centre was wrapped away from it.
+        let mut period = [None; 3];
+        for (a, l) in period.iter_mut().enumerate().take(D::D) {
+            if self.domain.is_periodic(a) {
+                *l = Some(self.domain.length(a));
+            }
+        }
         for (b, body) in c.bodies.bodies.iter().enumerate() {
             let r = c.bodies.rotation(b);
-            let w = c.bodies.omega(b);
             let shape = c.bodies.shape(b);
-            let members = &c.members[c.start[b]..c.start[b] + shape.centers.len()];
+            let w = no_squish::omega_turned(r, body.ang_mom, shape.inertia);
+            let members = &c.members[c.start[b]..c.start[b + 1]];
             for (&i, &center) in members.iter().zip(&shape.centers) {
                 let i = i as usize;
                 let arm = r * center;
                 if positions {
                     let mut x = body.pos + arm;
                     let old = xyz::<D>(p.pos[i]);
-                    for a in 0..D::D {
-                        if domain.is_periodic(a) {
-                            let l = domain.length(a);
-                            let k = ((old[a] - x[a]) / l).round();
-                            if k != 0.0 {
-                                x[a] += k * l;
+                    for (a, l) in period.iter().enumerate() {
+                        if let Some(l) = *l {
+                            let d = old[a] - x[a];
+                            if d.abs() >= 0.5 * l {
+                                x[a] += (d / l).round() * l;
                             }
                         }
                     }
@@ -366,9 +385,9 @@ impl<D: Dim> Md<D> {
 
     /// Each body's force and torque about its centre of mass from its
     /// sub-spheres' (summed in shape order: the same bits on any threads).
-    /// A sub-sphere's force holds its weight as the field pass gave it,
-    /// with the contact mass (its body's): that is taken off, and the
-    /// body's weight added once at its centre of mass.
+    /// A sub-sphere's force holds its contacts only (the field pass weighs
+    /// it with [`Clumps::weight_mass`], 0): the body's weight is added
+    /// once, at its centre of mass.
     pub(crate) fn gather_body_forces(&mut self) {
         let gravity = xyz::<D>(self.settings.gravity);
         let Some(c) = self.clumps.as_deref_mut() else {
@@ -380,11 +399,11 @@ impl<D: Dim> Md<D> {
             let r = c.bodies.rotation(b);
             let shape = &c.bodies.shapes[c.bodies.bodies[b].shape as usize];
             let weight = gravity * shape.mass;
-            let members = &c.members[c.start[b]..c.start[b] + shape.centers.len()];
+            let members = &c.members[c.start[b]..c.start[b + 1]];
             let (mut force, mut torque) = (DVec3::ZERO, DVec3::ZERO);
             for (&i, &center) in members.iter().zip(&shape.centers) {
                 let i = i as usize;
-                let f = xyz::<D>(p.force[i]) - weight;
+                let f = xyz::<D>(p.force[i]);
                 force += f;
                 // F at the sphere's centre and T about it are the contact
                 // force at the contact point: about the centre of mass
@@ -422,10 +441,7 @@ impl<D: Dim> Md<D> {
             None => self.particles.kinetic_energy(),
             Some(c) => {
                 let p = &self.particles;
-                let free: f64 = (0..p.n_owned())
-                    .filter(|&i| !p.frozen[i] && c.grain_body[i] == NO_BODY)
-                    .map(|i| 0.5 * p.mass[i] * D::norm2(p.vel[i]))
-                    .sum();
+                let free = p.kinetic_energy_of(|i| !p.frozen[i] && c.grain_body[i] == NO_BODY);
                 free + c.bodies.translational_energy()
             }
         }
@@ -438,10 +454,7 @@ impl<D: Dim> Md<D> {
             None => self.particles.rotational_energy(),
             Some(c) => {
                 let p = &self.particles;
-                let free: f64 = (0..p.n_owned())
-                    .filter(|&i| !p.frozen[i] && c.grain_body[i] == NO_BODY)
-                    .map(|i| 0.5 * p.inertia[i] * D::ang_dot(p.omega[i], p.omega[i]))
-                    .sum();
+                let free = p.rotational_energy_of(|i| !p.frozen[i] && c.grain_body[i] == NO_BODY);
                 free + c.bodies.rotational_energy()
             }
         }

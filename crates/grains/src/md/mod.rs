@@ -559,6 +559,7 @@ impl<D: Dim> Md<D> {
             law: &s.law,
             walls: &walls,
             gravity: s.gravity,
+            weight_mass: self.clumps.as_ref().map(|c| &c.weight_mass[..]),
             dt: s.dt,
             update: update_history,
             mesh_springs: &self.mesh_springs,

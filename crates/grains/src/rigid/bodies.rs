@@ -61,12 +61,24 @@ impl Bodies {
         }
     }
 
-    /// The drift: x += dt v, and the free rotation over dt.
+    /// The drift: x += dt v, and the free rotation over dt (all bodies'
+    /// turns together, [`no_squish::free_rotations`]: each body's bits of
+    /// [`no_squish::free_rotation`]).
     pub fn drift(&mut self, dt: f64) {
-        for b in &mut self.bodies {
-            let inertia = self.shapes[b.shape as usize].inertia;
-            b.pos += b.vel * dt;
-            no_squish::free_rotation(&mut b.quat, &mut b.ang_mom, inertia, dt);
+        const BLOCK: usize = 256;
+        let mut turned = Vec::with_capacity(BLOCK.min(self.bodies.len()));
+        for block in self.bodies.chunks_mut(BLOCK) {
+            turned.clear();
+            for b in block.iter_mut() {
+                b.pos += b.vel * dt;
+                let inertia = self.shapes[b.shape as usize].inertia;
+                turned.push((b.quat, b.ang_mom, inertia));
+            }
+            no_squish::free_rotations(&mut turned, dt);
+            for (b, &(q, l, _)) in block.iter_mut().zip(&turned) {
+                b.quat = q;
+                b.ang_mom = l;
+            }
         }
     }
 

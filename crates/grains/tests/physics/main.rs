@@ -7,6 +7,7 @@
 mod common;
 
 mod binary_collision;
+mod body_weight;
 mod chung_ooi;
 mod clumps;
 mod coarse_grain;
