@@ -18,10 +18,12 @@ scipy needed), errors from the covariance (JᵀWJ)⁻¹ scaled by the reduced
 021309; 2D disks, μ_p = 0.4: μ ≈ μ_s + b I with μ_s ≈ 0.25, b ≈ 1.1 for
 I ≲ 0.3), the straight line μ_s + b I through the points with I below
 --linear-max (default 0.3). Prints a table and both fits; with --png
-draws the points, the fits and da Cruz et al.'s line.
+draws the points, the fits and da Cruz et al.'s line, or with
+--reference "LABEL:mu_s,mu_2,I_0" (repeatable) published μ(I) curves in
+its place (3D cells: Jop, Forterre & Pouliquen 2006's glass beads).
 
 usage: mu_of_i.py RUN_DIR... [--png mu_of_i.png] [--linear-max 0.3]
-                  [--json fit.json]
+                  [--json fit.json] [--reference LABEL:MS,M2,I0]...
 """
 import argparse
 import csv
@@ -120,7 +122,17 @@ def main():
     ap.add_argument("--png")
     ap.add_argument("--json")
     ap.add_argument("--linear-max", type=float, default=0.3)
+    ap.add_argument("--reference", action="append", default=[],
+                    help='a published curve "LABEL:mu_s,mu_2,I_0" drawn instead of da Cruz et al.\'s line')
     a = ap.parse_args()
+    refs = []
+    for r in a.reference:
+        label, _, nums = r.rpartition(":")
+        try:
+            ms, m2, i0 = (float(v) for v in nums.split(","))
+        except ValueError:
+            sys.exit(f"--reference {r!r}: give LABEL:mu_s,mu_2,I_0 (three numbers)")
+        refs.append((label, ms, m2, i0))
     pts = sorted(point(r) for r in runs(a.runs))
     if len(pts) < 3:
         sys.exit(f"{len(pts)} runs: the fit of μ_s, μ_2, I_0 needs at least 3")
@@ -159,9 +171,13 @@ def main():
         g = np.geomspace(i.min() / 2, i.max() * 2, 200)
         ax.plot(g, midi(g, *x), "-", color="C0",
                 label=f"GDR MiDi fit: μ_s={x[0]:.3f}, μ_2={x[1]:.3f}, I_0={x[2]:.3f}")
-        gl = g[g <= 0.3]
-        ax.plot(gl, DA_CRUZ[0] + DA_CRUZ[1] * gl, "--", color="C3",
-                label="da Cruz et al. 2005: 0.25 + 1.1 I")
+        for k, (label, ms, m2, i0) in enumerate(refs):
+            ax.plot(g, midi(g, ms, m2, i0), "--", color=f"C{k + 3}",
+                    label=f"{label}: μ_s={ms:g}, μ_2={m2:g}, I_0={i0:g}")
+        if not refs:
+            gl = g[g <= 0.3]
+            ax.plot(gl, DA_CRUZ[0] + DA_CRUZ[1] * gl, "--", color="C3",
+                    label="da Cruz et al. 2005: 0.25 + 1.1 I")
         ax.set_xscale("log")
         ax.set_xlabel("inertial number I")
         ax.set_ylabel("μ = τ / P")

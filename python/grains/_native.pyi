@@ -146,6 +146,20 @@ class Simulation:
         """Grain-grain contacts now: ids (m, 2) int64, overlap (m,) m,
         normal (m, dim) from the second grain to the first, force (m, dim)
         on the first grain in N. MD only (InputError for DSMC)."""
+    def fields(self, window: int = -1) -> Optional[Dict[str, Any]]:
+        """The coarse-grained fields of [measure.fields] averaged over a
+        window (default the last; the open one if it has samples), sampled
+        during run() at the steps `grains run` samples them, so equal to
+        its fields/fields_0000k.csv. None before the first sample; not in
+        save_checkpoint's file. G is the grid's shape (cells along axes in
+        x, y, z order; () for the single box), d the dimension: axes
+        (names), one coordinate array (m) per grid axis named by it,
+        point_volume (sum(density) * point_volume is the mass), samples,
+        times; float64 arrays density G, packing_fraction G, velocity
+        G + (d,), temperature G, kinetic_stress, contact_stress, stress
+        G + (d, d) (positive in compression), coordination G, fabric
+        G + (d, d). InputError without [measure.fields] (or for DSMC),
+        IndexError for a window not there."""
     def summary(self) -> Dict[str, Any]:
         """The run so far with the keys of summary.json that describe the
         engine (the runner's measurement scalars are absent)."""

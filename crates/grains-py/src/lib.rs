@@ -8,6 +8,7 @@
 //! `grains.UnstableError` or `OSError`; panics become a `RuntimeError`.
 
 mod errors;
+mod fields;
 mod progress;
 mod run;
 mod scenario;

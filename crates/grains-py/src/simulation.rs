@@ -8,7 +8,7 @@ use crate::scenario::scenario_arg;
 use grains::session::{Column, Session};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, IxDyn, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyIndexError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -349,6 +349,55 @@ impl Simulation {
         out.set_item("normal", shape(c.normal, d)?.into_pyarray(py))?;
         out.set_item("force", shape(c.force, d)?.into_pyarray(py))?;
         Ok(out)
+    }
+
+    /// The coarse-grained fields of `[measure.fields]` (docs/fields.md)
+    /// averaged over window `window` (default -1: the last, the open one
+    /// if it has samples; negative counts from the end), sampled during
+    /// `run` at the steps `grains run` samples them (every `every` steps
+    /// after the relaxation, from `start` on), so that its values are
+    /// those of `fields/fields_0000k.csv` of the same run. `None` before
+    /// the first sample. The windows are not in `save_checkpoint`'s file:
+    /// a resumed simulation begins new ones.
+    ///
+    /// A dict, G the grid's shape (`cells` along `axes`, in x, y, z
+    /// order; () for the single box), d the dimension: `axes` (list of
+    /// names), one 1D array of point coordinates (m) per grid axis named
+    /// by it (`"z"`: shape (cells_z,)), `point_volume` (the volume each
+    /// point stands for: Σ density × point_volume is the grains' mass),
+    /// `samples`, `times` (first and last sampled time, s); float64
+    /// arrays `density` G (kg/m^d), `packing_fraction` G, `velocity`
+    /// G + (d,), `temperature` G (m²/s²), `kinetic_stress`,
+    /// `contact_stress`, `stress` G + (d, d) (positive in compression),
+    /// `coordination` G, `fabric` G + (d, d). Raises `InputError` when the
+    /// scenario has no `[measure.fields]` (or is DSMC), `IndexError` for a
+    /// window not there.
+    #[pyo3(signature = (window=-1))]
+    fn fields<'py>(&self, py: Python<'py>, window: i64) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(n) = self.session.field_windows() else {
+            return Err(InputError::new_err(
+                "fields: this scenario has no [measure.fields] table (MD only): add one, e.g. \
+                 grains.Scenario.load(path).set(\"measure.fields.axes\", [\"z\"])\
+                 .set(\"measure.fields.cells\", [60])",
+            ));
+        };
+        if n == 0 {
+            return Ok(None);
+        }
+        let k = if window < 0 {
+            window + n as i64
+        } else {
+            window
+        };
+        let f = usize::try_from(k)
+            .ok()
+            .and_then(|k| self.session.fields_window(k))
+            .ok_or_else(|| {
+                PyIndexError::new_err(format!(
+                    "fields: window {window}, but there are {n} (0..{n}, or -{n}..-1)"
+                ))
+            })?;
+        crate::fields::fields_dict(py, &f).map(Some)
     }
 
     /// The summary of the run so far as a dict, with the keys of

@@ -3,6 +3,7 @@
 //! A wall contact is a line from the contact point to the grain's centre.
 
 use super::contact_records::{dot, Snapshot};
+use super::vtk_binary::{f64_array, i64_array};
 use super::{write_atomic, Num, PvdCollection};
 use crate::error::{Error, Result};
 use std::fmt::Write as _;
@@ -14,7 +15,8 @@ use std::path::{Path, PathBuf};
 pub const CONTACT_COLUMNS: &str = "id1,id2,wall,wall_name,px,py,pz,bx,by,bz,nx,ny,nz,\
 fnx,fny,fnz,ftx,fty,ftz,overlap";
 
-/// The `.vtp` text: one line cell per contact (points: both ends), cell
+/// The `.vtp` text (arrays in the inline binary format of `vtk_binary`):
+/// one line cell per contact (points: both ends), cell
 /// data `force` (magnitude), `normal_force` (signed, along the normal),
 /// `tangential_force` (3), `overlap`, `id1`, `id2` (the second grain's id,
 /// −1 for a wall) and `wall` (−1 for a pair).
@@ -95,25 +97,11 @@ pub fn contacts_vtp_string(s: &Snapshot) -> String {
 }
 
 fn float_array(x: &mut String, name: &str, comps: usize, values: impl Iterator<Item = f64>) {
-    let _ = write!(
-        x,
-        "        <DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"{comps}\" format=\"ascii\">\n         "
-    );
-    for v in values {
-        let _ = write!(x, " {}", Num(v));
-    }
-    x.push_str("\n        </DataArray>\n");
+    f64_array(x, 8, name, comps, values);
 }
 
 fn int_array(x: &mut String, name: &str, values: impl Iterator<Item = i64>) {
-    let _ = write!(
-        x,
-        "        <DataArray type=\"Int64\" Name=\"{name}\" format=\"ascii\">\n         "
-    );
-    for v in values {
-        let _ = write!(x, " {v}");
-    }
-    x.push_str("\n        </DataArray>\n");
+    i64_array(x, 8, name, values);
 }
 
 /// The CSV text ([`CONTACT_COLUMNS`]).

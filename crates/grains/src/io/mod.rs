@@ -17,6 +17,7 @@ pub mod stl;
 pub mod thermo;
 pub mod vti;
 pub mod vtk;
+pub mod vtk_binary;
 pub mod vtk_read;
 
 pub use atomic::{write_atomic, write_durable, AtomicWriter};

@@ -1,6 +1,8 @@
-//! VTK image data (`.vti`, XML, ASCII): values on a regular grid of
-//! points, read by ParaView and VTK's `vtkXMLImageDataReader`.
+//! VTK image data (`.vti`, XML, arrays in the inline binary format of
+//! `vtk_binary`): values on a regular grid of points, read by ParaView and
+//! VTK's `vtkXMLImageDataReader`.
 
+use super::vtk_binary::f64_array;
 use super::{write_atomic, Num};
 use crate::error::Result;
 use std::fmt::Write as _;
@@ -51,15 +53,7 @@ pub fn vti_string(
     let _ = writeln!(s, "    <Piece Extent=\"{extent}\">");
     s.push_str("      <PointData>\n");
     for a in arrays {
-        let _ = write!(
-            s,
-            "        <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"ascii\">\n         ",
-            a.name, a.components
-        );
-        for v in &a.values {
-            let _ = write!(s, " {}", Num(*v));
-        }
-        s.push_str("\n        </DataArray>\n");
+        f64_array(&mut s, 8, a.name, a.components, a.values.iter().copied());
     }
     s.push_str("      </PointData>\n      <CellData/>\n    </Piece>\n  </ImageData>\n</VTKFile>\n");
     s

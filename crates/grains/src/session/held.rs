@@ -3,6 +3,7 @@
 
 use crate::engine::Engine;
 use crate::error::Result;
+use crate::io::contact_records::Snapshot;
 use crate::scenario::Loaded;
 use serde_json::{Map, Value};
 
@@ -62,6 +63,11 @@ pub(super) trait Held: Send + Sync {
     fn contacts(&self) -> Result<Contacts>;
     /// The summary.json scalars of the state now.
     fn summary(&self, loaded: &Loaded, stepped: u64, wall_seconds: f64) -> Map<String, Value>;
+    /// The grains and their contacts now, for the coarse-grained fields
+    /// (MD only).
+    fn snapshot(&self) -> Option<Snapshot> {
+        None
+    }
     /// The measurement section of a checkpoint (DSMC's validity window and
     /// tallies), if the engine keeps one.
     fn measurements(&self) -> Option<Vec<u8>> {

@@ -4,6 +4,7 @@ use super::held::{Column, Contacts, Held};
 use crate::dim::Dim;
 use crate::engine::Engine;
 use crate::error::Result;
+use crate::io::contact_records::Snapshot;
 use crate::md::Md;
 use crate::measure::granular_temperature;
 use crate::output::{md_summary, THERMO_COLUMNS};
@@ -197,6 +198,9 @@ impl<D: Dim> Held for MdEngine<D> {
             ids: c.ids,
             overlap: c.overlap,
         })
+    }
+    fn snapshot(&self) -> Option<Snapshot> {
+        Some(crate::measure::fields::snapshot(&self.md.view()))
     }
     fn summary(&self, loaded: &Loaded, stepped: u64, wall_seconds: f64) -> Map<String, Value> {
         let md = &self.md;

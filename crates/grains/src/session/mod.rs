@@ -8,7 +8,9 @@
 //! runner's `build`), advanced with the same calls, so `n` steps here give
 //! the bits of `grains run --steps n`. Output files, `[hopper]` recycling,
 //! `run.events` and the `measure` tables belong to the runner and are not
-//! run here (see [`Session::new`]).
+//! run here (see [`Session::new`]), except `[measure.fields]`: its windows
+//! are sampled at the run's steps, so a session's fields are those
+//! `grains run` writes ([`Session::fields_window`]).
 
 mod dsmc_engine;
 mod held;
@@ -20,6 +22,7 @@ pub use held::{Column, Contacts};
 use crate::dim::Dim;
 use crate::dsmc::collide::GasDim;
 use crate::error::{Error, Result};
+use crate::measure::fields::{Fields, FieldsMeasure};
 use crate::runner::choose::{choose, Runs};
 use crate::runner::saved::{self, Opened};
 use crate::scenario::Loaded;
@@ -41,6 +44,9 @@ pub struct Session {
     wall_seconds: f64,
     /// Seconds per step, as last measured (sizes the stretches).
     step_seconds: f64,
+    /// `[measure.fields]`, begun at the end of the relaxation as the
+    /// runner begins it (or at the first step after it a session holds).
+    fields: Option<FieldsMeasure>,
 }
 
 impl Session {
@@ -60,10 +66,10 @@ impl Session {
             }
         }
         let (engine, plan, every) = choose(&loaded.scenario, Build(loaded))?;
-        Ok(Self::around(loaded.clone(), engine, plan, every))
+        Self::around(loaded.clone(), engine, plan, every)
     }
 
-    fn around(loaded: Loaded, engine: Box<dyn Held>, plan: (u64, u64), every: u64) -> Self {
+    fn around(loaded: Loaded, engine: Box<dyn Held>, plan: (u64, u64), every: u64) -> Result<Self> {
         let mut me = Self {
             loaded,
             engine,
@@ -74,9 +80,11 @@ impl Session {
             stepped: 0,
             wall_seconds: 0.0,
             step_seconds: 0.0,
+            fields: None,
         };
         me.record(false);
-        me
+        me.measure_fields()?;
+        Ok(me)
     }
 
     /// Resumes a session from a checkpoint file written by
@@ -109,7 +117,7 @@ impl Session {
             }
         }
         let (engine, every) = choose(&loaded.scenario, Restore(&opened))?;
-        Ok(Self::around(loaded, engine, opened.plan(), every))
+        Self::around(loaded, engine, opened.plan(), every)
     }
 
     /// The scenario the session runs.
@@ -171,7 +179,8 @@ impl Session {
             };
             let step = self.step();
             let to_row = self.output_every - step % self.output_every;
-            let n = fit.min(to_row).min(steps - done).max(1);
+            let to_fields = self.fields_next().map_or(u64::MAX, |s| s - step);
+            let n = fit.min(to_row).min(to_fields).min(steps - done).max(1);
             let t0 = Instant::now();
             let engine = self.engine.engine_mut();
             let r = crate::parallel::on_pool(|| engine.advance(n));
@@ -181,6 +190,7 @@ impl Session {
             self.step_seconds = secs / n as f64;
             r?;
             done += n;
+            self.measure_fields()?;
             if self.step().is_multiple_of(self.output_every) || done == steps {
                 self.record(true);
             }
@@ -281,6 +291,59 @@ impl Session {
     /// The grain–grain contacts now (MD only).
     pub fn contacts(&self) -> Result<Contacts> {
         self.engine.contacts()
+    }
+
+    /// The next step after now at which the fields begin or may sample.
+    fn fields_next(&self) -> Option<u64> {
+        self.loaded.scenario.measure.fields.as_ref()?;
+        let step = self.step();
+        match &self.fields {
+            Some(f) => Some(f.next_due(step)),
+            None if step < self.plan.0 && !self.is_dsmc() => Some(self.plan.0),
+            None => None,
+        }
+    }
+
+    /// `[measure.fields]` at the step now, as the runner's measurement
+    /// does: begun once the relaxation is over, then a sample at each of
+    /// its steps after the beginning (`every`, from `start` on).
+    fn measure_fields(&mut self) -> Result<()> {
+        let Some(spec) = &self.loaded.scenario.measure.fields else {
+            return Ok(());
+        };
+        let (step, t) = (self.step(), self.time());
+        match &mut self.fields {
+            Some(f) if step > f.begun() && f.wants(step, t) => {
+                if let Some(s) = self.engine.snapshot() {
+                    f.sample(&s);
+                }
+            }
+            Some(_) => {}
+            None if step >= self.plan.0 => {
+                if let Some(s) = self.engine.snapshot() {
+                    let d0 = self.loaded.scenario.particles.d0;
+                    let bx = (s.lo, s.hi, s.periodic);
+                    self.fields = Some(FieldsMeasure::begin(spec, d0, s.dim, bx)?.begun_at(step));
+                }
+            }
+            None => {}
+        }
+        Ok(())
+    }
+
+    /// Windows of `[measure.fields]` with samples so far (closed and open);
+    /// `None` when the scenario has no such table or the engine is DSMC.
+    pub fn field_windows(&self) -> Option<usize> {
+        if self.loaded.scenario.measure.fields.is_none() || self.is_dsmc() {
+            return None;
+        }
+        Some(self.fields.as_ref().map_or(0, FieldsMeasure::window_count))
+    }
+
+    /// The time-averaged fields of window `k` (0 the first), as `grains
+    /// run` writes them to `fields/fields_0000k.*`.
+    pub fn fields_window(&self, k: usize) -> Option<Fields> {
+        self.fields.as_ref()?.window(k)
     }
 
     /// The summary.json of a run that stopped here: what ran, the timing of

@@ -71,6 +71,13 @@ impl Grid {
         p
     }
 
+    /// The volume a point stands for (a cell's spacings times the box's
+    /// extent along the averaged axes; the box's volume for the single
+    /// box): Σ ρ over the points times it is the grains' mass.
+    pub fn point_volume(&self) -> f64 {
+        self.cell() * self.cross()
+    }
+
     /// The measure of the box along the axes the grid averages over (the
     /// whole box's volume for the single box).
     fn cross(&self) -> f64 {

@@ -124,6 +124,16 @@ impl FieldsMeasure {
         step.is_multiple_of(self.spec.every)
     }
 
+    /// The first step after `now` at which [`Self::due`] holds.
+    pub fn next_due(&self, now: u64) -> u64 {
+        (now / self.spec.every + 1) * self.spec.every
+    }
+
+    /// The step the measurement began at (samples are taken after it).
+    pub fn begun(&self) -> u64 {
+        self.begun
+    }
+
     /// Whether a snapshot at `step`, time `t`, is taken.
     pub fn wants(&self, step: u64, t: f64) -> bool {
         self.due(step) && t >= self.spec.start
@@ -151,6 +161,17 @@ impl FieldsMeasure {
     /// How many windows [`Self::windows`] gives, without working them out.
     pub fn window_count(&self) -> usize {
         self.done.len() + usize::from(self.current.samples() > 0)
+    }
+
+    /// Window `k` of [`Self::windows`], worked out alone.
+    pub fn window(&self, k: usize) -> Option<Fields> {
+        match self.done.get(k) {
+            Some(w) => Some(w.fields()),
+            None if k == self.done.len() && self.current.samples() > 0 => {
+                Some(self.current.fields())
+            }
+            None => None,
+        }
     }
 
     /// The last of [`Self::windows`]: the open one if it has samples.
