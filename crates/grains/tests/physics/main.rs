@@ -9,6 +9,7 @@ mod common;
 mod binary_collision;
 mod chung_ooi;
 mod clumps;
+mod clumps_outputs;
 mod clumps_statics;
 mod coarse_grain;
 mod conservation;
