@@ -3,7 +3,8 @@
 # `cfg_attr(not(feature = "long-tests"), ignore = ...)`, which the README's
 # `cargo test --profile opt-test` lists as ignored: the convection seed
 # ensembles and the conveyor's saturation (tests/seeds), the silo discharge
-# through an STL floor, the 3D sand pile over rolling friction and the
+# through an STL floor, the 3D sand pile over rolling friction, the
+# repose ensemble of spheres, dimers and tetrahedral clumps and the
 # chute's stress and velocity profiles (tests/scenarios), from 40 s to
 # minutes each. CI runs it after the
 # default suite; by hand:

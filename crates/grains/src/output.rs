@@ -7,7 +7,7 @@ use crate::dim::Dim;
 use crate::error::Error;
 use crate::error::Result;
 use crate::io::contacts_out::ContactSeries;
-use crate::io::{write_atomic, DumpWriter, Frame, Num, ThermoWriter, VtkSeries};
+use crate::io::{write_atomic, BodyTable, DumpWriter, Frame, Num, ThermoWriter, VtkSeries};
 use crate::md::Md;
 use crate::measure::draw::in_box;
 use crate::measure::{granular_temperature, DisplacementField};
@@ -145,6 +145,8 @@ pub struct Outputs {
     movie: bool,
     last_step: Option<u64>,
     contacts: Option<ContactSeries>,
+    /// bodies.csv, written at each output step of a run with rigid bodies.
+    bodies: BodyTable,
 }
 
 impl Outputs {
@@ -173,6 +175,7 @@ impl Outputs {
             movie: spec.movie,
             last_step: None,
             contacts: contact_series(dir, spec)?,
+            bodies: BodyTable::new(dir),
         })
     }
 
@@ -256,6 +259,7 @@ impl Outputs {
                 )?),
                 false => None,
             },
+            bodies: BodyTable::resume(dir, state.last_step),
         })
     }
 
@@ -282,6 +286,9 @@ impl Outputs {
             .filter(|_| self.last_step != Some(md.step))
         {
             c.write(&crate::measure::fields::snapshot(&md.view()))?;
+        }
+        if let Some(rows) = md.body_rows().filter(|_| self.last_step != Some(md.step)) {
+            self.bodies.write(md.step, md.time, &rows)?;
         }
         // What a later `grains movie` or `grains view` needs besides the
         // frames (written again at the end, with any walls removed).

@@ -21,6 +21,7 @@ pub const RUN_FILES: &[&str] = &[
     "summary.json",
     "frames.pvd",
     "dump.lammpstrj",
+    "bodies.csv",
     "walls.csv",
     "final.png",
     "movie.gif",

@@ -202,6 +202,7 @@ impl<D: Dim> GrainView<'_, D> {
             omega: p.omega.iter().map(|&x| D::ang_to_xyz(x)).collect(),
             radius: p.radius.to_vec(),
             body: None,
+            orientation: None,
             mass: Vec::new(),
         }
     }

@@ -78,6 +78,7 @@ pub fn gas_frame<D: GasDim>(sim: &Dsmc<D>) -> Frame {
         omega: vec![[0.0; 3]; n],
         radius: vec![0.5 * sim.store.diameter; n],
         body: None,
+        orientation: None,
         mass: Vec::new(),
     }
 }

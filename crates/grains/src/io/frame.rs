@@ -23,6 +23,10 @@ pub struct Frame {
     /// that viewers group a clump's sub-spheres; `None` in a run without
     /// bodies, whose outputs then keep their columns.
     pub body: Option<Vec<u64>>,
+    /// Each grain's orientation, its body's unit quaternion (w, x, y, z)
+    /// from the body's principal frame to space (identity for a free
+    /// sphere); `None` in a run without bodies.
+    pub orientation: Option<Vec<[f64; 4]>>,
     /// Each grain's mass where the run saves it (`output.contacts`, for
     /// `grains cg`); empty otherwise.
     pub mass: Vec<f64>,
@@ -55,6 +59,13 @@ impl Frame {
         if let Some(b) = &self.body {
             let len = b.len();
             assert_eq!(len, n, "Frame.body has {len} entries but pos has {n}");
+        }
+        if let Some(q) = &self.orientation {
+            let len = q.len();
+            assert_eq!(
+                len, n,
+                "Frame.orientation has {len} entries but pos has {n}"
+            );
         }
         let m = self.mass.len();
         assert!(
@@ -99,6 +110,7 @@ pub(crate) mod tests {
             omega: vec![[0.0, 0.0, 0.25], [0.0, 0.0, -3.0], [0.0, 0.0, 0.0]],
             radius: vec![0.5, 0.6, 0.45],
             body: None,
+            orientation: None,
             mass: Vec::new(),
         }
     }

@@ -4,6 +4,7 @@
 //! snapshot, and readers return plain records.
 
 pub mod atomic;
+pub mod bodies_csv;
 pub mod contact_records;
 pub mod contacts_out;
 pub mod contacts_read;
@@ -21,6 +22,7 @@ pub mod vtk_binary;
 pub mod vtk_read;
 
 pub use atomic::{write_atomic, write_durable, AtomicWriter};
+pub use bodies_csv::{BodyRow, BodyTable};
 pub use csv_particles::{parse_particles_csv, read_particles_csv, CsvParticle};
 pub use frame::Frame;
 pub use lammps_data::{

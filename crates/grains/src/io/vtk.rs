@@ -57,7 +57,10 @@ pub fn vtp_string(frame: &Frame) -> String {
     array(&mut s, kind, frame.kind.iter());
     // Only with bodies, so frames of runs without clumps keep their bytes.
     if let Some(body) = &frame.body {
-        array(&mut s, ("Int64", "body", 1), body.iter());
+        array(&mut s, BODY_ARRAYS[0], body.iter());
+    }
+    if let Some(q) = &frame.orientation {
+        array(&mut s, BODY_ARRAYS[1], q.iter().flatten().map(num));
     }
     if !frame.mass.is_empty() {
         array(&mut s, ("Float64", "mass", 1), frame.mass.iter().map(num));
@@ -84,6 +87,11 @@ const POINT_ARRAYS: [(&str, &str, usize); 5] = [
     ("Int32", "type", 1),
 ];
 
+/// The point arrays of a frame with rigid bodies, after [`POINT_ARRAYS`]:
+/// each grain's body (numbered from 1, 0 for a free sphere) and its body's
+/// orientation quaternion (w, x, y, z).
+const BODY_ARRAYS: [(&str, &str, usize); 2] = [("Int64", "body", 1), ("Float64", "orientation", 4)];
+
 /// The `.vtp` piece of `rank` for the frame at `step`, relative to frames/.
 pub fn piece_name(step: u64, rank: usize) -> String {
     format!("piece_{step:012}_{rank:04}.vtp")
@@ -96,15 +104,17 @@ pub fn write_piece(out_dir: &Path, frame: &Frame, rank: usize) -> Result<()> {
 }
 
 /// A parallel PolyData document (`.pvtp`) for the frame at `step` made of
-/// the pieces of `ranks` ranks, with the point arrays of [`vtp_string`].
-pub fn pvtp_string(step: u64, ranks: usize) -> String {
+/// the pieces of `ranks` ranks, with the point arrays of [`vtp_string`]
+/// (`body` and `orientation` too when the run has rigid `bodies`).
+pub fn pvtp_string(step: u64, ranks: usize, bodies: bool) -> String {
     let mut s = String::from("<?xml version=\"1.0\"?>\n");
     s.push_str(
         "<VTKFile type=\"PPolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n",
     );
     s.push_str("  <PPolyData GhostLevel=\"0\">\n");
     s.push_str("    <PPointData Scalars=\"radius\" Vectors=\"velocity\">\n");
-    for (ty, name, comps) in POINT_ARRAYS {
+    let body_arrays = if bodies { &BODY_ARRAYS[..] } else { &[] };
+    for &(ty, name, comps) in POINT_ARRAYS.iter().chain(body_arrays) {
         let _ = writeln!(
             s,
             "      <PDataArray type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{comps}\"/>"
@@ -262,7 +272,7 @@ impl VtkSeries {
             write_piece(&self.dir, frame, 0)?;
         }
         let rel = format!("frames/frame_{:06}.pvtp", self.len());
-        let text = pvtp_string(frame.step, ranks);
+        let text = pvtp_string(frame.step, ranks, frame.body.is_some());
         write_atomic(&self.dir.join(&rel), text.as_bytes())?;
         self.collection.add(frame.time, rel)
     }
@@ -360,6 +370,35 @@ mod tests {
         }
         let pvd = std::fs::read_to_string(dir.join("frames.pvd")).unwrap();
         assert!(pvd.contains("file=\"frames/frame_000000.pvtp\""));
-        assert_eq!(pvtp_string(40, 3).matches("<Piece ").count(), 3);
+        assert_eq!(pvtp_string(40, 3, false).matches("<Piece ").count(), 3);
+        assert!(!pvtp.contains("body") && !piece.contains("orientation"));
+    }
+
+    /// With bodies, a frame and its parallel file carry `body` and
+    /// `orientation` (four components a point), as declared alike.
+    #[test]
+    fn frames_of_bodies_carry_body_and_orientation() {
+        let dir = scratch_dir("vtk-bodies");
+        let mut series = VtkSeries::new(&dir).unwrap().in_pieces(1);
+        let mut f = sample_2d();
+        f.body = Some(vec![1, 1, 0]);
+        let (c, s) = (0.3f64.cos(), 0.3f64.sin());
+        f.orientation = Some(vec![
+            [c, 0.0, 0.0, s],
+            [c, 0.0, 0.0, s],
+            [1.0, 0.0, 0.0, 0.0],
+        ]);
+        series.write(&f).unwrap();
+        let pvtp = std::fs::read_to_string(dir.join("frames/frame_000000.pvtp")).unwrap();
+        let piece =
+            std::fs::read_to_string(dir.join("frames").join(piece_name(f.step, 0))).unwrap();
+        for (ty, name, comps) in POINT_ARRAYS.iter().chain(&BODY_ARRAYS) {
+            let decl = format!("type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{comps}\"");
+            assert!(pvtp.contains(&decl) && piece.contains(&decl), "{name}");
+        }
+        let q = data_array(&piece, "orientation");
+        assert_eq!(q.len(), 12);
+        assert_eq!(q[..4], [c, 0.0, 0.0, s]);
+        assert_eq!(q[8..], [1.0, 0.0, 0.0, 0.0]);
     }
 }

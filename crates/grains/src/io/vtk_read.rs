@@ -206,7 +206,25 @@ fn parse_text(path: &Path, text: &str) -> Result<Frame> {
             false => Vec::new(),
         },
         pos,
-        body: None,
+        // Written only by runs with rigid bodies.
+        body: match text.contains("Name=\"body\"") {
+            true => Some(
+                data_array(path, text, "body", n)?
+                    .into_iter()
+                    .map(|x| x as u64)
+                    .collect(),
+            ),
+            false => None,
+        },
+        orientation: match text.contains("Name=\"orientation\"") {
+            true => Some(
+                data_array(path, text, "orientation", 4 * n)?
+                    .chunks_exact(4)
+                    .map(|c| [c[0], c[1], c[2], c[3]])
+                    .collect(),
+            ),
+            false => None,
+        },
     })
 }
 
@@ -243,6 +261,18 @@ mod tests {
         let last = &read_series(&dir).unwrap()[2];
         assert_eq!(read_frame(&last.path).unwrap().mass, f.mass);
         assert_eq!((back.step, back.time, back.dim), (f.step, f.time, 2));
+        assert_eq!((back.body, back.orientation), (None, None));
+        // A run with bodies: its frames' body numbers and orientations.
+        f.body = Some(vec![1, 0, 2]);
+        f.orientation = Some(vec![
+            [0.5, 0.5, -0.5, 0.5],
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 0.6, 0.0, 0.8],
+        ]);
+        series.write(&f).unwrap();
+        let last = read_frame(&read_series(&dir).unwrap()[3].path).unwrap();
+        assert_eq!(last.body, f.body);
+        assert_eq!(last.orientation, f.orientation);
     }
 
     #[test]

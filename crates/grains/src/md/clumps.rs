@@ -13,6 +13,7 @@ use super::Md;
 use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::integrate::Integrator;
+use crate::io::BodyRow;
 use crate::particles::ParticleRecord;
 use crate::rigid::bodies::{Bodies, Body, BodyShape};
 use crate::rigid::no_squish;
@@ -497,5 +498,34 @@ impl<D: Dim> Md<D> {
             c.bodies.bodies = saved;
         }
         self.refresh_clumps();
+    }
+
+    /// The first `n` grains' orientations for a frame: a sub-sphere's
+    /// body's quaternion (principal frame to space), the identity for a
+    /// free sphere; `None` without clumps.
+    pub(crate) fn frame_orientations(&self, n: usize) -> Option<Vec<[f64; 4]>> {
+        let c = self.clumps.as_ref()?;
+        let quat = |&b: &u32| match b {
+            NO_BODY => [1.0, 0.0, 0.0, 0.0],
+            b => c.bodies.bodies[b as usize].quat,
+        };
+        Some(c.grain_body[..n].iter().map(quat).collect())
+    }
+
+    /// Every body's row of bodies.csv, numbered from 1 as in frames, or
+    /// `None` without clumps.
+    pub fn body_rows(&self) -> Option<Vec<BodyRow>> {
+        let c = self.clumps.as_ref()?;
+        let b = &c.bodies;
+        let rows = b.bodies.iter().enumerate().map(|(k, body)| BodyRow {
+            id: k as u64 + 1,
+            shape: b.shape(k).name.clone(),
+            pos: body.pos.to_array(),
+            quat: body.quat,
+            vel: body.vel.to_array(),
+            ang_mom: body.ang_mom.to_array(),
+            omega: b.omega(k).to_array(),
+        });
+        Some(rows.collect())
     }
 }

@@ -691,6 +691,7 @@ impl<D: Dim> Md<D> {
     pub fn frame(&self) -> Frame {
         let mut f = self.view().frame();
         f.body = self.frame_bodies(f.len());
+        f.orientation = self.frame_orientations(f.len());
         f
     }
 

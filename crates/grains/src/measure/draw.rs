@@ -78,6 +78,10 @@ pub fn in_box(frame: &Frame) -> Frame {
             .body
             .as_ref()
             .map(|b| keep.iter().map(|&i| b[i]).collect()),
+        orientation: frame
+            .orientation
+            .as_ref()
+            .map(|q| keep.iter().map(|&i| q[i]).collect()),
         ..frame.clone()
     }
 }

@@ -250,6 +250,7 @@ fn load_frame(d: &mut Dec) -> DecResult<Frame> {
         omega: Vec::with_capacity(n),
         radius: Vec::with_capacity(n),
         body: None,
+        orientation: None,
         mass: Vec::new(),
     };
     for _ in 0..n {

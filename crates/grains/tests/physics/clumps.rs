@@ -21,10 +21,10 @@ use grains::rigid::{BodySpec, Shape, SubSphere};
 use grains::{ParticleRecord, Particles, D3};
 use std::f64::consts::PI;
 
-const R: f64 = 1e-3;
-const RHO: f64 = 2500.0;
+pub(super) const R: f64 = 1e-3;
+pub(super) const RHO: f64 = 2500.0;
 
-fn sphere_mass() -> f64 {
+pub(super) fn sphere_mass() -> f64 {
     RHO * 4.0 / 3.0 * PI * R.powi(3)
 }
 
@@ -57,7 +57,7 @@ fn dimer(axis: usize) -> Shape<D3> {
 
 /// A linear spring–dashpot without friction: k (N/m), damping γ_n (1/s)
 /// times the damping mass.
-fn hooke(kn: f64, gamma_n: f64) -> ContactLaw {
+pub(super) fn hooke(kn: f64, gamma_n: f64) -> ContactLaw {
     ContactLaw {
         kn,
         beta: 1.0,
@@ -70,13 +70,13 @@ fn hooke(kn: f64, gamma_n: f64) -> ContactLaw {
     }
 }
 
-fn settings(law: ContactLaw, dt: f64) -> MdSettings<D3> {
+pub(super) fn settings(law: ContactLaw, dt: f64) -> MdSettings<D3> {
     let mut s = MdSettings::<D3>::new(dt, law, 0.2 * R);
     s.integrator = grains::integrate::Integrator::Verlet;
     s
 }
 
-fn floor() -> Vec<Wall<D3>> {
+pub(super) fn floor() -> Vec<Wall<D3>> {
     let plane = WallShape::Plane {
         point: DVec3::ZERO,
         normal: DVec3::Z,
@@ -84,11 +84,11 @@ fn floor() -> Vec<Wall<D3>> {
     vec![Wall::new("floor", plane, Motion::Fixed).unwrap()]
 }
 
-fn big_box() -> Domain<D3> {
+pub(super) fn big_box() -> Domain<D3> {
     Domain::new(DVec3::splat(-0.1), DVec3::splat(0.1), [false; 3])
 }
 
-fn spec(pos: DVec3, orientation: [f64; 4], vel: DVec3, omega: DVec3) -> BodySpec<D3> {
+pub(super) fn spec(pos: DVec3, orientation: [f64; 4], vel: DVec3, omega: DVec3) -> BodySpec<D3> {
     BodySpec {
         shape: 0,
         kind: 1,
@@ -100,7 +100,7 @@ fn spec(pos: DVec3, orientation: [f64; 4], vel: DVec3, omega: DVec3) -> BodySpec
 }
 
 /// Quaternion of a turn by `angle` about the unit `axis`.
-fn turn(axis: DVec3, angle: f64) -> [f64; 4] {
+pub(super) fn turn(axis: DVec3, angle: f64) -> [f64; 4] {
     let (s, c) = (0.5 * angle).sin_cos();
     [c, s * axis.x, s * axis.y, s * axis.z]
 }
@@ -552,7 +552,7 @@ fn a_tilted_disk_dimer_leaves_with_the_spin_of_its_impulse() {
 /// A rod of three touching spheres along body x (centres at −2R, 0, 2R):
 /// M = 3 m_s, I_axis = 3 · (2/5) m_s R², I_perp = 3 · (2/5) m_s R² +
 /// 2 m_s (2R)² (parallel axes).
-fn rod() -> Shape<D3> {
+pub(super) fn rod() -> Shape<D3> {
     let ms = sphere_mass();
     let along = 3.0 * 0.4 * ms * R * R;
     let perp = along + 2.0 * ms * 4.0 * R * R;

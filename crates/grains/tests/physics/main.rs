@@ -10,6 +10,8 @@ mod binary_collision;
 mod body_weight;
 mod chung_ooi;
 mod clumps;
+mod clumps_outputs;
+mod clumps_statics;
 mod coarse_grain;
 mod conservation;
 mod friction_and_walls;

@@ -18,6 +18,7 @@ mod inlets;
 mod mesh_discharge;
 mod packed_fill;
 mod repose;
+mod repose_clumps;
 mod servo;
 mod shear;
 mod shipped_check;

@@ -215,6 +215,7 @@ impl Mirror {
             omega: (0..self.len()).map(|i| self.omega.get(i)).collect(),
             radius: self.radius.clone(),
             body: None,
+            orientation: None,
             mass: Vec::new(),
         }
     }
