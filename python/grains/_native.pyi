@@ -125,6 +125,14 @@ class Simulation:
     def angular_velocities(self) -> npt.NDArray[np.float64]:
         """Angular velocities (rad/s): shape (n,) in 2D, (n, 3) in 3D."""
     @property
+    def orientations(self) -> npt.NDArray[np.float64]:
+        """Rigid bodies' unit quaternions (w, x, y, z), principal frame to
+        space, shape (bodies, 4) in bodies.csv's order; (0, 4) without clumps."""
+    @property
+    def angular_momenta(self) -> npt.NDArray[np.float64]:
+        """Rigid bodies' angular momenta about their centres (kg m^2/s,
+        space frame), shape (bodies, 3); (0, 3) without clumps."""
+    @property
     def diameters(self) -> npt.NDArray[np.float64]:
         """Diameters (m), shape (n,)."""
     @property

@@ -296,6 +296,23 @@ impl Simulation {
     fn angular_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         self.column(py, Column::AngularVelocities)
     }
+    /// The rigid bodies' orientations: unit quaternions (w, x, y, z) that
+    /// turn each body's principal frame into space, float64, shape
+    /// (bodies, 4), in body order (bodies.csv's ids 1, 2, …); (0, 4)
+    /// without clumps.
+    #[getter]
+    fn orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let rows = self.session.body_rows();
+        body_array(py, rows.iter().flat_map(|b| b.quat), rows.len(), 4)
+    }
+    /// The rigid bodies' angular momenta about their centres of mass
+    /// (kg m²/s, space frame), float64, shape (bodies, 3) in 2D and 3D
+    /// (in 2D only z is non-zero), in body order; (0, 3) without clumps.
+    #[getter]
+    fn angular_momenta<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let rows = self.session.body_rows();
+        body_array(py, rows.iter().flat_map(|b| b.ang_mom), rows.len(), 3)
+    }
     /// Diameters (m), float64, shape (n,), a copy in id order.
     #[getter]
     fn diameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
@@ -443,4 +460,16 @@ impl Simulation {
             self.session.time()
         )
     }
+}
+
+/// A float64 array of shape (n, width) from `values` (row by row).
+fn body_array<'py>(
+    py: Python<'py>,
+    values: impl Iterator<Item = f64>,
+    n: usize,
+    width: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    let a = Array2::from_shape_vec((n, width), values.collect())
+        .map_err(|e| internal(Box::new(e.to_string())))?;
+    Ok(a.into_pyarray(py).into_any())
 }

@@ -4,6 +4,7 @@
 use crate::engine::Engine;
 use crate::error::Result;
 use crate::io::contact_records::Snapshot;
+use crate::io::BodyRow;
 use crate::scenario::Loaded;
 use serde_json::{Map, Value};
 
@@ -72,5 +73,9 @@ pub(super) trait Held: Send + Sync {
     /// tallies), if the engine keeps one.
     fn measurements(&self) -> Option<Vec<u8>> {
         None
+    }
+    /// The rigid bodies now, as bodies.csv's rows (none without clumps).
+    fn body_rows(&self) -> Vec<BodyRow> {
+        Vec::new()
     }
 }

@@ -5,6 +5,7 @@ use crate::dim::Dim;
 use crate::engine::Engine;
 use crate::error::Result;
 use crate::io::contact_records::Snapshot;
+use crate::io::BodyRow;
 use crate::md::Md;
 use crate::measure::granular_temperature;
 use crate::output::{md_summary, THERMO_COLUMNS};
@@ -201,6 +202,9 @@ impl<D: Dim> Held for MdEngine<D> {
     }
     fn snapshot(&self) -> Option<Snapshot> {
         Some(crate::measure::fields::snapshot(&self.md.view()))
+    }
+    fn body_rows(&self) -> Vec<BodyRow> {
+        self.md.body_rows().unwrap_or_default()
     }
     fn summary(&self, loaded: &Loaded, stepped: u64, wall_seconds: f64) -> Map<String, Value> {
         let md = &self.md;

@@ -293,6 +293,12 @@ impl Session {
         self.engine.contacts()
     }
 
+    /// The rigid bodies (clumps) now, numbered from 1 as in bodies.csv;
+    /// empty without clumps.
+    pub fn body_rows(&self) -> Vec<crate::io::BodyRow> {
+        self.engine.body_rows()
+    }
+
     /// The next step after now at which the fields begin or may sample.
     fn fields_next(&self) -> Option<u64> {
         self.loaded.scenario.measure.fields.as_ref()?;
