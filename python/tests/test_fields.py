@@ -104,6 +104,35 @@ def test_settled_bed_carries_the_weight_above(scenarios):
     assert np.abs(f["stress"][:, 0, 1]).max() < 0.01 * floor
 
 
+def test_a_two_axis_grid_is_indexed_x_then_y(scenarios):
+    """A grid along x and y comes back with shape (cells_x, cells_y),
+    density[i, j] at (x[i], y[j]): on the settled bed every x column is
+    empty above the grains (beyond the Gaussian's 3w reach) and filled in
+    the bed's middle. Laid out the wrong way, the empty points (the last
+    ones in the library's order, x fastest) would fill the last x rows."""
+    sets = {
+        "measure.fields.axes": ["x", "y"],
+        "measure.fields.cells": [4, 30],
+        "output.frames": False,
+        "output.contacts": False,
+    }
+    sim = grains.Simulation(bed(scenarios, **sets), threads=1)
+    sim.run()
+    f = sim.fields()
+    rho = f["density"]
+    assert f["axes"] == ["x", "y"]
+    assert rho.shape == (4, 30) and f["x"].shape == (4,) and f["y"].shape == (30,)
+    assert f["velocity"].shape == (4, 30, 2) and f["stress"].shape == (4, 30, 2, 2)
+    assert np.all(np.diff(f["x"]) > 0) and np.all(np.diff(f["y"]) > 0)
+    w = 1.0e-3  # the kernel's width, d0
+    top = (sim.positions[:, 1] + sim.diameters / 2).max()
+    empty = f["y"] > top + 3 * w
+    middle = np.abs(f["y"] - top / 2) < w
+    assert empty.sum() >= 5 and middle.sum() >= 1
+    assert np.all(rho[:, empty] == 0.0)
+    assert np.all(rho[:, middle] > 0.3 * rho.max())
+
+
 def test_fields_refused_without_the_table(scenarios):
     """A scenario without [measure.fields] names the table."""
     sim = grains.Simulation(scenarios / "two-particle-collision.toml")

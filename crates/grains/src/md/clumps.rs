@@ -37,13 +37,11 @@ pub(crate) struct Clumps {
     members: Vec<u32>,
     start: Vec<usize>,
     /// Per grain: frozen or a sub-sphere, what the grain integrators leave
-    /// alone (swapped in for `frozen` while they run).
+    /// alone (swapped in for `frozen` while they run) and gravity skips in
+    /// the field pass (a body takes M g once, at its centre of mass).
     pub held: Vec<bool>,
     /// Per grain: the mass the contact laws see, a sub-sphere's body's.
     pub contact_mass: Vec<f64>,
-    /// Per grain: the mass gravity weighs in the field pass, 0 for a
-    /// sub-sphere (its body takes M g once, at its centre of mass).
-    pub weight_mass: Vec<f64>,
 }
 
 fn xyz<D: Dim>(v: D::V) -> DVec3 {
@@ -260,20 +258,13 @@ impl<D: Dim> Md<D> {
         c.held.extend_from_slice(&p.frozen);
         c.contact_mass.clear();
         c.contact_mass.extend_from_slice(&p.mass);
-        c.weight_mass.clear();
-        c.weight_mass.extend_from_slice(&p.mass);
-        // The bodies' offsets change only when bodies are added (a
-        // checkpoint's are checked to be the scenario's): not at every
-        // neighbour rebuild.
-        if c.start.len() != c.bodies.bodies.len() + 1 {
-            c.start.clear();
-            let mut total = 0;
-            for b in 0..c.bodies.bodies.len() {
-                c.start.push(total);
-                total += c.bodies.shape(b).radii.len();
-            }
+        c.start.clear();
+        let mut total = 0;
+        for b in 0..c.bodies.bodies.len() {
             c.start.push(total);
+            total += c.bodies.shape(b).radii.len();
         }
+        c.start.push(total);
         let total = c.start[c.bodies.bodies.len()];
         c.members.clear();
         c.members.resize(total, u32::MAX);
@@ -282,7 +273,6 @@ impl<D: Dim> Md<D> {
                 c.grain_body[i] = b;
                 c.held[i] = true;
                 c.contact_mass[i] = c.bodies.shape(b as usize).mass;
-                c.weight_mass[i] = 0.0;
                 c.members[c.start[b as usize] + s as usize] = i as u32;
             }
         }
@@ -387,7 +377,7 @@ impl<D: Dim> Md<D> {
     /// Each body's force and torque about its centre of mass from its
     /// sub-spheres' (summed in shape order: the same bits on any threads).
     /// A sub-sphere's force holds its contacts only (the field pass weighs
-    /// it with [`Clumps::weight_mass`], 0): the body's weight is added
+    /// it not: it is [`Clumps::held`]): the body's weight is added
     /// once, at its centre of mass.
     pub(crate) fn gather_body_forces(&mut self) {
         let gravity = xyz::<D>(self.settings.gravity);

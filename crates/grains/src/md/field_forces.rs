@@ -16,9 +16,10 @@ pub struct FieldInput<'a, D: Dim> {
     /// The walls placed at the evaluation's time, once for all blocks.
     pub walls: &'a [PlacedWall<'a, D>],
     pub gravity: D::V,
-    /// The masses gravity weighs when not the contact laws' (rigid clumps:
-    /// 0 for a sub-sphere, whose body takes its weight at its centre).
-    pub weight_mass: Option<&'a [f64]>,
+    /// The grains gravity skips when not only the frozen ones (rigid
+    /// clumps: also the sub-spheres, whose body takes its weight at its
+    /// centre of mass).
+    pub weightless: Option<&'a [bool]>,
     pub dt: f64,
     pub update: bool,
     /// The mesh walls' springs, keyed by (grain, wall, patch).
@@ -115,10 +116,10 @@ pub fn field_part<D: Dim>(
     // Gravity after the walls, as each grain's sum has always been formed:
     // a loop of its own, without the walls' machinery around it.
     if input.gravity != D::zero() {
-        let mass = input.weight_mass.unwrap_or(g.mass);
-        let (frozen, mass) = (&g.frozen[range.clone()], &mass[range]);
-        for ((f, &frozen), &m) in force.iter_mut().zip(frozen).zip(mass) {
-            if !frozen {
+        let skip = input.weightless.unwrap_or(g.frozen);
+        let (skip, mass) = (&skip[range.clone()], &g.mass[range]);
+        for ((f, &skip), &m) in force.iter_mut().zip(skip).zip(mass) {
+            if !skip {
                 *f += input.gravity * m;
             }
         }

@@ -559,7 +559,7 @@ impl<D: Dim> Md<D> {
             law: &s.law,
             walls: &walls,
             gravity: s.gravity,
-            weight_mass: self.clumps.as_ref().map(|c| &c.weight_mass[..]),
+            weightless: self.clumps.as_ref().map(|c| &c.held[..]),
             dt: s.dt,
             update: update_history,
             mesh_springs: &self.mesh_springs,

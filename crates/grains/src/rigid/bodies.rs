@@ -65,17 +65,16 @@ impl Bodies {
     /// turns together, [`no_squish::free_rotations`]: each body's bits of
     /// [`no_squish::free_rotation`]).
     pub fn drift(&mut self, dt: f64) {
-        const BLOCK: usize = 256;
-        let mut turned = Vec::with_capacity(BLOCK.min(self.bodies.len()));
-        for block in self.bodies.chunks_mut(BLOCK) {
-            turned.clear();
-            for b in block.iter_mut() {
+        let mut turned = [([0.0; 4], DVec3::ZERO, [0.0; 3]); no_squish::BLOCK];
+        for block in self.bodies.chunks_mut(no_squish::BLOCK) {
+            let turned = &mut turned[..block.len()];
+            for (b, t) in block.iter_mut().zip(turned.iter_mut()) {
                 b.pos += b.vel * dt;
                 let inertia = self.shapes[b.shape as usize].inertia;
-                turned.push((b.quat, b.ang_mom, inertia));
+                *t = (b.quat, b.ang_mom, inertia);
             }
-            no_squish::free_rotations(&mut turned, dt);
-            for (b, &(q, l, _)) in block.iter_mut().zip(&turned) {
+            no_squish::free_rotations(turned, dt);
+            for (b, &(q, l, _)) in block.iter_mut().zip(turned.iter()) {
                 b.quat = q;
                 b.ang_mom = l;
             }

@@ -91,7 +91,7 @@ const SERIES_BELOW: f64 = 0.1;
 /// of the library's sincos cost a third of a clump run's step; the
 /// library's above.
 #[inline]
-pub fn sin_cos(x: f64) -> (f64, f64) {
+fn sin_cos(x: f64) -> (f64, f64) {
     if x.abs() >= SERIES_BELOW {
         return x.sin_cos();
     }
@@ -122,6 +122,10 @@ pub fn free_rotation(q: &mut Quat, l: &mut DVec3, inertia: [f64; 3], dt: f64) {
     *l = finish(q, p);
 }
 
+/// The bodies [`free_rotations`] turns together (its scratch is on the
+/// stack).
+pub const BLOCK: usize = 32;
+
 /// [`free_rotation`] of many bodies, each `(q, l, inertia)`, with the same
 /// bits: turn after turn over all of them, not body after body. One
 /// body's five turns are a chain of dependent steps (a sine and cosine
@@ -129,7 +133,6 @@ pub fn free_rotation(q: &mut Quat, l: &mut DVec3, inertia: [f64; 3], dt: f64) {
 /// turn by turn the bodies' links overlap.
 pub fn free_rotations(bodies: &mut [(Quat, DVec3, [f64; 3])], dt: f64) {
     // Scratch on the stack, a block of bodies at a time.
-    const BLOCK: usize = 32;
     for block in bodies.chunks_mut(BLOCK) {
         let mut p = [[0.0; 4]; BLOCK];
         for (p, (q, l, _)) in p.iter_mut().zip(block.iter()) {

@@ -151,11 +151,9 @@ impl FieldsMeasure {
 
     /// The windows: those closed and the one open, if it has samples.
     pub fn windows(&self) -> Vec<Fields> {
-        let mut out: Vec<Fields> = self.done.iter().map(CoarseGrainer::fields).collect();
-        if self.current.samples() > 0 {
-            out.push(self.current.fields());
-        }
-        out
+        (0..self.window_count())
+            .filter_map(|k| self.window(k))
+            .collect()
     }
 
     /// How many windows [`Self::windows`] gives, without working them out.
@@ -176,11 +174,7 @@ impl FieldsMeasure {
 
     /// The last of [`Self::windows`]: the open one if it has samples.
     fn last_window(&self) -> Option<Fields> {
-        if self.current.samples() > 0 {
-            Some(self.current.fields())
-        } else {
-            self.done.last().map(CoarseGrainer::fields)
-        }
+        self.window(self.window_count().checked_sub(1)?)
     }
 
     /// The step the measurement began at, the closed windows and the open
