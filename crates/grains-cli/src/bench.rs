@@ -18,6 +18,7 @@
 use crate::bench_gpu::GpuArgs;
 use clap::Args;
 use grains::comm::Comm;
+use grains::integrate::Integrator;
 use grains::md::decomp::{Balance, DecomposedMd};
 use grains::md::phase_times::PhaseTimes;
 use grains::md::Md;
@@ -129,6 +130,25 @@ fn peak_rss_bytes() -> u64 {
 }
 
 /// Wall and CPU seconds of `steps` steps, and the time of each phase.
+/// What the report says of a timed engine: its mobile grains, integrator,
+/// steps on one thread, the setup's seconds and [`time_steps`]'s figures.
+type Timed = (usize, Integrator, u64, f64, (f64, f64, PhaseTimes));
+
+/// A built engine's [`time_steps`] with the rest of [`Timed`]; the setup
+/// counted from `setup_start`.
+fn timed_run<D: Dim>(md: &mut Md<D>, steps: u64, setup_start: Instant) -> Result<Timed> {
+    let setup = setup_start.elapsed().as_secs_f64();
+    let w = time_steps(md, steps)?;
+    let narrow = md.governor.steps_wide_narrow().1;
+    Ok((
+        md.particles.n_mobile(),
+        md.settings.integrator,
+        narrow,
+        setup,
+        w,
+    ))
+}
+
 fn time_steps<D: Dim>(md: &mut Md<D>, steps: u64) -> Result<(f64, f64, PhaseTimes)> {
     md.timing.reset();
     let (start, cpu0) = (Instant::now(), cpu_seconds());
@@ -254,41 +274,15 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let mut bodies = None;
     let (particles, integrator, narrow, setup, (wall, cpu, timing)) = if clumps {
         let (mut md, count) = crate::bench_clumps::build(&loaded)?;
-        let setup = setup_start.elapsed().as_secs_f64();
-        let w = time_steps(&mut md, steps)?;
+        let timed = timed_run(&mut md, steps, setup_start)?;
         bodies = Some(crate::bench_clumps::Report::of(&md, count));
-        let narrow = md.governor.steps_wide_narrow().1;
-        (
-            md.particles.n_mobile(),
-            md.settings.integrator,
-            narrow,
-            setup,
-            w,
-        )
+        timed
     } else if loaded.scenario.dimension.axes() == 2 {
         let (mut md, _) = build_md_reporting::<D2>(&loaded, &mut report)?;
-        let setup = setup_start.elapsed().as_secs_f64();
-        let w = time_steps(&mut md, steps)?;
-        let narrow = md.governor.steps_wide_narrow().1;
-        (
-            md.particles.n_mobile(),
-            md.settings.integrator,
-            narrow,
-            setup,
-            w,
-        )
+        timed_run(&mut md, steps, setup_start)?
     } else {
         let (mut md, _) = build_md_reporting::<D3>(&loaded, &mut report)?;
-        let setup = setup_start.elapsed().as_secs_f64();
-        let w = time_steps(&mut md, steps)?;
-        let narrow = md.governor.steps_wide_narrow().1;
-        (
-            md.particles.n_mobile(),
-            md.settings.integrator,
-            narrow,
-            setup,
-            w,
-        )
+        timed_run(&mut md, steps, setup_start)?
     };
     let threads = rayon::current_num_threads();
     let dims = loaded.scenario.dimension.axes();
