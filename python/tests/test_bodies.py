@@ -29,6 +29,7 @@ omega = [30.0, 0.0, 20.0]
 preset = "lammps-hooke-history"
 
 [run]
+integrator = "verlet"
 dt = 1.0e-6
 duration = 1.0e-3
 
