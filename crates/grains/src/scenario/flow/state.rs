@@ -285,8 +285,8 @@ impl<D: Dim> FlowRun<D> {
     /// Takes over what [`FlowRun::carried_grains`] returned: the inlets'
     /// counters and next grain id, the outlets' removals, the grains and
     /// mass the run began with (the mass balance spans the checkpoint's run
-    /// and the restart) and the sensors' counts. The rest of the flow run (events, recycling, measurements)
-    /// begins afresh at the restart.
+    /// and the restart) and the sensors' counts. The rest of the flow run
+    /// (events, recycling, measurements) begins afresh at the restart.
     pub fn carry(&mut self, carried: Option<&[u8]>, origin: &str) -> Result<()> {
         let Some(bytes) = carried else {
             return Ok(());
