@@ -45,20 +45,11 @@ fn rod() -> Shape<D3> {
 
 /// Finds `bench/<file>` from the working directory or the source tree.
 fn bench_path(file: &str) -> Result<PathBuf> {
-    let here = PathBuf::from("bench").join(file);
-    if here.exists() {
-        return Ok(here);
-    }
-    let source = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../bench")
-        .join(file);
-    if source.exists() {
-        return Ok(source);
-    }
-    Err(Error::input(format!(
-        "cannot find bench/{file}: run `grains bench` from the repository root \
-         (or make it with `python3 bench/make_chute_clumps.py`)"
-    )))
+    crate::bench::repo_file(
+        "bench",
+        file,
+        " (or make it with `python3 bench/make_chute_clumps.py`)",
+    )
 }
 
 /// The bodies of a file of lines `x y z qw qx qy qz vx vy vz` (`#` starts

@@ -178,14 +178,15 @@ fn encode_mesh_springs<D: Dim>(e: &mut Enc, springs: &[MeshEntry<D::V>]) {
     }
 }
 
-/// Reads what [`encode_mesh_springs`] wrote; `names` name its count,
-/// grain, wall, patch and spring in errors.
-fn decode_mesh_springs<D: Dim>(d: &mut Dec, names: [&str; 5]) -> DecResult<Vec<MeshEntry<D::V>>> {
-    let n = d.len(12 + 8 * D::D, names[0])?;
+/// Reads what [`encode_mesh_springs`] wrote; `what` names the springs
+/// (and with "count", "grain", "wall", "patch" their parts) in errors.
+fn decode_mesh_springs<D: Dim>(d: &mut Dec, what: &str) -> DecResult<Vec<MeshEntry<D::V>>> {
+    let n = d.len(12 + 8 * D::D, &format!("{what} count"))?;
+    let [grain, wall, patch] = ["grain", "wall", "patch"].map(|k| format!("{what} {k}"));
     let mut out = Vec::with_capacity(n);
     for _ in 0..n {
-        let key = (d.u32(names[1])?, d.u32(names[2])?, d.u32(names[3])?);
-        out.push((key, d.vec::<D>(names[4])?));
+        let key = (d.u32(&grain)?, d.u32(&wall)?, d.u32(&patch)?);
+        out.push((key, d.vec::<D>(what)?));
     }
     Ok(out)
 }
@@ -254,16 +255,7 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
     let wall_springs = d.vecs::<D>("wall springs")?;
     let rolling = d.vecs::<D>("rolling springs")?;
     let wall_rolling = d.vecs::<D>("wall rolling springs")?;
-    let mesh_springs = decode_mesh_springs::<D>(
-        d,
-        [
-            "mesh spring count",
-            "mesh spring grain",
-            "mesh spring wall",
-            "mesh spring patch",
-            "mesh spring",
-        ],
-    )?;
+    let mesh_springs = decode_mesh_springs::<D>(d, "mesh spring")?;
     let nl = d.len(48, "wall load count")?;
     let mut loads = Vec::with_capacity(nl);
     for _ in 0..nl {
@@ -339,16 +331,7 @@ pub fn decode_md<D: Dim>(d: &mut Dec) -> DecResult<MdState<D>> {
         } else if tag == BODY_TAG {
             bodies = decode_bodies(d)?;
         } else {
-            mesh_rolling = decode_mesh_springs::<D>(
-                d,
-                [
-                    "mesh rolling spring count",
-                    "mesh rolling spring grain",
-                    "mesh rolling spring wall",
-                    "mesh rolling spring patch",
-                    "mesh rolling spring",
-                ],
-            )?;
+            mesh_rolling = decode_mesh_springs::<D>(d, "mesh rolling spring")?;
         }
         next = word(d, "section tag")?;
     }
