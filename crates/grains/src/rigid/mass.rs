@@ -168,17 +168,31 @@ impl Pieces for Solid {
     }
 
     fn quadrature(&self, b: Ball, earlier: &[Ball]) -> (Moments, f64) {
-        let scale = self.ball(b.1);
-        let mut polar = 16;
-        let mut last = sphere_rays(b, earlier, polar);
-        loop {
-            polar *= 2;
-            let next = sphere_rays(b, earlier, polar);
-            let change = change(&last, &next, b.1, scale.0);
-            last = next;
-            if change < TOLERANCE || polar >= MAX_POLAR {
-                return (last, change);
-            }
+        let volume = self.ball(b.1).0;
+        refine(b.1, volume, 16, MAX_POLAR, |n| sphere_rays(b, earlier, n))
+    }
+}
+
+/// A ball's moments by `rays` over `n` directions, `n` doubled from
+/// `start` until they change by less than [`TOLERANCE`] (relative to the
+/// ball of radius `r` and size `size`) or `n` reaches `max`; with that last
+/// change.
+fn refine(
+    r: f64,
+    size: f64,
+    start: usize,
+    max: usize,
+    rays: impl Fn(usize) -> Moments,
+) -> (Moments, f64) {
+    let mut n = start;
+    let mut last = rays(n);
+    loop {
+        n *= 2;
+        let next = rays(n);
+        let change = change(&last, &next, r, size);
+        last = next;
+        if change < TOLERANCE || n >= max {
+            return (last, change);
         }
     }
 }
@@ -215,18 +229,8 @@ impl Pieces for Flat {
     }
 
     fn quadrature(&self, b: Ball, earlier: &[Ball]) -> (Moments, f64) {
-        let scale = self.ball(b.1);
-        let mut dirs = 64;
-        let mut last = disk_rays(b, earlier, dirs);
-        loop {
-            dirs *= 2;
-            let next = disk_rays(b, earlier, dirs);
-            let change = change(&last, &next, b.1, scale.0);
-            last = next;
-            if change < TOLERANCE || dirs >= MAX_DIRECTIONS {
-                return (last, change);
-            }
-        }
+        let area = self.ball(b.1).0;
+        refine(b.1, area, 64, MAX_DIRECTIONS, |n| disk_rays(b, earlier, n))
     }
 }
 
