@@ -60,26 +60,7 @@ pub struct BenchArgs {
 
 /// Finds `scenarios/<file>` from the working directory or the source tree.
 fn scenario_path(file: &str) -> Result<PathBuf> {
-    repo_file("scenarios", file, "")
-}
-
-/// Finds `<dir>/<file>` from the working directory or the source tree;
-/// `hint` ends the error's advice.
-pub(crate) fn repo_file(dir: &str, file: &str, hint: &str) -> Result<PathBuf> {
-    let here = PathBuf::from(dir).join(file);
-    if here.exists() {
-        return Ok(here);
-    }
-    let source = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .join(dir)
-        .join(file);
-    if source.exists() {
-        return Ok(source);
-    }
-    Err(Error::input(format!(
-        "cannot find {dir}/{file}: run `grains bench` from the repository root{hint}"
-    )))
+    crate::repo_file::repo_file("scenarios", file, "")
 }
 
 /// A dense 3D bed: spheres of diameter 1 (±10%) on a cubic lattice of pitch

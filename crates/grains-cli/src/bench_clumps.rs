@@ -45,7 +45,7 @@ fn rod() -> Shape<D3> {
 
 /// Finds `bench/<file>` from the working directory or the source tree.
 fn bench_path(file: &str) -> Result<PathBuf> {
-    crate::bench::repo_file(
+    crate::repo_file::repo_file(
         "bench",
         file,
         " (or make it with `python3 bench/make_chute_clumps.py`)",

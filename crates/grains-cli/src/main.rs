@@ -9,6 +9,7 @@ mod cg;
 mod launch;
 mod movie;
 mod progress;
+mod repo_file;
 mod sweep;
 mod view;
 

@@ -3,7 +3,7 @@
 //! their own while Python keeps answering Ctrl-C.
 
 use crate::errors::{guard, internal, InputError};
-use crate::scenario::{scenario_arg, toml_value};
+use crate::scenario::{scenario_arg, sets_arg, toml_value};
 use crate::simulation::pool;
 use grains::runner::{self, RunOptions, Silent};
 use grains::scenario::sweep::{grid, variant_name, variant_sets};
@@ -17,30 +17,6 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
 use std::time::Duration;
-
-/// `set=`: a dict {key: value}, a list of "KEY=VALUE" strings, or one.
-pub(crate) fn sets_arg(set: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<String>> {
-    let Some(set) = set.filter(|s| !s.is_none()) else {
-        return Ok(Vec::new());
-    };
-    if let Ok(d) = set.cast::<PyDict>() {
-        let mut out = Vec::new();
-        for (k, v) in d.iter() {
-            let k: String = k.extract()?;
-            out.push(format!("{k}={}", toml_value(&v, &k)?));
-        }
-        return Ok(out);
-    }
-    if set.is_instance_of::<PyString>() {
-        return Ok(vec![set.extract()?]);
-    }
-    if set.is_instance_of::<PyList>() || set.is_instance_of::<PyTuple>() {
-        return set.extract();
-    }
-    Err(PyTypeError::new_err(
-        "set: give a dict {\"contact.mu\": 0.3} or a list of \"KEY=VALUE\" strings",
-    ))
-}
 
 /// The scenario to run: a `Scenario`, a path, or None (the built-in
 /// default, seed 002 Fig. 2), with the overrides.

@@ -182,3 +182,27 @@ pub fn scenario_arg(arg: &Bound<'_, PyAny>, sets: Vec<String>) -> PyResult<Scena
         ))),
     }
 }
+
+/// `set=`: a dict {key: value}, a list of "KEY=VALUE" strings, or one.
+pub(crate) fn sets_arg(set: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<String>> {
+    let Some(set) = set.filter(|s| !s.is_none()) else {
+        return Ok(Vec::new());
+    };
+    if let Ok(d) = set.cast::<PyDict>() {
+        let mut out = Vec::new();
+        for (k, v) in d.iter() {
+            let k: String = k.extract()?;
+            out.push(format!("{k}={}", toml_value(&v, &k)?));
+        }
+        return Ok(out);
+    }
+    if set.is_instance_of::<PyString>() {
+        return Ok(vec![set.extract()?]);
+    }
+    if set.is_instance_of::<PyList>() || set.is_instance_of::<PyTuple>() {
+        return set.extract();
+    }
+    Err(PyTypeError::new_err(
+        "set: give a dict {\"contact.mu\": 0.3} or a list of \"KEY=VALUE\" strings",
+    ))
+}

@@ -3,8 +3,8 @@
 
 use crate::errors::{guard, internal, InputError};
 use crate::progress::Bar;
-use crate::run::sets_arg;
 use crate::scenario::scenario_arg;
+use crate::scenario::sets_arg;
 use grains::session::{Column, Session};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, IxDyn, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
