@@ -175,8 +175,8 @@ pub(super) struct DistMd<'c, D: Dim> {
     /// Rank 0's whole engine (a cell, as a checkpoint gathers into it
     /// through [`Engine::export`]).
     mirror: RefCell<Option<Md<D>>>,
-    /// The mirror's place of each grain id (it never re-sorts, so the index
-    /// built at the start holds).
+    /// The mirror's place of each grain id (it never steps, so the index
+    /// holds until the flow run inserts or removes grains, which renew it).
     index: HashMap<u64, usize>,
     /// The step at which the mirror last received the grains.
     fresh: Option<u64>,
