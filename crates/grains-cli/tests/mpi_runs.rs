@@ -13,7 +13,8 @@
 //! and the reverse, continuing the straight run to rounding. DSMC frames in
 //! pieces on 2 ranks hold the serial run's particles, each once. A fill
 //! with an inlet, an outlet and a sensor on 2 and 3 ranks inserts, removes
-//! and counts the serial run's grains.
+//! and counts the serial run's grains, and its checkpoint written on 2
+//! ranks resumes on one process.
 #![cfg(feature = "mpi")]
 
 mod common;
@@ -599,4 +600,54 @@ fn md_fill_with_inlet_outlet_and_sensor_gives_the_serial_grains_on_2_3_ranks() {
     }
     let _ = std::fs::remove_dir_all(&serial);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn md_fill_checkpointed_on_2_ranks_resumes_on_one_process() {
+    // The fill above on 2 ranks with a checkpoint every 4000 steps,
+    // resumed on one process from step 4000 (mid-insertion, the floor
+    // gone): the checkpoint holds the inserted grains and the inlets' and
+    // outlets' state, so the resumed run ends with the straight serial
+    // run's inlets' report, mass balance and outflow.csv.
+    let dir = scratch("fill-ck-file");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("fill-2d.toml");
+    std::fs::write(&file, include_str!("../../grains/tests/data/fill-2d.toml")).unwrap();
+    let serial = run_ok(0, &file, "8000", "fill-ck-0", &[]);
+    let run = scratch("fill-ck-2");
+    let args = [
+        "run",
+        file.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        run.to_str().unwrap(),
+        "--checkpoint-every",
+        "4000steps",
+    ];
+    let out = grains(2, &args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mid = run.join("checkpoint-000000004000.grck");
+    let out = grains(0, &["resume", mid.to_str().unwrap(), "--quiet"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let summary = |d: &Path| -> serde_json::Value {
+        serde_json::from_slice(&read(&d.join("summary.json"))).unwrap()
+    };
+    let (s0, s) = (summary(&serial), summary(&run));
+    assert!(s0["mass_balance"]["removed_grains"].as_u64().unwrap() > 0);
+    for key in ["inlets", "mass_balance", "outlets", "sensors", "particles"] {
+        assert_eq!(s[key], s0[key], "{key}");
+    }
+    assert!(read(&run.join("outflow.csv")) == read(&serial.join("outflow.csv")));
+    same_thermo(&run, &serial, "resumed on one process");
+    for d in [&serial, &run, &dir] {
+        let _ = std::fs::remove_dir_all(d);
+    }
 }
