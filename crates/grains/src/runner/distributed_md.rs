@@ -23,8 +23,10 @@
 //! set on any rank would stop all at one step, [`Engine::any_rank`]).
 //!
 //! Flow events (`[hopper]` recycling, `run.events`: settle, wall removal,
-//! tilt, sink) run on rank 0's mirror with the serial code and are sent to
-//! every rank ([`DistMd::flow_events`]).
+//! tilt, sink; inlets, outlets and sensors) run on rank 0's mirror with the
+//! serial code and are sent to every rank ([`DistMd::flow_events`]): moved
+//! grains go to their owners, inserted grains to the rank whose box holds
+//! them, removed ids to every rank ([`DecomposedMd::edit`]).
 //! The per-step measurements (`measure.phases`, `measure.trajectories`)
 //! gather the grains only at the steps where they read them: rank 0 says
 //! which (one summed flag per step).
@@ -40,7 +42,7 @@ use crate::dim::Dim;
 use crate::engine::Engine;
 use crate::error::{Error, Result};
 use crate::io::Frame;
-use crate::md::decomp::{get_vec, index_by_id, put_vec, DecomposedMd};
+use crate::md::decomp::{index_by_id, DecomposedMd};
 use crate::md::Md;
 use crate::measure::measurements::Measurements;
 use crate::output::{Outputs, Pieces};
@@ -58,7 +60,6 @@ pub fn run<D: Dim>(
     progress: &mut dyn Progress,
     comm: &dyn Comm,
 ) -> Result<Value> {
-    crate::scenario::flow::refuse_ranks(loaded)?;
     let root = comm.rank() == 0;
     if root {
         prepare_fresh(opts)?;
@@ -94,7 +95,6 @@ pub(super) fn resume<D: Dim>(
     comm: &dyn Comm,
 ) -> Result<Value> {
     let loaded = found.loaded();
-    crate::scenario::flow::refuse_ranks(loaded)?;
     let r = found.restore::<D>(steps)?;
     let root = comm.rank() == 0;
     let (mirror, outputs) = match root {
@@ -142,9 +142,13 @@ fn start<D: Dim>(
         .as_ref()
         .map(|m| index_by_id(&m.particles))
         .unwrap_or_default();
+    // The inlets' largest grain widens the ghost shells from the start.
+    let inserted = crate::scenario::inlet::extent(&loaded.scenario, &loaded.base_dir)?
+        .map_or(0.0, |(_, d)| 0.5 * d);
+    let spec = &loaded.scenario.parallel;
     let dec = match full.step {
-        0 => DecomposedMd::with_spec(full, comm, &loaded.scenario.parallel)?,
-        _ => DecomposedMd::resume(full, comm, &loaded.scenario.parallel)?,
+        0 => DecomposedMd::with_inserts(full, comm, spec, inserted)?,
+        _ => DecomposedMd::resume(full, comm, spec, inserted)?,
     };
     let engine = DistMd {
         dec,
@@ -155,6 +159,7 @@ fn start<D: Dim>(
         pieces: Pieces::new(&loaded.scenario.output, &opts.out_dir, comm),
         sink: flow::sink_height(loaded),
         events: loaded.scenario.run.events.is_some(),
+        edits: flow::edits(loaded),
     };
     let parts = MdPhases::new((loaded, opts), resolved, flow, restored);
     let start = Start::new(engine, outputs, plan, parts);
@@ -170,8 +175,8 @@ pub(super) struct DistMd<'c, D: Dim> {
     /// Rank 0's whole engine (a cell, as a checkpoint gathers into it
     /// through [`Engine::export`]).
     mirror: RefCell<Option<Md<D>>>,
-    /// The mirror's place of each grain id (it never re-sorts, so the index
-    /// built at the start holds).
+    /// The mirror's place of each grain id (it never steps, so the index
+    /// holds until the flow run inserts or removes grains, which renew it).
     index: HashMap<u64, usize>,
     /// The step at which the mirror last received the grains.
     fresh: Option<u64>,
@@ -180,6 +185,8 @@ pub(super) struct DistMd<'c, D: Dim> {
     sink: Option<f64>,
     /// Whether the scenario has `run.events`.
     events: bool,
+    /// Whether it has inlets, outlets or sensors ([`flow::edits`]).
+    edits: bool,
 }
 
 impl<'c, D: Dim> DistMd<'c, D> {
@@ -272,23 +279,28 @@ impl<D: Dim> MdView for DistMd<'_, D> {
         self.pieces.write(|| self.dec.md.frame())
     }
     /// Flow events of one step on every rank: rank 0 runs them on the
-    /// mirror with the serial code, then sends gravity, the walls' removal
-    /// times and the grains they moved (id, position, frozen) to all ranks,
-    /// whose owners put their grains there ([`flow::place`]). The mirror is
-    /// gathered first only when the events read the grains: when some rank
-    /// holds a mobile grain below the sink (a sum over the ranks), or at a
-    /// look of `run.events` (its kinetic energy, the pile's top and slope).
-    /// A moved grain jumps far beyond skin/2, so the next step's rebuild
-    /// vote migrates it to the rank of its new place. The mirror then
-    /// holds this step's state (gathered, then changed as the ranks change
-    /// it).
+    /// mirror with the serial code (recycling, `run.events`, then the
+    /// inlets, outlets and sensors), then sends gravity, the walls' removal
+    /// times, the grains they moved (id, position, frozen), the grains the
+    /// inlets inserted (whole records) and the ids the outlets removed to
+    /// all ranks. The owners put their moved grains there ([`flow::place`]);
+    /// each rank inserts the new grains in its box and removes its own
+    /// removed ones ([`DecomposedMd::edit`]). The mirror is gathered first
+    /// only when the events read the grains: when some rank holds a mobile
+    /// grain below the sink (a sum over the ranks), at a look of
+    /// `run.events` (its kinetic energy, the pile's top and slope), or when
+    /// an inlet, outlet or sensor acts at this step (rank 0's word, in the
+    /// same sum). A moved grain jumps far beyond skin/2, so the next step's
+    /// rebuild vote migrates it to the rank of its new place; an edit makes
+    /// every rank rebuild at the next step. The mirror then holds this
+    /// step's state (gathered, then changed as the ranks change it).
     ///
     /// Unlike the serial engine, the mirror never re-sorts its grains: when
     /// several grains fall below the sink in one step, they draw their new
     /// spots in another order than the serial run does (the same spots,
     /// other grains).
     fn flow_events(&mut self, flow: Option<&mut FlowRun<D>>) -> Result<()> {
-        if self.sink.is_none() && !self.events {
+        if self.sink.is_none() && !self.events && !self.edits {
             return Ok(());
         }
         let v = D::vertical();
@@ -298,52 +310,26 @@ impl<D: Dim> MdView for DistMd<'_, D> {
                 .filter(|&i| !p.frozen[i] && D::get(p.pos[i], v) < s)
                 .count() as u64
         });
-        let mut need = [below];
+        let step = self.dec.md.step;
+        let due = flow.as_deref().is_some_and(|f| f.edits_at(step));
+        let mut need = [below + u64::from(due)];
         self.comm().sum_u64(&mut need);
-        let look = self.events && self.dec.md.step.is_multiple_of(flow::LOOK_EVERY);
+        let look = self.events && step.is_multiple_of(flow::LOOK_EVERY);
         if need[0] > 0 || look {
             self.gathered();
         } else if !self.events {
-            // Recycling alone changes nothing while no grain is below the sink.
+            // Recycling, inlets, outlets and sensors change nothing now.
             return Ok(());
         }
-        let (time, step) = (self.dec.md.time, self.dec.md.step);
         let mut w = Writer::default();
+        let mut failed = None;
         if let (Some(m), Some(f)) = (self.mirror.get_mut().as_mut(), flow) {
-            (m.time, m.step) = (time, step);
-            let placed = f.after_step(m);
-            put_vec::<D>(&mut w, m.settings.gravity);
-            for wall in &m.walls {
-                w.f64(wall.remove_at.unwrap_or(f64::NAN));
-            }
-            w.u64(placed.len() as u64);
-            for (id, x) in placed {
-                w.u64(id);
-                put_vec::<D>(&mut w, x);
-                w.u64(m.particles.frozen[self.index[&id]] as u64);
-            }
+            let now = (self.dec.md.time, step);
+            failed = f.step_on_mirror(m, &mut self.index, now, &mut w).err();
         }
         let all = self.comm().all_gather_bytes(&w.buf);
-        let mut rd = Reader::new(&all[0]);
-        let md = &mut self.dec.md;
-        md.settings.gravity = get_vec::<D>(&mut rd);
-        for wall in md.walls.iter_mut() {
-            let t = rd.f64();
-            wall.remove_at = (!t.is_nan()).then_some(t);
-        }
-        let moved = rd.u64();
-        if moved > 0 {
-            let p = &mut md.particles;
-            let owned = index_by_id(p);
-            for _ in 0..moved {
-                let (id, x, frozen) = (rd.u64(), get_vec::<D>(&mut rd), rd.u64() != 0);
-                if let Some(&i) = owned.get(&id) {
-                    flow::place(p, i, x);
-                    p.frozen[i] = frozen;
-                }
-            }
-        }
-        Ok(())
+        let rank = self.comm().rank();
+        flow::apply_on_rank(&mut self.dec, &mut Reader::new(&all[0]), rank, failed)
     }
     fn summarize(&mut self, summary: &mut Map<String, Value>, _: f64) {
         let mut ghosts = [self.dec.n_ghosts() as u64];

@@ -110,7 +110,8 @@ impl<D: Dim, E: MdView<D = D>> Phases<E> for MdPhases<'_, D> {
         let (loaded, every) = (self.loaded, self.resolved.output_every);
         let flow_lockstep = e.lockstep()
             && (crate::scenario::flow::sink_height(loaded).is_some()
-                || loaded.scenario.run.events.is_some());
+                || loaded.scenario.run.events.is_some()
+                || crate::scenario::flow::edits(loaded));
         let sample = measured.map(|(base, _)| Every::new(base, (every / 10).max(1), None));
         let events = FlowHook {
             flow: self.flow.as_mut(),

@@ -25,7 +25,10 @@ use serde_json::{json, Map, Value};
 use std::fmt::Write as _;
 use std::path::Path;
 
+mod ranks;
 mod state;
+
+pub use ranks::apply_on_rank;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Stage {
@@ -186,6 +189,15 @@ impl<D: Dim> FlowRun<D> {
         next.min(horizon)
             .min(self.inlets.next_act(now, horizon))
             .min(outlets)
+    }
+
+    /// Whether an inlet, outlet or sensor acts after `step` (reads or
+    /// changes the grains), as [`FlowRun::next_act`] schedules them.
+    pub fn edits_at(&self, step: u64) -> bool {
+        let (now, horizon) = (step.saturating_sub(1), step + 1);
+        let outlets = self.outlets.as_ref();
+        self.inlets.next_act(now, horizon) == step
+            || outlets.is_some_and(|o| o.next_due(now, horizon) == step)
     }
 
     /// The outlets and sensors after the step (after [`FlowRun::after_step`]):
@@ -444,11 +456,12 @@ impl<D: Dim> FlowRun<D> {
     }
 }
 
-/// What a flow run does on one process only, refused by name under
-/// mpirun: inlets and outlets add and remove grains, sensors read them.
-pub fn refuse_ranks(loaded: &Loaded) -> Result<()> {
-    crate::scenario::inlet::refuse_ranks(loaded)?;
-    crate::scenario::outlet::refuse_under_mpirun(&loaded.scenario)
+/// Whether `loaded` has inlets, outlets or sensors: what adds, removes or
+/// counts grains at steps that only the flow run knows (a decomposed run
+/// asks it at every step, [`FlowRun::edits_at`]).
+pub fn edits(loaded: &Loaded) -> bool {
+    let s = &loaded.scenario;
+    !(s.inlets.is_empty() && s.outlets.is_empty() && s.sensors.is_empty())
 }
 
 /// Highest grain top among the mobile grains.

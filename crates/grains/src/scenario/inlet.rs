@@ -693,15 +693,3 @@ impl Inlet<crate::dim::D3> {
         Inlet::new(s, base, i, spec)
     }
 }
-
-/// `[[inlets]]` refused by name under mpirun: grains inserted on rank 0's
-/// mirror would have to be handed to the ranks whose boxes hold them.
-pub fn refuse_ranks(loaded: &Loaded) -> Result<()> {
-    if loaded.scenario.inlets.is_empty() {
-        return Ok(());
-    }
-    Err(Error::input(
-        "[[inlets]] run serially or on threads, not under mpirun: inserted grains would \
-         have to migrate to the ranks owning their boxes (run it without mpirun)",
-    ))
-}

@@ -405,6 +405,12 @@ impl<D: Dim> Outlets<D> {
         self.removed.iter().map(|r| r.id).collect()
     }
 
+    /// The ids of the last `n` grains removed, in the order removed.
+    pub fn last_removed(&self, n: usize) -> Vec<u64> {
+        let from = self.removed.len().saturating_sub(n);
+        self.removed[from..].iter().map(|r| r.id).collect()
+    }
+
     /// outflow.csv and sensors.csv in `dir`; the discharge rate, the
     /// sensors' counts and the mass balance into `summary`.
     pub fn finish(
@@ -563,17 +569,4 @@ impl<D: Dim> Outlets<D> {
         }
         Ok(())
     }
-}
-
-/// Outlets and sensors run on one process: under mpirun (every rank
-/// refuses alike) the scenario is refused by name.
-pub fn refuse_under_mpirun(s: &Scenario) -> Result<()> {
-    if s.outlets.is_empty() && s.sensors.is_empty() {
-        return Ok(());
-    }
-    Err(Error::input(
-        "[[outlets]]/[[sensors]] are not supported under mpirun: a removal would have to drop \
-         each grain on the rank that owns it, in its halo copies and in rank 0's mirror, in one \
-         order on every rank; run it on one process",
-    ))
 }

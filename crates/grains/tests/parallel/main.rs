@@ -9,4 +9,5 @@ mod common;
 mod determinism;
 mod distributed_dsmc;
 mod distributed_flow;
+mod distributed_inlets;
 mod distributed_md;

@@ -50,7 +50,13 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
     /// split's force evaluation sees the full-step velocities where the run
     /// saw Velocity Verlet's half-step ones: its forces would differ, and
     /// the Coulomb cap would cut sliding springs to other lengths.
-    pub fn resume(full: Md<D>, comm: &'c dyn Comm, spec: &ParallelSpec) -> Result<Self> {
+    /// `inserted`: as for [`Self::with_inserts`].
+    pub fn resume(
+        full: Md<D>,
+        comm: &'c dyn Comm,
+        spec: &ParallelSpec,
+        inserted: f64,
+    ) -> Result<Self> {
         let p = &full.particles;
         let loads: HashMap<u64, (D::V, D::A)> = (0..p.n_owned())
             .map(|i| (p.id[i], (p.force[i], p.torque[i])))
@@ -61,7 +67,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         for ((g, w), s) in full.wall_springs.entries() {
             walls.insert((p.id[g as usize], w), s);
         }
-        let mut dec = Self::with_spec(full, comm, spec)?;
+        let mut dec = Self::with_inserts(full, comm, spec, inserted)?;
         let md = &mut dec.md;
         let p = &mut md.particles;
         for i in 0..p.n_owned() {
@@ -106,9 +112,8 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             put_ang::<D>(&mut w, p.torque[i]);
         }
         let mine: HashSet<u64> = self.owned_ids().iter().copied().collect();
-        let mut pairs: Vec<PairSpring<D>> = self
-            .md
-            .save_springs()
+        let (pairs, walls) = self.springs_by_id();
+        let mut pairs: Vec<PairSpring<D>> = pairs
             .into_iter()
             .filter(|(k, _)| mine.contains(&k.0))
             .collect();
@@ -119,7 +124,6 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             w.u64(y);
             put_vec::<D>(&mut w, s);
         }
-        let walls = self.wall_springs_by_id();
         w.u64(walls.len() as u64);
         for (id, wall, s) in walls {
             w.u64(id);

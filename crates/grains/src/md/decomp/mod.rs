@@ -32,6 +32,7 @@
 //! order (the list order differs), never a different physics.
 
 pub mod balance;
+mod edit;
 mod gather;
 pub mod halo;
 mod migrate;
@@ -99,7 +100,14 @@ pub struct DecomposedMd<'c, D: Dim> {
     /// (ghost refresh, rebuild vote, statistics), waiting for others
     /// included: what the decomposition costs beyond the work itself.
     pub comm_seconds: f64,
+    /// The springs by grain id (pairs, walls) of grains inserted or removed
+    /// since the last step ([`Self::edit`]): the ghosts are gone and the
+    /// list is stale, so the next step rebuilds from these.
+    pending: Option<(PairSprings<D>, WallSpringsById<D>)>,
 }
+
+/// Wall springs as (grain id, wall, spring).
+type WallSpringsById<D> = Vec<(u64, u32, <D as Dim>::V)>;
 
 impl<'c, D: Dim> DecomposedMd<'c, D> {
     /// Splits a whole engine (the same on every rank, as built from the
@@ -111,6 +119,18 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
 
     /// As [`Self::new`], split as `spec` says.
     pub fn with_spec(full: Md<D>, comm: &'c dyn Comm, spec: &ParallelSpec) -> Result<Self> {
+        Self::with_inserts(full, comm, spec, 0.0)
+    }
+
+    /// As [`Self::with_spec`], for a run into which grains up to radius
+    /// `inserted` will be inserted ([`Self::edit`]): the ghost shells reach
+    /// far enough for them from the start.
+    pub fn with_inserts(
+        full: Md<D>,
+        comm: &'c dyn Comm,
+        spec: &ParallelSpec,
+        inserted: f64,
+    ) -> Result<Self> {
         if full.has_bodies() {
             return Err(Error::input(
                 "[[shapes]]: rigid clumps do not run under mpirun: bodies would have to migrate \
@@ -152,7 +172,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
             ));
         }
         let global = full.domain.clone();
-        let reach = 2.0 * full.particles.max_radius() + full.settings.skin;
+        let reach = 2.0 * full.particles.max_radius().max(inserted) + full.settings.skin;
         let n = full.particles.n_owned();
         let pos = &full.particles.pos[..n];
         let sub = Subdomains::by_count(&global, pos, comm.size(), reach, &spec.grid)?;
@@ -168,6 +188,7 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
                 ..Balance::default()
             },
             comm_seconds: 0.0,
+            pending: None,
         };
         if comm.size() > 1 {
             dec.split()?;
@@ -255,10 +276,15 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
         self.md.time = (self.md.step + 1) as f64 * self.md.settings.dt;
         self.md.step += 1;
         let comm = self.comm;
+        // After an edit (on every rank alike) the ghosts are gone: rebuild.
+        let edited = self.pending.is_some();
         let t = Instant::now();
-        self.halo.refresh(&mut self.md.particles, comm);
+        if !edited {
+            self.halo.refresh(&mut self.md.particles, comm);
+        }
         self.comm_seconds += t.elapsed().as_secs_f64();
         let rebuild = match agreed {
+            _ if edited => true,
             Some(vote) => vote,
             None => {
                 let mut vote = [(moved || self.md.ghosts_beyond_skin()) as u64];
@@ -288,8 +314,10 @@ impl<'c, D: Dim> DecomposedMd<'c, D> {
     /// Wraps, migrates, moves the bounds when the counts are out of
     /// balance (and migrates again), and rebuilds ghosts and list (step 3).
     fn rebuild(&mut self) -> Result<()> {
-        let mut saved = self.md.save_springs();
-        let mut walls = self.wall_springs_by_id();
+        let (mut saved, mut walls) = match self.pending.take() {
+            Some(kept) => kept,
+            None => (self.md.save_springs(), self.wall_springs_by_id()),
+        };
         let p = &mut self.md.particles;
         p.clear_ghosts();
         for i in 0..p.n_owned() {
