@@ -38,7 +38,7 @@ grains' density --rho-s.
 
 usage: beverloo_fit.py SWEEP_CSV --dim 2|3 [--d0 1e-3] [--max-outlet M]
                        [--rho-b RHO_B | --bed DUMP [--rho-s 2500] [--width 0.016]]
-                       [--square] [--png out.png]
+                       [--square] [--transient 0.3] [--bin 0.1] [--png out.png]
 """
 import argparse
 import csv
@@ -181,9 +181,13 @@ def main():
     ap.add_argument("--width", type=float, default=0.016)
     ap.add_argument("--square", action="store_true",
                     help="outlets are squares of side D: fit D_eq = 2 D / sqrt(pi)")
+    ap.add_argument("--transient", type=float, default=0.3,
+                    help="start (s) of the steady part that the rate errors read")
+    ap.add_argument("--bin", type=float, default=0.1,
+                    help="width (s) of the bins whose rates give the errors")
     ap.add_argument("--png")
     a = ap.parse_args()
-    pts, clogged = load(a.csv, a.max_outlet)
+    pts, clogged = load(a.csv, a.max_outlet, a.transient, a.bin)
     if len(pts) < 4:
         sys.exit(f"{a.csv}: {len(pts)} flowing outlets; a free fit needs at least 4")
     D, W = pts[:, 0], pts[:, 1]
