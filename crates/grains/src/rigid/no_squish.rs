@@ -211,8 +211,8 @@ impl Lanes {
         if j == BLOCK {
             return false;
         }
-        for a in 0..4 {
-            self.q[a][j] = q[a];
+        for (row, c) in self.q.iter_mut().zip(q) {
+            row[j] = c;
         }
         for a in 0..3 {
             self.l[a][j] = l[a];
@@ -288,14 +288,14 @@ impl Lanes {
             }
         }
         for j in 0..BLOCK {
-            let keep = !(self.inertia[K - 1][j] > 0.0);
+            let turns = self.inertia[K - 1][j] > 0.0;
             let (q, p) = (self.quat(j), self.mom(j));
             let (kq, kp) = (permute(K, q), permute(K, p));
             let (s, c) = (self.sin[j], self.cos[j]);
             for a in 0..4 {
                 let (tq, tp) = (c * q[a] + s * kq[a], c * p[a] + s * kp[a]);
-                self.q[a][j] = if keep { q[a] } else { tq };
-                self.p[a][j] = if keep { p[a] } else { tp };
+                self.q[a][j] = if turns { tq } else { q[a] };
+                self.p[a][j] = if turns { tp } else { p[a] };
             }
         }
     }
@@ -307,8 +307,8 @@ impl crate::simd::Kernel for Lanes {
         for j in 0..BLOCK {
             let l = DVec3::new(self.l[0][j], self.l[1][j], self.l[2][j]);
             let p = momentum(self.quat(j), l);
-            for a in 0..4 {
-                self.p[a][j] = p[a];
+            for (row, c) in self.p.iter_mut().zip(p) {
+                row[j] = c;
             }
         }
         // The turns of [`turns`], written out for their axes.
@@ -323,8 +323,8 @@ impl crate::simd::Kernel for Lanes {
             let (l, r) = finish(&mut q, self.mom(j));
             let inertia = [self.inertia[0][j], self.inertia[1][j], self.inertia[2][j]];
             let w = omega_turned(r, l, inertia);
-            for a in 0..4 {
-                self.q[a][j] = q[a];
+            for (row, c) in self.q.iter_mut().zip(q) {
+                row[j] = c;
             }
             for a in 0..3 {
                 self.l[a][j] = l[a];
