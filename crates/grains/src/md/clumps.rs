@@ -16,7 +16,7 @@ use crate::integrate::Integrator;
 use crate::io::BodyRow;
 use crate::particles::ParticleRecord;
 use crate::rigid::bodies::{Bodies, Body, BodyShape};
-use crate::rigid::no_squish;
+use crate::rigid::no_squish::{self, Turned};
 use crate::rigid::{BodySpec, Shape};
 use glam::DVec3;
 use std::collections::HashMap;
@@ -42,6 +42,9 @@ pub(crate) struct Clumps {
     pub held: Vec<bool>,
     /// Per grain: the mass the contact laws see, a sub-sphere's body's.
     pub contact_mass: Vec<f64>,
+    /// Per body: its rotation matrix and spin as its sub-spheres are
+    /// placed (scratch, from the drift's turns or computed anew).
+    turned: Vec<Turned>,
 }
 
 fn xyz<D: Dim>(v: D::V) -> DVec3 {
@@ -304,6 +307,21 @@ impl<D: Dim> Md<D> {
     /// image nearest to where it was (the grains are wrapped at rebuilds
     /// only, their bodies' centres too).
     pub(crate) fn place_sub_spheres(&mut self, positions: bool) {
+        let Some(c) = self.clumps.as_deref_mut() else {
+            return;
+        };
+        c.turned.clear();
+        for (b, body) in c.bodies.bodies.iter().enumerate() {
+            let r = c.bodies.rotation(b);
+            let omega = no_squish::omega_turned(r, body.ang_mom, c.bodies.shape(b).inertia);
+            c.turned.push(Turned { r, omega });
+        }
+        self.place_turned(positions);
+    }
+
+    /// [`Md::place_sub_spheres`] by the bodies' matrices and spins in
+    /// [`Clumps::turned`].
+    fn place_turned(&mut self, positions: bool) {
         let Some(c) = self.clumps.as_deref() else {
             return;
         };
@@ -316,10 +334,9 @@ impl<D: Dim> Md<D> {
                 *l = Some(self.domain.length(a));
             }
         }
-        for (b, body) in c.bodies.bodies.iter().enumerate() {
-            let r = c.bodies.rotation(b);
+        for (b, (body, turned)) in c.bodies.bodies.iter().zip(&c.turned).enumerate() {
+            let Turned { r, omega: w } = *turned;
             let shape = c.bodies.shape(b);
-            let w = no_squish::omega_turned(r, body.ang_mom, shape.inertia);
             let members = &c.members[c.start[b]..c.start[b + 1]];
             for (&i, &center) in members.iter().zip(&shape.centers) {
                 let i = i as usize;
@@ -349,8 +366,8 @@ impl<D: Dim> Md<D> {
         let dt = self.settings.dt;
         if let Some(c) = self.clumps.as_deref_mut() {
             c.bodies.kick(0.5 * dt);
-            c.bodies.drift(dt);
-            self.place_sub_spheres(true);
+            c.bodies.drift(dt, &mut c.turned);
+            self.place_turned(true);
         }
     }
 

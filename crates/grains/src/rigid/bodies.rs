@@ -7,7 +7,7 @@
 //! Everything is held in 3D (a 2D run's bodies lie in the xy plane and turn
 //! about z only), so one code serves both dimensions.
 
-use super::no_squish::{self, Quat};
+use super::no_squish::{self, Quat, Turned};
 use glam::{DMat3, DVec3};
 
 /// A shape as the integrator needs it: sub-sphere centres in the principal
@@ -61,27 +61,30 @@ impl Bodies {
         }
     }
 
-    /// The drift: x += dt v, and the free rotation over dt (all bodies'
-    /// turns together, [`no_squish::free_rotations`]: each body's bits of
-    /// [`no_squish::free_rotation`]).
-    pub fn drift(&mut self, dt: f64) {
-        let mut turned = [([0.0; 4], DVec3::ZERO, [0.0; 3]); no_squish::BLOCK];
+    /// The drift: x += dt v, and the free rotation over dt (the bodies
+    /// turned together in [`no_squish::Lanes`]: each body's bits of
+    /// [`no_squish::free_rotation`]); `turned` gets each body's rotation
+    /// matrix and spin after it, for placing its sub-spheres.
+    pub fn drift(&mut self, dt: f64, turned: &mut Vec<Turned>) {
+        turned.clear();
+        let mut lanes = no_squish::Lanes::default();
         for block in self.bodies.chunks_mut(no_squish::BLOCK) {
-            let turned = &mut turned[..block.len()];
-            for (b, t) in block.iter_mut().zip(turned.iter_mut()) {
+            lanes.clear();
+            for b in block.iter_mut() {
                 b.pos += b.vel * dt;
                 let inertia = self.shapes[b.shape as usize].inertia;
-                *t = (b.quat, b.ang_mom, inertia);
+                lanes.push(b.quat, b.ang_mom, inertia);
             }
-            no_squish::free_rotations(turned, dt);
-            for (b, &(q, l, _)) in block.iter_mut().zip(turned.iter()) {
-                b.quat = q;
-                b.ang_mom = l;
+            lanes.free_rotations(dt);
+            for (j, b) in block.iter_mut().enumerate() {
+                (b.quat, b.ang_mom) = lanes.body(j);
+                turned.push(lanes.turned(j));
             }
         }
     }
 
     /// Body `b`'s rotation matrix.
+    #[inline]
     pub fn rotation(&self, b: usize) -> DMat3 {
         no_squish::matrix(self.bodies[b].quat)
     }
