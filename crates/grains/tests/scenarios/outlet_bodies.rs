@@ -194,6 +194,23 @@ fn the_mass_balance_and_the_sensor_count_bodies() {
     let csv = std::fs::read_to_string(dir.join("run/outflow.csv")).unwrap();
     let last: Vec<&str> = csv.lines().last().unwrap().split(',').collect();
     assert_eq!(last[5], "90", "{csv}");
+    // Mid-flow, with rods still present: counted by sub-spheres the
+    // present units would not balance.
+    let opts = RunOptions {
+        out_dir: dir.join("mid"),
+        steps: Some(4500),
+        ..Default::default()
+    };
+    let s = run(&loaded, &opts, &mut Silent).unwrap();
+    let b = &s["mass_balance"];
+    let n = |k: &str| b[k].as_u64().unwrap_or_else(|| panic!("{k} in {b}"));
+    assert_eq!(b["exact"], true, "{b}");
+    assert!(n("removed_grains") > 0 && n("present_grains") > 0, "{b}");
+    assert_eq!(
+        30 + s["inlets"][0]["inserted"].as_u64().unwrap(),
+        n("present_grains") + n("removed_grains"),
+        "{b}"
+    );
     std::fs::remove_dir_all(dir).ok();
 }
 
