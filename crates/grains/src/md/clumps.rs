@@ -206,6 +206,129 @@ impl<D: Dim> Md<D> {
         Ok(())
     }
 
+    /// Registers the shapes of bodies that arrive later (an inlet's) in an
+    /// engine built without bodies: the run then counts as one with clumps
+    /// (its frames carry `body`, its energies the bodies' terms). Fails as
+    /// [`Md::add_bodies`] does under Gear-5, in a sheared box or on a bad
+    /// shape.
+    pub fn register_shapes(&mut self, shapes: Vec<Shape<D>>) -> Result<()> {
+        if self.clumps.is_some() || shapes.is_empty() {
+            return Ok(());
+        }
+        if self.settings.integrator == Integrator::Gear5 {
+            return Err(Error::input(
+                "run.integrator = \"gear5\": rigid clumps ([[shapes]]) move by velocity Verlet and \
+                 NO_SQUISH only; set run.integrator = \"verlet\"",
+            ));
+        }
+        if self.domain.shear.is_some() {
+            return Err(Error::input(
+                "domain.shear: rigid clumps ([[shapes]]) in a sheared box are not implemented",
+            ));
+        }
+        let mut clumps = Clumps::default();
+        clumps.bodies.shapes = shapes
+            .into_iter()
+            .map(body_shape)
+            .collect::<Result<Vec<_>>>()?;
+        self.clumps = Some(Box::new(clumps));
+        self.refresh_clumps();
+        Ok(())
+    }
+
+    /// Inserts bodies of the registered shapes into a running engine (an
+    /// inlet's), each with its sub-spheres' consecutive ids from the given
+    /// first id, after the grains already there. As [`Md::insert_grains`]
+    /// does for spheres: the grains there keep their state, the list is
+    /// rebuilt at the next step, and a new body starts as in a freshly
+    /// built engine that finds it touching nothing (the caller places it
+    /// clear): its force is its weight, its torque zero, its sub-spheres
+    /// at X + R c with velocity v + ω × R c. Fails (input error) without
+    /// registered shapes, beside ghosts, on a taken id, a bad shape index,
+    /// quaternion or motion.
+    pub fn insert_bodies(&mut self, bodies: Vec<(u64, BodySpec<D>)>) -> Result<()> {
+        if bodies.is_empty() {
+            return Ok(());
+        }
+        if self.particles.n_owned() != self.particles.len() {
+            return Err(Error::input(
+                "bodies cannot be inserted beside ghosts (a distributed run)",
+            ));
+        }
+        let gravity = xyz::<D>(self.settings.gravity);
+        let Some(mut clumps) = self.clumps.take() else {
+            return Err(Error::input(
+                "bodies inserted into an engine without [[shapes]] registered",
+            ));
+        };
+        let specs: Vec<BodySpec<D>> = bodies.iter().map(|b| b.1).collect();
+        let made = match check_bodies(&clumps.bodies.shapes, &specs) {
+            Ok(m) => m,
+            Err(e) => {
+                self.clumps = Some(clumps);
+                return Err(e);
+            }
+        };
+        let mut ids: std::collections::HashSet<u64> = self.particles.id.iter().copied().collect();
+        for ((first, spec), (quat, omega)) in bodies.iter().zip(made) {
+            let shape = &clumps.bodies.shapes[spec.shape];
+            let n = shape.radii.len() as u64;
+            if let Some(id) = (*first..first + n).find(|id| !ids.insert(*id)) {
+                self.clumps = Some(clumps);
+                return Err(Error::input(format!(
+                    "inserted body: grain id {id} is already taken: ids are never reused"
+                )));
+            }
+            let r = no_squish::matrix(quat);
+            let wb = r.transpose() * omega;
+            let [i1, i2, i3] = shape.inertia;
+            let ang_mom = r * DVec3::new(i1 * wb.x, i2 * wb.y, i3 * wb.z);
+            let b = clumps.bodies.bodies.len() as u32;
+            let (pos, vel) = (xyz::<D>(spec.pos), xyz::<D>(spec.vel));
+            let volume: f64 = shape.radii.iter().map(|r| r.powi(3)).sum();
+            for (s, (&radius, &center)) in shape.radii.iter().zip(&shape.centers).enumerate() {
+                let m = shape.mass * radius.powi(3) / volume;
+                let arm = r * center;
+                let x = D::from_xyz((pos + arm).to_array());
+                let mut g = ParticleRecord::<D>::new(
+                    first + s as u64,
+                    x,
+                    radius,
+                    m,
+                    0.4 * m * radius * radius,
+                );
+                g.kind = spec.kind;
+                g.vel = D::from_xyz((vel + omega.cross(arm)).to_array());
+                g.omega = D::ang_from_xyz(omega.to_array());
+                clumps.by_id.insert(g.id, (b, s as u32));
+                // A sub-sphere's force holds its contacts only: none yet.
+                self.particles.push_record(g);
+            }
+            clumps.bodies.bodies.push(Body {
+                shape: spec.shape as u32,
+                first_id: *first,
+                pos,
+                quat,
+                vel,
+                ang_mom,
+                force: gravity * shape.mass,
+                torque: DVec3::ZERO,
+            });
+        }
+        self.clumps = Some(clumps);
+        self.neighbors.invalidate();
+        self.refresh_clumps();
+        Ok(())
+    }
+
+    /// The number of sub-spheres of each registered shape (empty without
+    /// clumps).
+    pub fn shape_sizes(&self) -> Vec<usize> {
+        self.bodies().map_or(Vec::new(), |b| {
+            b.shapes.iter().map(|s| s.radii.len()).collect()
+        })
+    }
+
     /// Whether the run has rigid clumps.
     pub fn has_bodies(&self) -> bool {
         self.clumps.is_some()
@@ -468,18 +591,88 @@ impl<D: Dim> Md<D> {
         }
     }
 
-    /// Refuses to remove sub-spheres (an outlet): a body leaves whole or
-    /// not at all, which is not implemented.
-    pub(crate) fn refuse_sub_sphere_removal(&self, ids: &[u64]) -> Result<()> {
-        if let Some(c) = &self.clumps {
-            if let Some(id) = ids.iter().find(|id| c.by_id.contains_key(id)) {
+    /// Takes out of the body store every body whose sub-spheres are in
+    /// `ids` (sorted), before those grains leave the store; refuses (and
+    /// changes nothing) when a body is only partly listed: a body leaves
+    /// whole or not at all. The bodies left keep their order; their ties
+    /// to the grains are rebuilt by the neighbour rebuild that follows.
+    pub(crate) fn drop_whole_bodies(&mut self, ids: &[u64]) -> Result<()> {
+        let Some(c) = self.clumps.as_deref_mut() else {
+            return Ok(());
+        };
+        let mut gone = vec![false; c.bodies.bodies.len()];
+        for id in ids {
+            if let Some(&(b, _)) = c.by_id.get(id) {
+                gone[b as usize] = true;
+            }
+        }
+        for b in (0..gone.len()).filter(|&b| gone[b]) {
+            let first = c.bodies.bodies[b].first_id;
+            let n = c.bodies.shape(b).radii.len() as u64;
+            if let Some(id) = (first..first + n).find(|id| ids.binary_search(id).is_err()) {
                 return Err(Error::input(format!(
-                    "[[outlets]]: grain {id} is a sub-sphere of a rigid clump; removing clumps \
-                     (whole bodies, their springs and state) is not implemented"
+                    "grain {id} of rigid body {} would stay while others of its sub-spheres \
+                     leave: a body is removed whole",
+                    b + 1
                 )));
             }
         }
+        if !gone.contains(&true) {
+            return Ok(());
+        }
+        let mut k = 0;
+        c.bodies.bodies.retain(|_| {
+            k += 1;
+            !gone[k - 1]
+        });
+        c.by_id.clear();
+        for (b, body) in c.bodies.bodies.iter().enumerate() {
+            let n = c.bodies.shapes[body.shape as usize].radii.len() as u32;
+            for s in 0..n {
+                c.by_id.insert(body.first_id + u64::from(s), (b as u32, s));
+            }
+        }
         Ok(())
+    }
+
+    /// The grain ids of the body whose first sub-sphere has id `first`
+    /// (`None`: no body starts there).
+    pub fn body_grain_ids(&self, first: u64) -> Option<std::ops::Range<u64>> {
+        let c = self.clumps.as_ref()?;
+        match c.by_id.get(&first) {
+            Some(&(b, 0)) => Some(first..first + c.bodies.shape(b as usize).radii.len() as u64),
+            _ => None,
+        }
+    }
+
+    /// Each body's first grain id, centre of mass and mass, in body order
+    /// (empty without clumps): what outlets and sensors look at.
+    pub fn body_centres(&self) -> Vec<(u64, D::V, f64)> {
+        let Some(c) = self.clumps.as_ref() else {
+            return Vec::new();
+        };
+        (c.bodies.bodies.iter().enumerate())
+            .map(|(k, b)| {
+                let x = D::from_xyz(b.pos.to_array());
+                (b.first_id, x, c.bodies.shape(k).mass)
+            })
+            .collect()
+    }
+
+    /// The free grains and the bodies, each once: (id, position, mass),
+    /// a body by its first grain id, centre of mass and mass; in id order.
+    /// Without clumps, the grains (the mass balance's and the sensors'
+    /// units).
+    pub fn units(&self) -> Vec<(u64, D::V, f64)> {
+        let p = &self.particles;
+        let owner = self.clumps.as_ref().map(|c| &c.grain_body);
+        let mut out: Vec<(u64, D::V, f64)> = (0..p.n_owned())
+            .filter(|&i| owner.is_none_or(|o| o[i] == NO_BODY))
+            .map(|i| (p.id[i], p.pos[i], p.mass[i]))
+            .collect();
+        out.extend(self.body_centres());
+        out.sort_unstable_by_key(|u| u.0);
+        out
     }
 
     /// Checks a checkpoint's bodies against the engine's: as many, each of

@@ -20,8 +20,12 @@ impl<D: Dim> Md<D> {
     /// integrator's corrector already used. Nothing here draws a random
     /// number or depends on the thread count.
     ///
+    /// The sub-spheres of a rigid body leave only all together, and their
+    /// body with them.
+    ///
     /// Fails (input error) on an id that is not an owned grain, a repeated
-    /// id, or a distributed engine's store (grains with ghosts).
+    /// id, part of a body's sub-spheres, or a distributed engine's store
+    /// (grains with ghosts).
     pub fn remove_grains(&mut self, ids: &[u64]) -> Result<Vec<ParticleRecord<D>>> {
         if ids.is_empty() {
             return Ok(Vec::new());
@@ -40,7 +44,6 @@ impl<D: Dim> Md<D> {
                 w[0]
             )));
         }
-        self.refuse_sub_sphere_removal(&wanted)?;
         let id = &self.particles.id[..n];
         let mut gone: Vec<u32> = Vec::with_capacity(wanted.len());
         let mut keep: Vec<u32> = Vec::with_capacity(n.saturating_sub(wanted.len()));
@@ -60,6 +63,8 @@ impl<D: Dim> Md<D> {
                 "remove_grains: no grain has id {missing}"
             )));
         }
+        // A rigid body's sub-spheres leave all together, with their body.
+        self.drop_whole_bodies(&wanted)?;
         let mut removed: Vec<ParticleRecord<D>> = gone
             .iter()
             .map(|&i| self.particles.pack(i as usize))

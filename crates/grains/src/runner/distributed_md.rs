@@ -143,8 +143,7 @@ fn start<D: Dim>(
         .map(|m| index_by_id(&m.particles))
         .unwrap_or_default();
     // The inlets' largest grain widens the ghost shells from the start.
-    let inserted = crate::scenario::inlet::extent(&loaded.scenario, &loaded.base_dir)?
-        .map_or(0.0, |(_, d)| 0.5 * d);
+    let inserted = crate::scenario::inlet::extent(loaded)?.map_or(0.0, |(_, d)| 0.5 * d);
     let spec = &loaded.scenario.parallel;
     let dec = match full.step {
         0 => DecomposedMd::with_inserts(full, comm, spec, inserted)?,

@@ -428,6 +428,11 @@ pub fn build_md_reporting<D: Dim>(
     if !clumps.bodies.is_empty() {
         md.add_bodies(clumps.shapes, clumps.bodies)
             .map_err(|e| super::in_scenario(e, &loaded.origin))?;
+    } else if super::inlet::bodies::any(&loaded.scenario) {
+        // Bodies arrive later, through an inlet: the engine holds their
+        // shapes from the start.
+        md.register_shapes(clumps.shapes)
+            .map_err(|e| super::in_scenario(e, &loaded.origin))?;
     }
     Ok((md, resolved))
 }
@@ -484,7 +489,7 @@ fn build_md_inner<D: Dim>(
         .map(|sub| s.particles.mass_model.mass(rho, 2.0 * sub.radius))
         .fold(lightest, f64::min);
     // The inlets' grains count as placed ones for dt and the skin.
-    let arriving = super::inlet::extent(s, &loaded.base_dir)?;
+    let arriving = super::inlet::extent(loaded)?;
     let lightest = arriving.map_or(lightest, |(m, _)| lightest.min(m));
     let lightest = match particles.mass.first() {
         _ if lightest.is_finite() => lightest,

@@ -67,7 +67,9 @@ impl<D: Dim> Clumps<D> {
 
 /// Whether the scenario makes bodies.
 pub fn uses_bodies(s: &Scenario) -> bool {
-    places_bodies(s) || s.particles.add.iter().any(|a| a.shape.is_some())
+    places_bodies(s)
+        || s.particles.add.iter().any(|a| a.shape.is_some())
+        || (s.inlets.iter()).any(|i| i.shape.is_some() || !i.shapes.is_empty())
 }
 
 /// Whether lattice or random placement makes bodies instead of spheres.
@@ -109,29 +111,18 @@ pub fn check(s: &Scenario) -> Result<()> {
             "clumps are grains of the MD engine only",
         );
     }
-    if !s.inlets.is_empty() {
+    if s.hopper.as_ref().is_some_and(|h| h.recycle) {
         return refuse(
-            "[[inlets]]",
-            "inlets insert single spheres and bodies cannot yet be inserted during a run",
-        );
-    }
-    if s.hopper.is_some() {
-        return refuse(
-            "[hopper]",
+            "[hopper] with recycle = true",
             "its recycling moves grains one by one and would tear a body apart; \
-             build the silo from [[walls]]",
-        );
-    }
-    if !s.outlets.is_empty() {
-        return refuse(
-            "[[outlets]]",
-            "they take out grains one by one, not whole bodies",
+             set hopper.recycle = false and take bodies out through [[outlets]]",
         );
     }
     if s.run.events.as_ref().is_some_and(|e| e.sink.is_some()) {
         return refuse(
             "run.events.sink",
-            "it parks grains one by one, not whole bodies",
+            "it parks grains one by one and would tear a body apart; take bodies out \
+             through [[outlets]]",
         );
     }
     if s.domain.shear.is_some() {

@@ -14,10 +14,12 @@
 //! resume; the inlets' counters go into the flow run's checkpoint section.
 //! A mixture of materials (`inlet/mixture.rs`) draws each grain's material
 //! from a stream of its own, so an inlet of one kind keeps its bits.
+//! An inlet of rigid bodies (`inlet/bodies.rs`) counts and weighs bodies,
+//! and places each only where all its sub-spheres pass a grain's test.
 
 use super::keys::vector;
 use super::placement::stream;
-use super::schema::{InletRegion, InletSpec, Scenario};
+use super::schema::{InletSpec, Scenario};
 use super::sizes::SizeLaw;
 use super::Loaded;
 use crate::codec::{Dec, DecResult, Enc};
@@ -25,14 +27,21 @@ use crate::dim::Dim;
 use crate::error::{Error, Result};
 use crate::md::Md;
 use crate::particles::{MassModel, ParticleRecord};
+use crate::rigid::shape::wxyz;
+use crate::rigid::BodySpec;
+use bodies::{BodyMix, STREAM_SHAPE, STREAM_TURN};
 use mixture::Mixture;
 use rand::Rng;
 use region::Region;
 use serde_json::{json, Value};
 use std::path::Path;
 
+pub mod bodies;
+mod check;
 pub mod mixture;
 mod region;
+
+pub use check::{check_report, extent};
 
 /// Stream purposes (after placement's 1–3): a grain's size and velocity,
 /// and one attempt's position.
@@ -73,6 +82,10 @@ struct Inlet<D: Dim> {
     law: SizeLaw,
     /// The materials: kinds, densities, fractions.
     mix: Mixture,
+    /// An inlet of bodies: its shapes and fractions by number (checked
+    /// with the keys), and the mixture built on the run's shapes.
+    shares: Option<Vec<(usize, f64)>>,
+    bodies: Option<BodyMix<D>>,
     model: MassModel,
     attempts: u32,
     /// Grains inserted, their mass, the attempts already spent on the
@@ -164,6 +177,7 @@ impl<D: Dim> Inlet<D> {
             )));
         }
         let ps = &s.particles;
+        let shares = bodies::shares(s, spec, &key)?;
         let law = match &spec.size {
             Some(size) => SizeLaw::new(size, ps.mass_model, base).map_err(|e| match e {
                 Error::Input(m) => {
@@ -202,6 +216,8 @@ impl<D: Dim> Inlet<D> {
             spread,
             law,
             mix,
+            shares,
+            bodies: None,
             model: ps.mass_model,
             attempts: spec.attempts,
             inserted: 0,
@@ -254,6 +270,20 @@ impl<D: Dim> Inlet<D> {
         self.model.mass(self.mix.part(c).density, d)
     }
 
+    /// Item `k` (a grain, or a body of an inlet of bodies): its diameter,
+    /// velocity and material as [`Inlet::grain`] gives them, its shape
+    /// (`None` for a grain) and its mass.
+    fn item(&self, seed: u64, index: usize, k: u64) -> (f64, D::V, usize, Option<usize>, f64) {
+        let (d, v, c) = self.grain(seed, index, k);
+        match &self.bodies {
+            None => (d, v, c, None, self.grain_mass(d, c)),
+            Some(b) => {
+                let sh = b.pick(&mut stream(mix(mix(seed, index as u64), k), STREAM_SHAPE));
+                (d, v, c, Some(sh), b.shapes[sh].mass)
+            }
+        }
+    }
+
     /// Whether grain `k` (the next, with mass `m`) is due at time `t`.
     fn due(&self, k: u64, m: f64, t: f64) -> bool {
         let target = self.target(t);
@@ -269,8 +299,7 @@ impl<D: Dim> Inlet<D> {
     fn next_due(&self, seed: u64, index: usize, now: u64, dt: f64) -> u64 {
         let k = self.inserted;
         let m = if self.amount.by_mass {
-            let (d, _, c) = self.grain(seed, index, k);
-            self.grain_mass(d, c)
+            self.item(seed, index, k).4
         } else {
             0.0
         };
@@ -318,6 +347,43 @@ fn near<D: Dim>(md: &Md<D>, lo: D::V, hi: D::V, margin: f64) -> Vec<(D::V, f64)>
         .collect()
 }
 
+/// The run's shapes given to the inlets of bodies in `list`, each checked
+/// against its region, its kind's material and the engine, which must
+/// hold the shapes (`scenario/build.rs` registers them).
+fn attach_bodies<D: Dim>(loaded: &Loaded, md: &Md<D>, list: &mut [Inlet<D>]) -> Result<()> {
+    let s = &loaded.scenario;
+    let (shapes, props) = super::shapes::build::<D>(loaded)?;
+    if md.shape_sizes().len() != shapes.len() {
+        return Err(Error::input(
+            "[[inlets]] of bodies: the engine holds no [[shapes]] (built without them)",
+        ));
+    }
+    let density = super::materials::density(s, None)?;
+    for (inlet, spec) in list.iter_mut().zip(&s.inlets) {
+        let Some(shares) = &inlet.shares else {
+            continue;
+        };
+        let key = inlet.key.clone();
+        let b = BodyMix::new(spec, &key, shares, &shapes, &props)?;
+        if !inlet.region.fits(b.widest()) {
+            return Err(Error::input(format!(
+                "{key}.region is narrower than its widest body (bounding radius {:.3e} m)",
+                b.widest()
+            )));
+        }
+        if inlet.mix.part(0).density != density {
+            return Err(Error::input(format!(
+                "{key}.kind = {}: grains of that kind are of another material than \
+                 particles.material, and a body's mass comes from its shape in \
+                 particles.material",
+                b.kind
+            )));
+        }
+        inlet.bodies = Some(b);
+    }
+    Ok(())
+}
+
 /// The inlets of a run and the ids they hand out.
 #[derive(Clone, Debug)]
 pub struct Inlets<D: Dim> {
@@ -333,6 +399,10 @@ pub struct Inlets<D: Dim> {
     /// that inserted some: the cost of the inlets (not checkpointed).
     seconds: f64,
     acts: u64,
+    /// Whether an inlet brings bodies, and each body inserted: its first
+    /// grain id and shape (what a resume puts back as stand-ins).
+    with_bodies: bool,
+    made: Vec<(u64, u32)>,
 }
 
 impl<D: Dim> Inlets<D> {
@@ -340,12 +410,16 @@ impl<D: Dim> Inlets<D> {
     /// built from it.
     pub fn begin(loaded: &Loaded, md: &Md<D>) -> Result<Self> {
         let s = &loaded.scenario;
-        let list = s
+        let mut list = s
             .inlets
             .iter()
             .enumerate()
             .map(|(i, spec)| Inlet::new(s, &loaded.base_dir, i, spec))
             .collect::<Result<Vec<_>>>()?;
+        let with_bodies = list.iter().any(|x| x.shares.is_some());
+        if with_bodies {
+            attach_bodies(loaded, md, &mut list)?;
+        }
         for inlet in &list {
             let (lo, hi) = inlet.region.bounds();
             let outside = (0..D::D).any(|a| {
@@ -373,6 +447,8 @@ impl<D: Dim> Inlets<D> {
             dt: md.settings.dt,
             seconds: 0.0,
             acts: 0,
+            with_bodies,
+            made: Vec::new(),
         })
     }
 
@@ -398,7 +474,8 @@ impl<D: Dim> Inlets<D> {
         next.max(now + 1).min(horizon.max(now + 1))
     }
 
-    /// Inserts every grain due at the engine's time that finds room.
+    /// Inserts every grain (or body) due at the engine's time that finds
+    /// room.
     pub fn act(&mut self, md: &mut Md<D>) {
         if self.list.is_empty() {
             return;
@@ -408,6 +485,10 @@ impl<D: Dim> Inlets<D> {
         let walls: Vec<_> = md.walls.iter().map(|w| w.at(t)).collect();
         let largest = md.particles.max_radius();
         let mut added: Vec<ParticleRecord<D>> = Vec::new();
+        // Bodies placed at this act (first grain id, body) and their
+        // sub-spheres (centre, radius), which later candidates must clear.
+        let mut new_bodies: Vec<(u64, BodySpec<D>)> = Vec::new();
+        let mut subs: Vec<(D::V, f64)> = Vec::new();
         for (i, inlet) in self.list.iter_mut().enumerate() {
             let waiting = inlet.retry_at > md.step;
             if t < inlet.start || t > inlet.stop + md.settings.dt || waiting {
@@ -416,36 +497,47 @@ impl<D: Dim> Inlets<D> {
             let mut nearby: Option<Vec<(D::V, f64)>> = None;
             loop {
                 let k = inlet.inserted;
-                let (d, v, c) = inlet.grain(self.seed, i, k);
-                let m = inlet.grain_mass(d, c);
+                let (d, v, c, shape, m) = inlet.item(self.seed, i, k);
                 if !inlet.due(k, m, t) {
                     break;
                 }
+                // A grain is a body of one sphere about its centre.
                 let r = 0.5 * d;
+                let (reach, widest, turn) = match (&inlet.bodies, shape) {
+                    (Some(b), Some(sh)) => {
+                        let mut rng = stream(mix(mix(self.seed, i as u64), k), STREAM_TURN);
+                        let q = b.turn(sh, &mut rng);
+                        (b.bound(sh), b.widest() + largest.max(b.largest_sub()), q)
+                    }
+                    _ => {
+                        let half = 0.5 * inlet.law.max();
+                        (r, half + largest.max(half), glam::DQuat::IDENTITY)
+                    }
+                };
                 let (lo, hi) = inlet.region.bounds();
-                let near = nearby.get_or_insert_with(|| {
-                    near(
-                        md,
-                        lo,
-                        hi,
-                        0.5 * inlet.law.max() + largest.max(0.5 * inlet.law.max()),
-                    )
-                });
-                let free = |p: D::V| {
+                let near = nearby.get_or_insert_with(|| near(md, lo, hi, widest));
+                let free = |p: D::V, r: f64| {
                     let clear_of = |(q, rq): &(D::V, f64)| {
                         let gap = r + rq;
                         D::norm2(md.domain.minimum_image(p - *q)) >= gap * gap
                     };
                     near.iter().all(clear_of)
                         && added.iter().all(|g| clear_of(&(g.pos, g.radius)))
+                        && subs.iter().all(clear_of)
                         && walls.iter().all(|w| w.contact(p, r).is_none())
+                };
+                let fits = |p: D::V| match (&inlet.bodies, shape) {
+                    (Some(b), Some(sh)) => {
+                        bodies::sub_spheres(&b.shapes[sh], p, turn).all(|(c, rc)| free(c, rc))
+                    }
+                    _ => free(p, r),
                 };
                 let mut spot = None;
                 for j in 0..inlet.attempts as u64 {
                     let a = inlet.tries + j;
                     let mut rng = stream(mix(mix(mix(self.seed, i as u64), k), a), STREAM_SPOT);
-                    let p = inlet.region.draw(r, &mut rng);
-                    if free(p) {
+                    let p = inlet.region.draw(reach, &mut rng);
+                    if fits(p) {
                         spot = Some((p, j));
                         break;
                     }
@@ -460,6 +552,23 @@ impl<D: Dim> Inlets<D> {
                 inlet.tries = 0;
                 inlet.inserted += 1;
                 inlet.mass += m;
+                if let (Some(b), Some(sh)) = (&inlet.bodies, shape) {
+                    subs.extend(bodies::sub_spheres(&b.shapes[sh], p, turn));
+                    new_bodies.push((
+                        self.next_id,
+                        BodySpec {
+                            shape: sh,
+                            kind: b.kind,
+                            pos: p,
+                            orientation: wxyz(turn),
+                            vel: v,
+                            omega: D::ang_from_xyz([0.0; 3]),
+                        },
+                    ));
+                    self.made.push((self.next_id, sh as u32));
+                    self.next_id += b.shapes[sh].spheres.len() as u64;
+                    continue;
+                }
                 let inertia = inlet.model.inertia(m, r);
                 let mut g = ParticleRecord::new(self.next_id, p, r, m, inertia);
                 g.vel = v;
@@ -470,9 +579,13 @@ impl<D: Dim> Inlets<D> {
                 added.push(g);
             }
         }
-        if !added.is_empty() {
-            // Fresh ids and checked sizes: nothing here can be refused.
+        if !added.is_empty() || !new_bodies.is_empty() {
+            // Fresh ids, checked sizes and shapes: nothing here can be
+            // refused.
             if let Err(e) = md.insert_grains(added) {
+                eprintln!("warning: inlets: {e}");
+            }
+            if let Err(e) = md.insert_bodies(new_bodies) {
                 eprintln!("warning: inlets: {e}");
             }
             self.acts += 1;
@@ -501,13 +614,19 @@ impl<D: Dim> Inlets<D> {
         let rows: Vec<Value> = (self.list.iter().enumerate())
             .map(|(i, inlet)| {
                 let requested = self.requested(i, inlet, t);
-                json!({
+                let mut row = json!({
                     "requested": requested,
                     "inserted": inlet.inserted,
                     "mass": inlet.mass,
                     "failed_attempts": inlet.failed,
                     "not_inserted": requested.saturating_sub(inlet.inserted),
-                })
+                });
+                // An inlet of bodies counts them: said so, and only there,
+                // so that an inlet of grains keeps its report.
+                if inlet.shares.is_some() {
+                    row["unit"] = json!("bodies");
+                }
+                row
             })
             .collect();
         Value::Array(rows)
@@ -524,8 +643,7 @@ impl<D: Dim> Inlets<D> {
         // Bounded: a grain's mass is at least the smallest grain's.
         let limit = k + 10_000_000;
         while k < limit {
-            let (d, _, c) = inlet.grain(self.seed, i, k);
-            let m = inlet.grain_mass(d, c);
+            let m = inlet.item(self.seed, i, k).4;
             if mass + m > target {
                 break;
             }
@@ -541,11 +659,16 @@ impl<D: Dim> Inlets<D> {
             let requested = self.requested(i, inlet, t);
             if requested > inlet.inserted {
                 eprintln!(
-                    "warning: {}: {} of {requested} grains could not be inserted by t = {t:.4} s \
+                    "warning: {}: {} of {requested} {} could not be inserted by t = {t:.4} s \
                      ({} attempts found no room): the region is full; widen it, lower the rate \
                      or let the grains drain",
                     inlet.key,
                     requested - inlet.inserted,
+                    if inlet.shares.is_some() {
+                        "bodies"
+                    } else {
+                        "grains"
+                    },
                     inlet.failed
                 );
             }
@@ -562,6 +685,14 @@ impl<D: Dim> Inlets<D> {
             e.u64(inlet.tries);
             e.u64(inlet.failed);
             e.u64(inlet.retry_at);
+        }
+        // Only with bodies, so that an inlet of spheres keeps its bytes.
+        if self.with_bodies {
+            e.len(self.made.len());
+            for &(id, shape) in &self.made {
+                e.u64(id);
+                e.u32(shape);
+            }
         }
     }
 
@@ -595,6 +726,12 @@ impl<D: Dim> Inlets<D> {
             inlet.failed = d.u64("inlet failed attempts")?;
             inlet.retry_at = d.u64("inlet retry step")?;
         }
+        if self.with_bodies {
+            let n = d.len(12, "inserted bodies")?;
+            self.made = (0..n)
+                .map(|_| Ok((d.u64("body's first id")?, d.u32("body's shape")?)))
+                .collect::<DecResult<_>>()?;
+        }
         Ok(())
     }
 
@@ -603,93 +740,43 @@ impl<D: Dim> Inlets<D> {
     /// wrote the checkpoint. They go in as stand-ins, whose state the
     /// checkpoint's engine state replaces; inserting builds no neighbour
     /// list, so their one place and size never meet a search.
+    ///
+    /// Inserted bodies go in as bodies of their shapes with their first
+    /// ids (the engine's state replaces theirs too), unless they left:
+    /// a body leaves whole, so its first id marks it.
     pub fn apply(&self, md: &mut Md<D>, removed: &[u64]) -> Result<()> {
+        let sizes = md.shape_sizes();
+        let mut in_body = std::collections::HashSet::new();
+        let mut stand_in_bodies = Vec::new();
+        for &(first, shape) in &self.made {
+            let n = *sizes.get(shape as usize).ok_or_else(|| {
+                Error::input(format!(
+                    "an inserted body of shape {shape}, beyond the run's [[shapes]]"
+                ))
+            })? as u64;
+            in_body.extend(first..first + n);
+            if removed.binary_search(&first).is_err() {
+                let spec = BodySpec {
+                    shape: shape as usize,
+                    kind: 1,
+                    pos: md.domain.lo,
+                    orientation: [1.0, 0.0, 0.0, 0.0],
+                    vel: D::zero(),
+                    omega: D::ang_from_xyz([0.0; 3]),
+                };
+                stand_in_bodies.push((first, spec));
+            }
+        }
         let stand_ins = (self.first_id..self.next_id)
-            .filter(|id| removed.binary_search(id).is_err())
+            .filter(|id| removed.binary_search(id).is_err() && !in_body.contains(id))
             .map(|id| ParticleRecord::new(id, md.domain.lo, 1.0, 1.0, 1.0))
             .collect();
-        md.insert_grains(stand_ins)
+        md.insert_grains(stand_ins)?;
+        md.insert_bodies(stand_in_bodies)
     }
 
     /// The first id the inlets give: ids below it are the scenario's own.
     pub fn first_id(&self) -> u64 {
         self.first_id
-    }
-}
-
-/// The smallest mass and the largest diameter of the grains the inlets of
-/// `s` can bring (`None` without inlets): the time step and the neighbour
-/// skin of a run must allow for them.
-pub fn extent(s: &Scenario, base: &Path) -> Result<Option<(f64, f64)>> {
-    let mut out: Option<(f64, f64)> = None;
-    for (i, spec) in s.inlets.iter().enumerate() {
-        let inlet = match s.dimension {
-            super::schema::Dimension::Two => {
-                let x = Inlet::<crate::dim::D2>::new(s, base, i, spec)?;
-                (x.model.mass(x.mix.lightest(), x.law.min()), x.law.max())
-            }
-            super::schema::Dimension::Three => {
-                let x = Inlet::<crate::dim::D3>::new(s, base, i, spec)?;
-                (x.model.mass(x.mix.lightest(), x.law.min()), x.law.max())
-            }
-        };
-        out = Some(match out {
-            Some((m, d)) => (m.min(inlet.0), d.max(inlet.1)),
-            None => inlet,
-        });
-    }
-    Ok(out)
-}
-
-/// What `grains check` prints of the inlets: per inlet the rate, the count
-/// expected by the end of a run of `duration` seconds, and the size law's
-/// summary.
-pub fn check_report(loaded: &Loaded, duration: f64) -> Result<Value> {
-    let s = &loaded.scenario;
-    let rows = (s.inlets.iter().enumerate())
-        .map(|(i, spec)| {
-            let x = Inlet::<crate::dim::D3>::new_any(s, &loaded.base_dir, i, spec)?;
-            let size = x.law.summary();
-            let (unit, rate) = match (x.amount.by_mass, x.amount.per_second) {
-                (false, Some(q)) => ("grains/s", Some(q)),
-                (true, Some(q)) => ("kg/s", Some(q)),
-                (_, None) => ("all at start", None),
-            };
-            let expected = x.target(duration);
-            Ok(json!({
-                "rate": rate,
-                "rate_unit": unit,
-                "start": x.start,
-                "stop": x.stop.is_finite().then_some(x.stop),
-                "expected": expected,
-                "expected_unit": if x.amount.by_mass { "kg" } else { "grains" },
-                "size": {
-                    "min": x.law.min(),
-                    "max": x.law.max(),
-                    "number_mean": size.number.mean,
-                    "mass_mean": size.mass.mean,
-                },
-                "mixture": spec.materials.is_some().then(|| x.mix.report()),
-            }))
-        })
-        .collect::<Result<Vec<_>>>()?;
-    Ok(Value::Array(rows))
-}
-
-impl Inlet<crate::dim::D3> {
-    /// The inlet's keys checked in the scenario's own dimension, its
-    /// numbers (region aside) read in 3D's: what `grains check` prints.
-    fn new_any(s: &Scenario, base: &Path, i: usize, spec: &InletSpec) -> Result<Self> {
-        if s.dimension == super::schema::Dimension::Two {
-            Inlet::<crate::dim::D2>::new(s, base, i, spec)?;
-            let mut spec = spec.clone();
-            spec.region = InletRegion::Box {
-                lo: vec![0.0; 3],
-                hi: vec![1.0; 3],
-            };
-            spec.velocity = None;
-            return Inlet::new(s, base, i, &spec);
-        }
-        Inlet::new(s, base, i, spec)
     }
 }

@@ -270,7 +270,11 @@ pub fn memory<D: Dim>(md: &Md<D>) -> Value {
 /// placed and checked but not added: what the engine makes of them is
 /// its own to check when run.
 pub fn md_check<D: Dim>(loaded: &Loaded) -> Result<Value> {
-    let (md, r, clumps) = super::build::build_md_parts::<D>(loaded, &mut |_| {})?;
+    let (mut md, r, clumps) = super::build::build_md_parts::<D>(loaded, &mut |_| {})?;
+    if super::inlet::bodies::any(&loaded.scenario) {
+        // As a run: the shapes the inlets' bodies are made of.
+        md.register_shapes(clumps.shapes.clone())?;
+    }
     super::flow::FlowRun::begin(loaded, &md)?;
     let mut v = md_report(loaded, &md, &r)?;
     if !clumps.shapes.is_empty() {

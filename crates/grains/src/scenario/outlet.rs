@@ -6,6 +6,13 @@
 //! The flow run ([`crate::scenario::flow::FlowRun`]) holds them and calls
 //! [`Outlets::after_step`] after every step, so they act at every step and
 //! their state travels in the flow section of a checkpoint.
+//!
+//! With rigid bodies the unit is a free grain or a whole body: an outlet
+//! takes a body out, all its sub-spheres at once, when its centre of mass
+//! is inside; a sensor sees a body cross when its centre of mass does; a
+//! removal's row, the counts and the mass balance hold the body once, by
+//! its first grain id, with its mass (its diameter in outflow.csv: that of
+//! the sphere of its sub-spheres' summed volume).
 
 use crate::codec::{Dec, DecResult, Enc};
 use crate::dim::Dim;
@@ -298,7 +305,13 @@ impl<D: Dim> Outlets<D> {
         let n = p.n_owned();
         let edges = class_edges(s, (0..n).map(|i| 2.0 * p.radius[i]))?;
         let order = md.id_order();
-        let mass = order.iter().map(|&i| p.mass[i as usize]).sum::<f64>();
+        let mut mass = order.iter().map(|&i| p.mass[i as usize]).sum::<f64>();
+        let mut n = n;
+        if md.has_bodies() {
+            let units = md.units();
+            n = units.len();
+            mass = units.iter().map(|u| u.2).sum();
+        }
         let mut run = Self {
             outlets,
             sensors,
@@ -322,6 +335,11 @@ impl<D: Dim> Outlets<D> {
         self.check_sensors(md, false);
         let sensed = Instant::now();
         self.seconds.1 += (sensed - start).as_secs_f64();
+        if md.has_bodies() {
+            self.remove_units(md)?;
+            self.seconds.0 += sensed.elapsed().as_secs_f64();
+            return Ok(());
+        }
         let p = &md.particles;
         let mut which: Vec<(u64, u32)> = Vec::new();
         for (k, o) in self.outlets.iter().enumerate() {
@@ -364,6 +382,66 @@ impl<D: Dim> Outlets<D> {
         Ok(())
     }
 
+    /// [`Outlets::after_step`]'s removal in a run with bodies: the free
+    /// grains in an outlet, and the bodies whose centre of mass is in one,
+    /// taken out whole.
+    fn remove_units(&mut self, md: &mut Md<D>) -> Result<()> {
+        let units = md.units();
+        let mut which: Vec<(u64, u32)> = Vec::new();
+        let frozen: std::collections::HashSet<u64> = (0..md.particles.n_owned())
+            .filter(|&i| md.particles.frozen[i])
+            .map(|i| md.particles.id[i])
+            .collect();
+        for (k, o) in self.outlets.iter().enumerate() {
+            if md.time < o.start || !md.step.is_multiple_of(o.every) {
+                continue;
+            }
+            for &(id, x, _) in &units {
+                if !frozen.contains(&id) && o.region.contains::<D>(x) {
+                    which.push((id, k as u32));
+                }
+            }
+        }
+        if which.is_empty() {
+            return Ok(());
+        }
+        which.sort_by_key(|&(id, k)| (id, k));
+        which.dedup_by_key(|w| w.0);
+        // A unit's grain ids: a body's all its sub-spheres', consecutive.
+        let spans: Vec<std::ops::Range<u64>> = (which.iter())
+            .map(|&(id, _)| md.body_grain_ids(id).unwrap_or(id..id + 1))
+            .collect();
+        let ids: Vec<u64> = spans.iter().flat_map(|r| r.clone()).collect();
+        let gone = md.remove_grains(&ids)?;
+        let mass: std::collections::HashMap<u64, f64> = units.iter().map(|u| (u.0, u.2)).collect();
+        let mut rows: Vec<Removal> = Vec::with_capacity(which.len());
+        // `gone` is in id order, as `which` and its spans are.
+        let mut at = 0;
+        for (&(id, outlet), span) in which.iter().zip(&spans) {
+            let mut volume = 0.0;
+            while at < gone.len() && span.contains(&gone[at].id) {
+                volume += (2.0 * gone[at].radius).powi(3);
+                at += 1;
+            }
+            rows.push(Removal {
+                step: md.step,
+                time: md.time,
+                outlet,
+                id,
+                mass: mass[&id],
+                diameter: volume.cbrt(),
+            });
+        }
+        rows.sort_by_key(|r| (r.outlet, r.id));
+        for s in &mut self.sensors {
+            for r in &rows {
+                s.side[r.id as usize] = 0;
+            }
+        }
+        self.removed.extend(rows);
+        Ok(())
+    }
+
     /// The first step after `now`, at most `horizon`, at which an outlet
     /// or a sensor looks at the grains.
     pub fn next_due(&self, now: u64, horizon: u64) -> u64 {
@@ -379,6 +457,8 @@ impl<D: Dim> Outlets<D> {
     fn check_sensors(&mut self, md: &Md<D>, first: bool) {
         let p = &md.particles;
         let top = p.id[..p.n_owned()].iter().copied().max().unwrap_or(0);
+        // With bodies a body crosses when its centre of mass does.
+        let units = md.has_bodies().then(|| md.units());
         for s in &mut self.sensors {
             if !first && !md.step.is_multiple_of(s.every) {
                 continue;
@@ -387,12 +467,16 @@ impl<D: Dim> Outlets<D> {
                 s.side.resize(top as usize + 1, 0);
             }
             let mut found: Vec<(u64, i8, f64)> = Vec::new();
-            for i in 0..p.n_owned() {
-                let now = 1 + u8::from(D::dot(p.pos[i] - s.point, s.normal) > 0.0);
-                let was = std::mem::replace(&mut s.side[p.id[i] as usize], now);
+            let mut look = |id: u64, x: D::V, m: f64| {
+                let now = 1 + u8::from(D::dot(x - s.point, s.normal) > 0.0);
+                let was = std::mem::replace(&mut s.side[id as usize], now);
                 if was != 0 && was != now {
-                    found.push((p.id[i], if now == 2 { 1 } else { -1 }, p.mass[i]));
+                    found.push((id, if now == 2 { 1 } else { -1 }, m));
                 }
+            };
+            match &units {
+                Some(units) => units.iter().for_each(|&(id, x, m)| look(id, x, m)),
+                None => (0..p.n_owned()).for_each(|i| look(p.id[i], p.pos[i], p.mass[i])),
             }
             found.sort_by_key(|f| f.0);
             s.crossings
@@ -466,15 +550,26 @@ impl<D: Dim> Outlets<D> {
     /// inlets `exact` holds bit for bit; the inlets sum their mass in their
     /// own order, so with them the masses must agree to 1e-12 (rounding of
     /// sums of positive terms, n ε with n far below 10⁴ per ulp).
+    ///
+    /// With bodies every count and sum is over units (free grains and
+    /// whole bodies, [`Md::units`]).
     pub(crate) fn balance(&self, md: &Md<D>, inserted: (u64, f64)) -> Value {
         let p = &md.particles;
-        let n = p.n_owned();
-        let present_mass = md
-            .id_order()
-            .iter()
-            .map(|&i| p.mass[i as usize])
-            .sum::<f64>();
-        let mut both: Vec<(u64, f64)> = (0..n).map(|i| (p.id[i], p.mass[i])).collect();
+        let (n, present_mass, mut both) = if md.has_bodies() {
+            let units = md.units();
+            let mass = units.iter().map(|u| u.2).sum::<f64>();
+            let both: Vec<(u64, f64)> = units.iter().map(|u| (u.0, u.2)).collect();
+            (units.len(), mass, both)
+        } else {
+            let n = p.n_owned();
+            let mass = md
+                .id_order()
+                .iter()
+                .map(|&i| p.mass[i as usize])
+                .sum::<f64>();
+            let both: Vec<(u64, f64)> = (0..n).map(|i| (p.id[i], p.mass[i])).collect();
+            (n, mass, both)
+        };
         both.extend(self.removed.iter().map(|r| (r.id, r.mass)));
         both.sort_by_key(|b| b.0);
         let accounted = both.iter().map(|b| b.1).sum::<f64>();
@@ -486,7 +581,7 @@ impl<D: Dim> Outlets<D> {
             _ => (accounted - supplied).abs() <= 1e-12 * supplied,
         };
         let count_ok = self.initial.0 + inserted_grains == n as u64 + self.removed.len() as u64;
-        json!({
+        let mut v = json!({
             "initial_grains": self.initial.0,
             "initial_mass": self.initial.1,
             "inserted_grains": inserted_grains,
@@ -498,7 +593,11 @@ impl<D: Dim> Outlets<D> {
             "accounted_mass": accounted,
             "mass_gap": accounted - supplied,
             "exact": count_ok && mass_ok,
-        })
+        });
+        if md.has_bodies() {
+            v["counted"] = json!("free grains and whole bodies");
+        }
+        v
     }
 
     /// The state as bytes (the scenario's keys aside).

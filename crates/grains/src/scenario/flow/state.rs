@@ -206,7 +206,11 @@ impl<D: Dim> FlowRun<D> {
             .map_or(Vec::new(), |o| o.removed_ids());
         removed.sort_unstable();
         let first = self.inlets.first_id();
-        let own: Vec<u64> = removed.iter().copied().filter(|&id| id < first).collect();
+        // A removed body is listed by its first grain id: all its grains go.
+        let own: Vec<u64> = (removed.iter().copied())
+            .filter(|&id| id < first)
+            .flat_map(|id| md.body_grain_ids(id).unwrap_or(id..id + 1))
+            .collect();
         md.remove_grains(&own)?;
         self.inlets.apply(md, &removed)
     }

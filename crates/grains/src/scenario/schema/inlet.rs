@@ -2,7 +2,7 @@
 //! a total, with a size distribution and velocities (`scenario/inlet.rs`
 //! checks and runs them).
 
-use super::{SizeSpec, SizeWeight};
+use super::{OrientationSpec, ShapeShare, SizeSpec, SizeWeight};
 use serde::{Deserialize, Serialize};
 
 /// One inlet. Exactly one of `rate`, `mass_rate`, `count` and `mass` says
@@ -54,6 +54,18 @@ pub struct InletSpec {
     /// of their mass; default "number".
     #[serde(default)]
     pub materials_weight: Option<SizeWeight>,
+    /// The inlet brings rigid bodies of this `[[shapes]]` entry instead of
+    /// spheres (`scenario/inlet/bodies.rs`).
+    #[serde(default)]
+    pub shape: Option<String>,
+    /// A mixture of shapes by number of bodies, in place of `shape`.
+    #[serde(default)]
+    pub shapes: Vec<ShapeShare>,
+    /// The bodies' orientation: "random" (uniform on rotations, the
+    /// default) or a unit quaternion [w, x, y, z] turning the shape as
+    /// written into space.
+    #[serde(default)]
+    pub orientation: Option<OrientationSpec>,
     /// Candidate positions tried for one grain at one step before it waits
     /// for the next; default 50.
     #[serde(default = "default_attempts")]
