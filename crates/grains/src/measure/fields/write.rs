@@ -5,8 +5,7 @@
 use super::cg::Fields;
 use crate::error::{Error, Result};
 use crate::io::vti::{write_vti, PointArray};
-use crate::io::{write_atomic, Num, PvdCollection};
-use std::fmt::Write as _;
+use crate::io::{push_num, write_atomic, PvdCollection};
 use std::path::Path;
 
 const AXES: [&str; 3] = ["x", "y", "z"];
@@ -102,7 +101,7 @@ pub fn csv_string(f: &Fields) -> String {
             if k > 0 {
                 s.push(',');
             }
-            let _ = write!(s, "{}", Num(*v));
+            push_num(&mut s, *v);
         }
         s.push('\n');
     }
