@@ -178,7 +178,8 @@ mod tests {
             1e-5,
             1e16,
             123456789012345680.0,
-            750000000000000.25,
+            // 750000000000000.25, a tie on which zmij and std choose apart.
+            f64::from_bits(0x430550f7dca70002),
             0.5,
             2.5e-8,
             0.1,
