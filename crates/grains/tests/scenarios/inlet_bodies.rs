@@ -9,6 +9,7 @@
 //! insertion gives the straight run's bits; `grains check` says what the
 //! inlet makes; keys that do not apply to bodies are refused by name.
 
+use super::inlets::{begin, scratch_in, PLANES, SHEET_X, SHEET_Z};
 use glam::DVec3;
 use grains::dim::D3;
 use grains::engine::Engine;
@@ -80,32 +81,8 @@ picture = false
 movie = false
 "#;
 
-/// The planes of BASE: (point, inward normal).
-const PLANES: [([f64; 3], [f64; 3]); 5] = [
-    ([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
-    ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0]),
-    ([0.006, 0.0, 0.0], [-1.0, 0.0, 0.0]),
-    ([0.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
-    ([0.0, 0.006, 0.0], [0.0, -1.0, 0.0]),
-];
-
-/// The sheet: z = 13 mm over x in [0, 3] mm, y in [0, 6] mm.
-const SHEET_Z: f64 = 0.013;
-const SHEET_X: f64 = 0.003;
-
 fn scratch(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("grains-inlet-bodies-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    let (x, y, z) = (SHEET_X, 0.006, SHEET_Z);
-    let stl = format!(
-        "solid sheet\n\
-         facet normal 0 0 1\n outer loop\n  vertex 0 0 {z}\n  vertex {x} 0 {z}\n  vertex {x} {y} {z}\n endloop\nendfacet\n\
-         facet normal 0 0 1\n outer loop\n  vertex 0 0 {z}\n  vertex {x} {y} {z}\n  vertex 0 {y} {z}\n endloop\nendfacet\n\
-         endsolid sheet\n"
-    );
-    std::fs::write(d.join("sheet.stl"), stl).unwrap();
-    d
+    scratch_in("inlet-bodies", tag)
 }
 
 /// `base` with `inlet` as its one `[[inlets]]` table.
@@ -140,12 +117,6 @@ fn error(inlet: &str) -> String {
 const FALL: &str = r#"region = { shape = "box", lo = [0.0, 0.0, 0.010], hi = [0.006, 0.006, 0.019] }
 velocity = [0.0, 0.0, -0.2]
 velocity_spread = 0.05"#;
-
-fn begin(loaded: &Loaded) -> (Md<D3>, FlowRun<D3>) {
-    let (md, _) = build_md::<D3>(loaded).unwrap();
-    let flow = FlowRun::begin(loaded, &md).unwrap();
-    (md, flow)
-}
 
 /// The run loop's way: advance to the flow run's next act, act.
 fn run_to(md: &mut Md<D3>, flow: &mut FlowRun<D3>, end: u64) {

@@ -71,8 +71,8 @@ picture = false
 movie = false
 "#;
 
-/// The planes of BASE: (point, inward normal).
-const PLANES: [([f64; 3], [f64; 3]); 5] = [
+/// The planes of BASE (and of `inlet_bodies`' box): (point, inward normal).
+pub(super) const PLANES: [([f64; 3], [f64; 3]); 5] = [
     ([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
     ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0]),
     ([0.006, 0.0, 0.0], [-1.0, 0.0, 0.0]),
@@ -81,11 +81,16 @@ const PLANES: [([f64; 3], [f64; 3]); 5] = [
 ];
 
 /// The sheet: z = 13 mm over x in [0, 3] mm, y in [0, 6] mm.
-const SHEET_Z: f64 = 0.013;
-const SHEET_X: f64 = 0.003;
+pub(super) const SHEET_Z: f64 = 0.013;
+pub(super) const SHEET_X: f64 = 0.003;
 
 fn scratch(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("grains-inlets-{}-{tag}", std::process::id()));
+    scratch_in("inlets", tag)
+}
+
+/// A fresh folder `grains-{prefix}-{pid}-{tag}` holding the sheet's STL.
+pub(super) fn scratch_in(prefix: &str, tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("grains-{prefix}-{}-{tag}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     let (x, y, z) = (SHEET_X, 0.006, SHEET_Z);
@@ -128,7 +133,7 @@ const FALL: &str = r#"region = { shape = "box", lo = [0.0, 0.0, 0.010], hi = [0.
 velocity = [0.0, 0.0, -0.2]
 velocity_spread = 0.05"#;
 
-fn begin(loaded: &Loaded) -> (Md<D3>, FlowRun<D3>) {
+pub(super) fn begin(loaded: &Loaded) -> (Md<D3>, FlowRun<D3>) {
     let (md, _) = build_md::<D3>(loaded).unwrap();
     let flow = FlowRun::begin(loaded, &md).unwrap();
     (md, flow)
