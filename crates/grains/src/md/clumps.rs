@@ -129,12 +129,9 @@ fn check_bodies<D: Dim>(
 }
 
 impl<D: Dim> Md<D> {
-    /// Adds rigid clumps of the given shapes to the engine: each body's
-    /// sub-spheres become grains with fresh ids (consecutive per body),
-    /// after the grains already there, moving with their body from now on.
-    /// Fails (input error naming the key) under Gear-5, in a sheared box,
-    /// beside ghosts, on a bad shape, index, quaternion or motion.
-    pub fn add_bodies(&mut self, shapes: Vec<Shape<D>>, bodies: Vec<BodySpec<D>>) -> Result<()> {
+    /// Refuses clumps where this engine cannot move them: under Gear-5
+    /// and in a sheared box (input errors naming the key).
+    fn refuse_clumps_here(&self) -> Result<()> {
         if self.settings.integrator == Integrator::Gear5 {
             return Err(Error::input(
                 "run.integrator = \"gear5\": rigid clumps ([[shapes]]) move by velocity Verlet and \
@@ -147,6 +144,16 @@ impl<D: Dim> Md<D> {
                  (their sub-spheres would cross the sliding images apart from their body)",
             ));
         }
+        Ok(())
+    }
+
+    /// Adds rigid clumps of the given shapes to the engine: each body's
+    /// sub-spheres become grains with fresh ids (consecutive per body),
+    /// after the grains already there, moving with their body from now on.
+    /// Fails (input error naming the key) under Gear-5, in a sheared box,
+    /// beside ghosts, on a bad shape, index, quaternion or motion.
+    pub fn add_bodies(&mut self, shapes: Vec<Shape<D>>, bodies: Vec<BodySpec<D>>) -> Result<()> {
+        self.refuse_clumps_here()?;
         if self.particles.n_owned() != self.particles.len() {
             return Err(Error::input(
                 "rigid clumps cannot be added beside ghosts (a distributed run)",
@@ -215,17 +222,7 @@ impl<D: Dim> Md<D> {
         if self.clumps.is_some() || shapes.is_empty() {
             return Ok(());
         }
-        if self.settings.integrator == Integrator::Gear5 {
-            return Err(Error::input(
-                "run.integrator = \"gear5\": rigid clumps ([[shapes]]) move by velocity Verlet and \
-                 NO_SQUISH only; set run.integrator = \"verlet\"",
-            ));
-        }
-        if self.domain.shear.is_some() {
-            return Err(Error::input(
-                "domain.shear: rigid clumps ([[shapes]]) in a sheared box are not implemented",
-            ));
-        }
+        self.refuse_clumps_here()?;
         let mut clumps = Clumps::default();
         clumps.bodies.shapes = shapes
             .into_iter()
